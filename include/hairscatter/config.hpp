@@ -1,0 +1,22 @@
+// hairscatter — configuration: version and the host/device annotation.
+#pragma once
+
+#define HAIRSCATTER_VERSION_MAJOR 0
+#define HAIRSCATTER_VERSION_MINOR 1
+#define HAIRSCATTER_VERSION_PATCH 0
+
+// HAIRSCATTER_HD marks every function that may run on a GPU. It is empty on the CPU and
+// `__host__ __device__` when the headers are compiled by nvcc (or clang in CUDA mode).
+#if defined(__CUDACC__) || defined(__HIPCC__)
+#define HAIRSCATTER_HD __host__ __device__
+#else
+#define HAIRSCATTER_HD
+#endif
+
+// Debug-only internal invariant checks; the hot path carries none in release builds.
+#if !defined(NDEBUG) && !defined(__CUDA_ARCH__)
+#include <cassert>
+#define HAIRSCATTER_DCHECK(cond) assert(cond)
+#else
+#define HAIRSCATTER_DCHECK(cond) ((void)0)
+#endif

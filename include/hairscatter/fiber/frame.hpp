@@ -1,0 +1,38 @@
+// hairscatter — the local fiber frame (theory.md §1) and world ↔ fiber conversions.
+#pragma once
+
+#include <cmath>
+
+#include <glm/glm.hpp>
+
+#include "../config.hpp"
+#include "../math/functions.hpp"
+
+namespace hairscatter {
+
+// x = fiber tangent (root to tip), y = across the fiber's width (the h axis),
+// z = x × y. Build it from the world tangent and a reference direction that is not
+// parallel to it — usually wo, so that wo lies in the x–z plane and the offset h of a
+// hit is h = dot(hit - axis point, frame.y) / radius — or a ribbon's normal.
+template <typename T> struct FiberFrame {
+    using V = glm::vec<3, T>;
+    V x{T(1), T(0), T(0)}, y{T(0), T(1), T(0)}, z{T(0), T(0), T(1)};
+
+    FiberFrame() = default;
+    HAIRSCATTER_HD FiberFrame(const V& tangent, const V& reference) {
+        x = glm::normalize(tangent);
+        V zr = reference - glm::dot(reference, x) * x;
+        // A reference along the tangent leaves no azimuth to fix: any normal will do.
+        if (glm::dot(zr, zr) < T(1e-12) * glm::dot(reference, reference) + T(1e-30)) {
+            const V a = (x.x * x.x < T(0.5)) ? V(T(1), T(0), T(0)) : V(T(0), T(1), T(0));
+            zr = a - glm::dot(a, x) * x;
+        }
+        z = glm::normalize(zr);
+        y = glm::cross(z, x);
+    }
+
+    HAIRSCATTER_HD V to_local(const V& w) const { return V(glm::dot(w, x), glm::dot(w, y), glm::dot(w, z)); }
+    HAIRSCATTER_HD V to_world(const V& w) const { return w.x * x + w.y * y + w.z * z; }
+};
+
+}  // namespace hairscatter

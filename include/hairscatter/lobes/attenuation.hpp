@@ -1,0 +1,58 @@
+// hairscatter — Fresnel reflectance and the per-lobe attenuation A_p.
+#pragma once
+
+#include <cmath>
+
+#include <glm/glm.hpp>
+
+#include "../config.hpp"
+#include "../math/functions.hpp"
+
+namespace hairscatter {
+
+// Unpolarised Fresnel reflectance of a dielectric interface from index 1 to η > 1, for
+// the cosine of the incident angle. No total internal reflection on this side, and the
+// denominators stay positive for η > 1 even at grazing incidence (cos_i = 0 gives F = 1).
+template <typename T> HAIRSCATTER_HD T fresnel_dielectric(T cos_i, T eta) {
+    cos_i = clamp(cos_i, T(0), T(1));
+    const T sin2_t = (T(1) - cos_i * cos_i) / (eta * eta);
+    const T cos_t = safe_sqrt(T(1) - sin2_t);
+    const T r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    const T r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    return T(0.5) * (r_parl * r_parl + r_perp * r_perp);
+}
+
+// The attenuations of the lobes p = 0 … P (P the residual), Chiang et al. 2016 eqs. 3–4:
+//   A_0 = F,  A_1 = (1 - F)² T,  A_p = A_{p-1} T F,  A_P = A_{P-1} T F / (1 - T F),
+// with F at cos = cosθo cosγo and T the transmittance of one chord through the fiber.
+template <typename T, int P> struct Attenuation {
+    static_assert(P >= 1, "at least the R lobe and the residual");
+    glm::vec<3, T> a[P + 1];
+};
+
+template <typename T, int P>
+HAIRSCATTER_HD Attenuation<T, P> attenuation(T fresnel, const glm::vec<3, T>& transmittance) {
+    using V = glm::vec<3, T>;
+    Attenuation<T, P> r;
+    const T f = fresnel;
+    r.a[0] = V(f);
+    if (P == 1) {
+        // Everything but R is one residual: (1 - F)² T / (1 - T F), summed geometric series.
+        const V tf = transmittance * f;
+        const V denom = V(1) - tf;
+        for (int c = 0; c < 3; ++c)
+            r.a[1][c] = denom[c] > T(0) ? sqr(T(1) - f) * transmittance[c] / denom[c] : T(0);
+        return r;
+    }
+    r.a[1] = sqr(T(1) - f) * transmittance;
+    for (int p = 2; p < P; ++p) r.a[p] = r.a[p - 1] * transmittance * f;
+    // 1 - T F = 0 only when F = 1 (grazing h) and T = 1, where A_{P-1} carries (1 - F)² = 0.
+    const V tf = transmittance * f;
+    for (int c = 0; c < 3; ++c) {
+        const T denom = T(1) - tf[c];
+        r.a[P][c] = denom > T(0) ? r.a[P - 1][c] * tf[c] / denom : T(0);
+    }
+    return r;
+}
+
+}  // namespace hairscatter

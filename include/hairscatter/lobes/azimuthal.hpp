@@ -1,0 +1,31 @@
+// hairscatter — azimuthal scattering: the exit azimuth Φ(p, h) and Chiang's N_p.
+#pragma once
+
+#include "../config.hpp"
+#include "../math/constants.hpp"
+#include "../math/distributions.hpp"
+#include "../math/functions.hpp"
+
+namespace hairscatter {
+
+// Logistic scale s of the azimuthal lobes from the user's roughness β_n ∈ (0, 1]
+// (Chiang et al. 2016, eq. 8).
+template <typename T> HAIRSCATTER_HD T logistic_scale(T beta_n) {
+    const T b2 = beta_n * beta_n, b4 = b2 * b2, b8 = b4 * b4, b16 = b8 * b8;
+    return kSqrtPiOver8<T> * (T(0.265) * beta_n + T(1.194) * b2 + T(5.372) * b16 * b4 * b2);
+}
+
+// Exit azimuth of the path that reflects p - 1 times inside the fiber, relative to the
+// incoming one: Φ(p, h) = 2p γt - 2γo + pπ (Marschner et al. 2003, eq. 3 with d'Eon's
+// sign convention as in pbrt).
+template <typename T> HAIRSCATTER_HD T exit_azimuth(int p, T gamma_o, T gamma_t) {
+    return T(2 * p) * gamma_t - T(2) * gamma_o + T(p) * kPi<T>;
+}
+
+// Chiang et al. 2016 eq. 6: N_p(φ) is the trimmed logistic of φ - Φ(p, h), wrapped.
+template <typename T>
+HAIRSCATTER_HD T azimuthal_logistic(const TrimmedLogistic<T>& d, T phi, T phi_p) {
+    return d.pdf(wrap_pi(phi - phi_p));
+}
+
+}  // namespace hairscatter

@@ -1,0 +1,74 @@
+// hairscatter — longitudinal scattering functions M_p.
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include "../config.hpp"
+#include "../math/constants.hpp"
+#include "../math/functions.hpp"
+
+namespace hairscatter {
+
+// Longitudinal variance v of the R lobe from the user's roughness β_m ∈ (0, 1]
+// (Chiang et al. 2016, eq. 7); TT uses v/4 and TRT and higher 4v (ibid.).
+template <typename T> HAIRSCATTER_HD T longitudinal_variance(T beta_m) {
+    const T b2 = beta_m * beta_m, b4 = b2 * b2, b8 = b4 * b4, b16 = b8 * b8;
+    return sqr(T(0.726) * beta_m + T(0.812) * b2 + T(3.7) * b16 * b4);
+}
+
+// d'Eon et al. 2011's energy-conserving longitudinal lobe (eq. 7 of their paper),
+//   M(v, θi, θo) = csch(1/v)/(2v) · exp(-sinθi sinθo / v) · I0(cosθi cosθo / v),
+// with ∫ M cosθi dθi = 1. It is the θ-marginal of a von Mises–Fisher lobe of
+// concentration 1/v around the mirror direction (-θo), which gives a form that is finite
+// for every v without a log-space switch:
+//   M = exp(-d²/2v) · e^(-a) I0(a) / (v (1 - e^(-2/v))),   a = cosθi cosθo / v,
+//   d² = (cosθi - cosθo)² + (sinθi + sinθo)² = 2 - 2 cos(θi + θo),
+// because a - b - 1/v = -d²/2v exactly. d² is a sum of squares, so it has no
+// cancellation near the peak, and the exponent is never positive.
+template <typename T> class DeonLongitudinal {
+  public:
+    DeonLongitudinal() = default;
+    HAIRSCATTER_HD explicit DeonLongitudinal(T v) : v_(v), inv_v_(T(1) / v) {
+        using std::exp;
+        using std::expm1;
+        exp_m2_over_v_ = exp(T(-2) * inv_v_);  // underflows to 0 for v < 0.02 in float: harmless
+        norm_ = inv_v_ / -expm1(T(-2) * inv_v_);
+    }
+
+    HAIRSCATTER_HD T variance() const { return v_; }
+
+    HAIRSCATTER_HD T eval(T sin_i, T cos_i, T sin_o, T cos_o) const {
+        using std::exp;
+        using std::sqrt;
+        const T d2 = sqr(cos_i - cos_o) + sqr(sin_i + sin_o);
+        const T half_inv_v = T(0.5) * inv_v_;
+        const T a = cos_i * cos_o * inv_v_;
+        if (a <= T(detail::kI0SmallSplit))
+            return norm_ * exp(-d2 * half_inv_v - a) * (T(1) + detail::i0_small_minus_one(a));
+        return norm_ * exp(-d2 * half_inv_v) * detail::i0_large_scaled_sqrt(a) / sqrt(a);
+    }
+
+    // Samples sinθi for the lobe conditioned on θo (d'Eon, Marschner & Hanika 2013): the
+    // cosine of the angle to the mirror direction, c = 1 + v ln(u1 + (1 - u1) e^(-2/v)),
+    // as 1 - c so that sharp lobes keep their precision, and an azimuth 2π u2 around it.
+    // The log argument is floored at the smallest normal number instead of clamping u1,
+    // so the distribution is exact wherever e^(-2/v) does not underflow.
+    HAIRSCATTER_HD T sample_sin_theta(T sin_o, T cos_o, T u1, T u2) const {
+        using std::cos;
+        using std::log;
+        const T arg = u1 + (T(1) - u1) * exp_m2_over_v_;
+        const T one_minus_c = clamp(-v_ * log(arg > std::numeric_limits<T>::min()
+                                                   ? arg
+                                                   : std::numeric_limits<T>::min()),
+                                    T(0), T(2));
+        const T c = T(1) - one_minus_c;
+        const T s = safe_sqrt(one_minus_c * (T(2) - one_minus_c));
+        return clamp(-c * sin_o + s * cos(kTwoPi<T> * u2) * cos_o, T(-1), T(1));
+    }
+
+  private:
+    T v_ = T(1), inv_v_ = T(1), exp_m2_over_v_ = T(0), norm_ = T(1);
+};
+
+}  // namespace hairscatter

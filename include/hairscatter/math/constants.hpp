@@ -1,0 +1,18 @@
+// hairscatter — mathematical constants as variable templates, usable on host and device.
+#pragma once
+
+namespace hairscatter {
+
+template <typename T> inline constexpr T kPi = T(3.14159265358979323846264338327950288);
+template <typename T> inline constexpr T kTwoPi = T(6.28318530717958647692528676655900577);
+template <typename T> inline constexpr T kHalfPi = T(1.57079632679489661923132169163975144);
+template <typename T> inline constexpr T kInvPi = T(0.318309886183790671537767526745028724);
+template <typename T> inline constexpr T kInvTwoPi = T(0.159154943091895335768883763372514362);
+template <typename T> inline constexpr T kSqrtPiOver8 = T(0.626657068657750125603941321203029170);
+template <typename T> inline constexpr T kInvSqrtTwoPi = T(0.398942280401432677939946059934381868);
+template <typename T> inline constexpr T kLn2 = T(0.693147180559945309417232121458176568);
+
+// Degrees to radians, for parameters given in degrees (cuticle tilt is usually 2°).
+template <typename T> constexpr T radians(T degrees) { return degrees * (kPi<T> / T(180)); }
+
+}  // namespace hairscatter

@@ -1,0 +1,58 @@
+// hairscatter — 1D sampling distributions, each as a family: pdf, cdf, sample, invert.
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include "../config.hpp"
+#include "constants.hpp"
+#include "functions.hpp"
+
+namespace hairscatter {
+
+// Logistic distribution with scale s, restricted and renormalised to [-π, π]
+// (Chiang et al. 2016 §4.2, the azimuthal detector of their N_p). Everything that depends
+// only on s is computed once here; with the interval symmetric the normaliser is
+// F(π) - F(-π) = tanh(π / 2s), and the inverse CDF has the closed form
+// x = 2s atanh(tanh(π / 2s)(2u - 1)).
+template <typename T> class TrimmedLogistic {
+  public:
+    TrimmedLogistic() = default;
+    HAIRSCATTER_HD explicit TrimmedLogistic(T s) : s_(s), inv_s_(T(1) / s) {
+        using std::tanh;
+        norm_ = tanh(kHalfPi<T> * inv_s_);
+        pdf_scale_ = inv_s_ / norm_;
+    }
+
+    HAIRSCATTER_HD T scale() const { return s_; }
+
+    // Density on [-π, π]; x outside is a caller error (N_p wraps first).
+    HAIRSCATTER_HD T pdf(T x) const {
+        using std::exp;
+        // e^(-|x|/s) / (s (1 + e^(-|x|/s))²): the |x| form never overflows.
+        const T e = exp(-(x < T(0) ? -x : x) * inv_s_);
+        return pdf_scale_ * e / sqr(T(1) + e);
+    }
+
+    HAIRSCATTER_HD T cdf(T x) const {
+        using std::tanh;
+        return T(0.5) * (T(1) + tanh(T(0.5) * x * inv_s_) / norm_);
+    }
+
+    // u ∈ [0, 1] → x ∈ [-π, π]; never NaN: the atanh argument is kept inside (-1, 1).
+    HAIRSCATTER_HD T sample(T u) const {
+        using std::log1p;
+        constexpr T lim = T(1) - std::numeric_limits<T>::epsilon();
+        const T z = clamp(norm_ * (T(2) * u - T(1)), -lim, lim);
+        // atanh(z) = ½ log1p(2z / (1 - z)), written out for device portability.
+        const T x = s_ * log1p(T(2) * z / (T(1) - z));
+        return clamp(x, -kPi<T>, kPi<T>);
+    }
+
+    HAIRSCATTER_HD T invert(T x) const { return cdf(x); }
+
+  private:
+    T s_ = T(1), inv_s_ = T(1), norm_ = T(1), pdf_scale_ = T(1);
+};
+
+}  // namespace hairscatter

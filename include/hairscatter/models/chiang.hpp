@@ -1,0 +1,221 @@
+// hairscatter — Chiang et al. 2016's near-field hair model with d'Eon et al. 2011's
+// energy-conserving longitudinal lobes: R, TT, TRT and a residual for all higher orders.
+// Same model as pbrt-v4's HairBxDF (including its θo tilt), evaluated accurately.
+#pragma once
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "../config.hpp"
+#include "../fiber/params.hpp"
+#include "../lobes/attenuation.hpp"
+#include "../lobes/azimuthal.hpp"
+#include "../lobes/longitudinal.hpp"
+#include "../lobes/tilt.hpp"
+#include "../math/constants.hpp"
+#include "../math/distributions.hpp"
+#include "../math/functions.hpp"
+
+namespace hairscatter {
+
+// Lobe indices of a sample; kResidual lumps all orders p ≥ 3.
+enum HairLobe : int { kR = 0, kTT = 1, kTRT = 2, kResidual = 3 };
+
+// What sample() returns. pdf is in solid-angle measure, weight = eval / pdf. A sample
+// whose pdf is 0 (only from underflow in extreme parameters) carries weight 0.
+template <typename T> struct HairSample {
+    glm::vec<3, T> wi{T(0)};
+    glm::vec<3, T> weight{T(0)};
+    T pdf = T(0);
+    int lobe = kR;
+};
+
+// f and pdf of one direction pair, computed together (they share every lobe term).
+template <typename T> struct HairEvalPdf {
+    glm::vec<3, T> f{T(0)};
+    T pdf = T(0);
+};
+
+// Everything that depends only on the fiber parameters, computed once per material on
+// the host (validated: the constructor throws std::invalid_argument with a message that
+// names the bad parameter). Trivially copyable, so it can be passed to a GPU kernel.
+template <typename T> class ChiangMaterial {
+  public:
+    static constexpr int kLobes = 3;  // R, TT, TRT explicit; index 3 is the residual
+
+    explicit ChiangMaterial(const FiberParams<T>& params) : params_(params) {
+        require_valid(params);
+        const T v0 = longitudinal_variance(params.beta_m);
+        const T v[kLobes + 1] = {v0, T(0.25) * v0, T(4) * v0, T(4) * v0};
+        for (int p = 0; p <= kLobes; ++p) m_[p] = DeonLongitudinal<T>(v[p]);
+        n_ = TrimmedLogistic<T>(logistic_scale(params.beta_n));
+        tilt_ = CuticleTilt<T>(params.alpha);
+    }
+
+    HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
+    HAIRSCATTER_HD const DeonLongitudinal<T>& longitudinal(int p) const { return m_[p]; }
+    HAIRSCATTER_HD const TrimmedLogistic<T>& azimuthal() const { return n_; }
+    HAIRSCATTER_HD const CuticleTilt<T>& tilt() const { return tilt_; }
+
+  private:
+    FiberParams<T> params_;
+    DeonLongitudinal<T> m_[kLobes + 1];
+    TrimmedLogistic<T> n_;
+    CuticleTilt<T> tilt_;
+};
+
+// One fiber hit: a material and the offset h ∈ [-1, 1] across the fiber. Directions are
+// unit vectors in the fiber frame (fiber/frame.hpp): x = tangent, sinθ = w.x,
+// φ = atan2(w.z, w.y); wo toward the viewer, wi toward the light.
+// eval(wo, wi) has the cosine inside: Lo = ∫ eval(wo, wi) Li dωi, so ∫ eval dωi = 1 for
+// σa = 0 (pbrt's HairBxDF::f is eval / |wi.z|).
+template <typename T> class ChiangFiber {
+  public:
+    using V3 = glm::vec<3, T>;
+    using V4 = glm::vec<4, T>;
+    static constexpr int kLobes = ChiangMaterial<T>::kLobes;
+
+    // Cheap, device-callable: h is clamped into [-1, 1] (hit offsets round slightly out).
+    HAIRSCATTER_HD ChiangFiber(const ChiangMaterial<T>& material, T h) : mat_(material) {
+        h_ = h > T(1) ? T(1) : (h >= T(-1) ? h : T(-1));
+        gamma_o_ = safe_asin(h_);
+        cos_gamma_o_ = cos_from_sin(h_);
+    }
+
+    // Host convenience: validates the parameters and h, throws std::invalid_argument.
+    ChiangFiber(const FiberParams<T>& params, T h) : ChiangFiber(checked(params, h), h) {}
+
+    HAIRSCATTER_HD T h() const { return h_; }
+    HAIRSCATTER_HD const ChiangMaterial<T>& material() const { return mat_; }
+
+    HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi) const { return eval_pdf(wo, wi).f; }
+    HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return eval_pdf(wo, wi).pdf; }
+
+    HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const {
+        using std::atan2;
+        const Outgoing o = outgoing(wo);
+        const T sin_i = clamp(wi.x, T(-1), T(1));
+        // φ = φi - φo from one atan2 of the azimuthal cross and dot products.
+        const T phi = atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
+        return combine(o, sin_i, cos_from_sin(sin_i), phi);
+    }
+
+    // Importance sampling (d'Eon, Marschner & Hanika 2013): u.x picks the lobe with
+    // probability ∝ mean(A_p), (u.y, u.z) sample θi from M_p, u.w samples φ from N_p.
+    HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const {
+        using std::cos;
+        using std::sin;
+        using std::sqrt;
+        const Outgoing o = outgoing(wo);
+        int p = kLobes;
+        T acc = T(0);
+        for (int q = 0; q < kLobes; ++q) {
+            acc += o.w[q];
+            if (u.x < acc) {
+                p = q;
+                break;
+            }
+        }
+        while (p > 0 && !(o.w[p] > T(0))) --p;  // u.x ≈ 1 must not land on an empty lobe
+
+        const T sin_i = mat_.longitudinal(p).sample_sin_theta(o.sin_o[p], o.cos_o[p], u.y, u.z);
+        const T cos_i = cos_from_sin(sin_i);
+        const T phi = wrap_pi(p < kLobes ? o.phi_p[p] + mat_.azimuthal().sample(u.w)
+                                         : kTwoPi<T> * u.w - kPi<T>);
+
+        // Rotate wo's azimuthal direction by φ instead of going through atan2 and back.
+        const T len = sqrt(wo.y * wo.y + wo.z * wo.z);
+        const T ay = len > T(0) ? wo.y / len : T(1), az = len > T(0) ? wo.z / len : T(0);
+        const T c = cos(phi), s = sin(phi);
+
+        HairSample<T> r;
+        r.wi = V3(sin_i, cos_i * (ay * c - az * s), cos_i * (ay * s + az * c));
+        r.lobe = p;
+        const HairEvalPdf<T> e = combine(o, sin_i, cos_i, phi);
+        r.pdf = e.pdf;
+        r.weight = e.pdf > T(0) ? e.f / e.pdf : V3(T(0));
+        return r;
+    }
+
+    // Σ_p A_p(wo): the directional albedo, exact for this model because every M_p and
+    // N_p is normalised.
+    HAIRSCATTER_HD V3 albedo(const V3& wo) const {
+        const Outgoing o = outgoing(wo);
+        V3 a(T(0));
+        for (int p = 0; p <= kLobes; ++p) a += o.a[p];
+        return a;
+    }
+
+  private:
+    // The terms that depend on wo only, shared by eval, pdf and sample.
+    struct Outgoing {
+        V3 a[kLobes + 1];          // A_p
+        T w[kLobes + 1];           // lobe selection probabilities
+        T sin_o[kLobes + 1], cos_o[kLobes + 1];  // tilted θo' per lobe
+        T phi_p[kLobes];           // Φ(p, h)
+    };
+
+    static ChiangMaterial<T> checked(const FiberParams<T>& params, T h) {
+        if (!(h >= T(-1) && h <= T(1)))
+            throw std::invalid_argument("hairscatter: h = " + std::to_string(double(h)) +
+                                        " is outside its range [-1, 1]");
+        return ChiangMaterial<T>(params);
+    }
+
+    HAIRSCATTER_HD Outgoing outgoing(const V3& wo) const {
+        using std::exp;
+        using std::sqrt;
+        const FiberParams<T>& prm = mat_.params();
+        Outgoing o;
+        const T sin_o = clamp(wo.x, T(-1), T(1));
+        const T cos_o = cos_from_sin(sin_o);
+        // Bravais index η' = sqrt(η² - sin²θo)/cosθo, used as sinγt = h/η' without dividing
+        // by cosθo (finite at θo = ±90°).
+        const T sin_gamma_t = h_ * cos_o / sqrt(prm.eta * prm.eta - sin_o * sin_o);
+        const T cos_gamma_t = cos_from_sin(sin_gamma_t);
+        const T gamma_t = safe_asin(sin_gamma_t);
+        const T cos_theta_t = cos_from_sin(sin_o / prm.eta);
+        // One chord through the fiber has length 2 cosγt / cosθt radii (theory.md §3.2).
+        const V3 tr = glm::exp(-prm.sigma_a * (T(2) * cos_gamma_t / cos_theta_t));
+        const Attenuation<T, kLobes> att =
+            attenuation<T, kLobes>(fresnel_dielectric(cos_o * cos_gamma_o_, prm.eta), tr);
+        T total = T(0);
+        for (int p = 0; p <= kLobes; ++p) {
+            o.a[p] = att.a[p];
+            o.w[p] = (att.a[p].x + att.a[p].y + att.a[p].z) * T(1.0 / 3.0);
+            total += o.w[p];
+            const typename CuticleTilt<T>::Rotated r = mat_.tilt().rotate(p, sin_o, cos_o);
+            o.sin_o[p] = r.sin_theta;
+            o.cos_o[p] = r.cos_theta;
+        }
+        // total ≥ F ≥ ((η - 1)/(η + 1))² > 0: the R lobe never vanishes.
+        const T inv_total = T(1) / total;
+        for (int p = 0; p <= kLobes; ++p) o.w[p] *= inv_total;
+        for (int p = 0; p < kLobes; ++p) o.phi_p[p] = exit_azimuth(p, gamma_o_, gamma_t);
+        return o;
+    }
+
+    // f = Σ_p M_p A_p N_p and pdf = Σ_p M_p w_p N_p over the same lobe terms.
+    HAIRSCATTER_HD HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
+        HairEvalPdf<T> r;
+        for (int p = 0; p < kLobes; ++p) {
+            const T mn = mat_.longitudinal(p).eval(sin_i, cos_i, o.sin_o[p], o.cos_o[p]) *
+                         azimuthal_logistic(mat_.azimuthal(), phi, o.phi_p[p]);
+            r.f += mn * o.a[p];
+            r.pdf += mn * o.w[p];
+        }
+        const T mn = mat_.longitudinal(kLobes).eval(sin_i, cos_i, o.sin_o[kLobes], o.cos_o[kLobes]) *
+                     kInvTwoPi<T>;
+        r.f += mn * o.a[kLobes];
+        r.pdf += mn * o.w[kLobes];
+        return r;
+    }
+
+    ChiangMaterial<T> mat_;
+    T h_ = T(0), gamma_o_ = T(0), cos_gamma_o_ = T(1);
+};
+
+}  // namespace hairscatter
