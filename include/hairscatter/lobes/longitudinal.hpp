@@ -2,7 +2,6 @@
 #pragma once
 
 #include <cmath>
-#include <limits>
 
 #include "../config.hpp"
 #include "../math/constants.hpp"
@@ -58,9 +57,9 @@ template <typename T> class DeonLongitudinal {
         using std::cos;
         using std::log;
         const T arg = u1 + (T(1) - u1) * exp_m2_over_v_;
-        const T one_minus_c = clamp(-v_ * log(arg > std::numeric_limits<T>::min()
+        const T one_minus_c = clamp(-v_ * log(arg > kMinNormal<T>
                                                    ? arg
-                                                   : std::numeric_limits<T>::min()),
+                                                   : kMinNormal<T>),
                                     T(0), T(2));
         const T c = T(1) - one_minus_c;
         const T s = safe_sqrt(one_minus_c * (T(2) - one_minus_c));

@@ -12,6 +12,15 @@ template <typename T> inline constexpr T kSqrtPiOver8 = T(0.62665706865775012560
 template <typename T> inline constexpr T kInvSqrtTwoPi = T(0.398942280401432677939946059934381868);
 template <typename T> inline constexpr T kLn2 = T(0.693147180559945309417232121458176568);
 
+// Machine constants as plain variable templates: std::numeric_limits' members are host
+// functions as far as a CUDA compiler without --expt-relaxed-constexpr is concerned.
+template <typename T> inline constexpr T kEpsilon = T(0);
+template <> inline constexpr float kEpsilon<float> = 1.1920928955078125e-07f;
+template <> inline constexpr double kEpsilon<double> = 2.220446049250313080847e-16;
+template <typename T> inline constexpr T kMinNormal = T(0);
+template <> inline constexpr float kMinNormal<float> = 1.17549435082228750797e-38f;
+template <> inline constexpr double kMinNormal<double> = 2.2250738585072013830902e-308;
+
 // Degrees to radians, for parameters given in degrees (cuticle tilt is usually 2°).
 template <typename T> constexpr T radians(T degrees) { return degrees * (kPi<T> / T(180)); }
 

@@ -2,7 +2,6 @@
 #pragma once
 
 #include <cmath>
-#include <limits>
 
 #include "../config.hpp"
 #include "constants.hpp"
@@ -42,7 +41,7 @@ template <typename T> class TrimmedLogistic {
     // u ∈ [0, 1] → x ∈ [-π, π]; never NaN: the atanh argument is kept inside (-1, 1).
     HAIRSCATTER_HD T sample(T u) const {
         using std::log1p;
-        constexpr T lim = T(1) - std::numeric_limits<T>::epsilon();
+        constexpr T lim = T(1) - kEpsilon<T>;
         const T z = clamp(norm_ * (T(2) * u - T(1)), -lim, lim);
         // atanh(z) = ½ log1p(2z / (1 - z)), written out for device portability.
         const T x = s_ * log1p(T(2) * z / (T(1) - z));
