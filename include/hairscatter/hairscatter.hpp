@@ -5,6 +5,7 @@
 #include "config.hpp"
 #include "math/constants.hpp"
 #include "math/functions.hpp"
+#include "math/elementary.hpp"
 #include "math/distributions.hpp"
 #include "fiber/params.hpp"
 #include "fiber/frame.hpp"

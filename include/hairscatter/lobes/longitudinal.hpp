@@ -5,6 +5,7 @@
 
 #include "../config.hpp"
 #include "../math/constants.hpp"
+#include "../math/elementary.hpp"
 #include "../math/functions.hpp"
 
 namespace hairscatter {
@@ -38,14 +39,16 @@ template <typename T> class DeonLongitudinal {
     HAIRSCATTER_HD T variance() const { return v_; }
 
     HAIRSCATTER_HD T eval(T sin_i, T cos_i, T sin_o, T cos_o) const {
-        using std::exp;
+        using elem::exp;
         using std::sqrt;
         const T d2 = sqr(cos_i - cos_o) + sqr(sin_i + sin_o);
         const T half_inv_v = T(0.5) * inv_v_;
         const T a = cos_i * cos_o * inv_v_;
         if (a <= T(detail::kI0SmallSplit))
             return norm_ * exp(-d2 * half_inv_v - a) * (T(1) + detail::i0_small_minus_one(a));
-        return norm_ * exp(-d2 * half_inv_v) * detail::i0_large_scaled_sqrt(a) / sqrt(a);
+        const T inv_a = T(1) / a;  // e^(-a) I0(a) = Q(6/a) · sqrt(1/a)
+        return norm_ * exp(-d2 * half_inv_v) * detail::i0_large_scaled_sqrt_t(T(detail::kI0SmallSplit) * inv_a) *
+               sqrt(inv_a);
     }
 
     // Samples sinθi for the lobe conditioned on θo (d'Eon, Marschner & Hanika 2013): the

@@ -5,6 +5,7 @@
 
 #include "../config.hpp"
 #include "constants.hpp"
+#include "elementary.hpp"
 #include "functions.hpp"
 
 namespace hairscatter {
@@ -27,7 +28,7 @@ template <typename T> class TrimmedLogistic {
 
     // Density on [-π, π]; x outside is a caller error (N_p wraps first).
     HAIRSCATTER_HD T pdf(T x) const {
-        using std::exp;
+        using elem::exp;
         // e^(-|x|/s) / (s (1 + e^(-|x|/s))²): the |x| form never overflows.
         const T e = exp(-(x < T(0) ? -x : x) * inv_s_);
         return pdf_scale_ * e / sqr(T(1) + e);

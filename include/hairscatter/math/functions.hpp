@@ -40,11 +40,11 @@ template <typename T> HAIRSCATTER_HD T wrap_pi(T x) {
 
 namespace detail {
 
-// Horner evaluation with coefficients stored in double, lowest order first.
-template <typename T, int N> HAIRSCATTER_HD T horner(const double (&c)[N], T x) {
-    T r = T(c[N - 1]);
-    for (int i = N - 2; i >= 0; --i) r = r * x + T(c[i]);
-    return r;
+// Horner evaluation, lowest order first. The coefficients are passed as literals converted
+// to T at the call site, so they fold to constants of the evaluation type.
+template <typename T> HAIRSCATTER_HD constexpr T horner(T, T c0) { return c0; }
+template <typename T, typename... Cs> HAIRSCATTER_HD constexpr T horner(T x, T c0, Cs... cs) {
+    return c0 + x * horner(x, cs...);
 }
 
 // Modified Bessel function I0, split at x = 6 (fitted for this library by Chebyshev
@@ -59,22 +59,24 @@ template <typename T, int N> HAIRSCATTER_HD T horner(const double (&c)[N], T x) 
 constexpr double kI0SmallSplit = 6.0;
 
 template <typename T> HAIRSCATTER_HD T i0_small_minus_one(T x) {
-    constexpr double c[9] = {1.0000000003133483716,      0.249999994362186269057,
-                             0.027777794445482060956,    0.00173609217789404810854,
-                             0.0000694551895274435695843, 0.00000192560003122220105341,
-                             4.00000626509952145251e-8,  5.47656410364662669124e-10,
-                             1.1352864748412762681e-11};
     const T y = T(0.25) * x * x;
-    return y * horner(c, y);
+    return y * horner(y, T(1.0000000003133483716), T(0.249999994362186269057),
+                      T(0.027777794445482060956), T(0.00173609217789404810854),
+                      T(0.0000694551895274435695843), T(0.00000192560003122220105341),
+                      T(4.00000626509952145251e-8), T(5.47656410364662669124e-10),
+                      T(1.1352864748412762681e-11));
 }
 
+// Takes t = 6/x ∈ (0, 1].
+template <typename T> HAIRSCATTER_HD T i0_large_scaled_sqrt_t(T t) {
+    return horner(t, T(0.398942279781196684609), T(0.00831139763790257582454),
+                  T(0.000776561216222653930921), T(0.000161276754668690157394),
+                  T(-0.0000915198354603106014836), T(0.000342097117170683312368),
+                  T(-0.000471667343606663586999), T(0.000354470865047110757867),
+                  T(-0.0000992243858736370222398));
+}
 template <typename T> HAIRSCATTER_HD T i0_large_scaled_sqrt(T x) {
-    constexpr double c[9] = {0.398942279781196684609,     0.00831139763790257582454,
-                             0.000776561216222653930921,  0.000161276754668690157394,
-                             -0.0000915198354603106014836, 0.000342097117170683312368,
-                             -0.000471667343606663586999, 0.000354470865047110757867,
-                             -0.0000992243858736370222398};
-    return horner(c, T(kI0SmallSplit) / x);
+    return i0_large_scaled_sqrt_t(T(kI0SmallSplit) / x);
 }
 
 }  // namespace detail

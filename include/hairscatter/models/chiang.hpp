@@ -17,6 +17,7 @@
 #include "../lobes/tilt.hpp"
 #include "../math/constants.hpp"
 #include "../math/distributions.hpp"
+#include "../math/elementary.hpp"
 #include "../math/functions.hpp"
 
 namespace hairscatter {
@@ -81,7 +82,7 @@ template <typename T> class ChiangFiber {
     // Cheap, device-callable: h is clamped into [-1, 1] (hit offsets round slightly out).
     HAIRSCATTER_HD ChiangFiber(const ChiangMaterial<T>& material, T h) : mat_(material) {
         h_ = h > T(1) ? T(1) : (h >= T(-1) ? h : T(-1));
-        gamma_o_ = safe_asin(h_);
+        gamma_o_ = elem::asin(h_);
         cos_gamma_o_ = cos_from_sin(h_);
     }
 
@@ -95,11 +96,10 @@ template <typename T> class ChiangFiber {
     HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return eval_pdf(wo, wi).pdf; }
 
     HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const {
-        using std::atan2;
         const Outgoing o = outgoing(wo);
         const T sin_i = clamp(wi.x, T(-1), T(1));
         // φ = φi - φo from one atan2 of the azimuthal cross and dot products.
-        const T phi = atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
+        const T phi = elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
         return combine(o, sin_i, cos_from_sin(sin_i), phi);
     }
 
@@ -166,7 +166,6 @@ template <typename T> class ChiangFiber {
     }
 
     HAIRSCATTER_HD Outgoing outgoing(const V3& wo) const {
-        using std::exp;
         using std::sqrt;
         const FiberParams<T>& prm = mat_.params();
         Outgoing o;
@@ -176,10 +175,12 @@ template <typename T> class ChiangFiber {
         // by cosθo (finite at θo = ±90°).
         const T sin_gamma_t = h_ * cos_o / sqrt(prm.eta * prm.eta - sin_o * sin_o);
         const T cos_gamma_t = cos_from_sin(sin_gamma_t);
-        const T gamma_t = safe_asin(sin_gamma_t);
+        const T gamma_t = elem::asin(sin_gamma_t);
         const T cos_theta_t = cos_from_sin(sin_o / prm.eta);
         // One chord through the fiber has length 2 cosγt / cosθt radii (theory.md §3.2).
-        const V3 tr = glm::exp(-prm.sigma_a * (T(2) * cos_gamma_t / cos_theta_t));
+        const T chord = T(2) * cos_gamma_t / cos_theta_t;
+        const V3 tr(elem::exp(-prm.sigma_a.x * chord), elem::exp(-prm.sigma_a.y * chord),
+                    elem::exp(-prm.sigma_a.z * chord));
         const Attenuation<T, kLobes> att =
             attenuation<T, kLobes>(fresnel_dielectric(cos_o * cos_gamma_o_, prm.eta), tr);
         T total = T(0);
