@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include "../config.hpp"
+#include "../math/constants.hpp"
 #include "../math/functions.hpp"
 
 namespace hairscatter {
@@ -46,12 +47,11 @@ HAIRSCATTER_HD Attenuation<T, P> attenuation(T fresnel, const glm::vec<3, T>& tr
     }
     r.a[1] = sqr(T(1) - f) * transmittance;
     for (int p = 2; p < P; ++p) r.a[p] = r.a[p - 1] * transmittance * f;
-    // 1 - T F = 0 only when F = 1 (grazing h) and T = 1, where A_{P-1} carries (1 - F)² = 0.
+    // 1 - T F = 0 only when F = 1 (grazing h) and T = 1, where A_{P-1} carries (1 - F)² = 0:
+    // flooring the denominator at the smallest normal number (1 - T F is otherwise at least
+    // one ulp of 1) gives 0 there without a branch per channel.
     const V tf = transmittance * f;
-    for (int c = 0; c < 3; ++c) {
-        const T denom = T(1) - tf[c];
-        r.a[P][c] = denom > T(0) ? r.a[P - 1][c] * tf[c] / denom : T(0);
-    }
+    r.a[P] = r.a[P - 1] * tf / glm::max(V(1) - tf, V(kMinNormal<T>));
     return r;
 }
 

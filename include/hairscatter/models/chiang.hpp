@@ -92,16 +92,9 @@ template <typename T> class ChiangFiber {
     HAIRSCATTER_HD T h() const { return h_; }
     HAIRSCATTER_HD const ChiangMaterial<T>& material() const { return mat_; }
 
-    HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi) const { return eval_pdf(wo, wi).f; }
-    HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return eval_pdf(wo, wi).pdf; }
-
-    HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const {
-        const Outgoing o = outgoing(wo);
-        const T sin_i = clamp(wi.x, T(-1), T(1));
-        // φ = φi - φo from one atan2 of the azimuthal cross and dot products.
-        const T phi = elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
-        return combine(o, sin_i, cos_from_sin(sin_i), phi);
-    }
+    HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi) const { return query<true, false>(wo, wi).f; }
+    HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return query<false, true>(wo, wi).pdf; }
+    HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const { return query<true, true>(wo, wi); }
 
     // Importance sampling (d'Eon, Marschner & Hanika 2013): u.x picks the lobe with
     // probability ∝ mean(A_p), (u.y, u.z) sample θi from M_p, u.w samples φ from N_p.
@@ -109,7 +102,7 @@ template <typename T> class ChiangFiber {
         using std::cos;
         using std::sin;
         using std::sqrt;
-        const Outgoing o = outgoing(wo);
+        const Outgoing o = outgoing<true>(wo);
         int p = kLobes;
         T acc = T(0);
         for (int q = 0; q < kLobes; ++q) {
@@ -134,7 +127,7 @@ template <typename T> class ChiangFiber {
         HairSample<T> r;
         r.wi = V3(sin_i, cos_i * (ay * c - az * s), cos_i * (ay * s + az * c));
         r.lobe = p;
-        const HairEvalPdf<T> e = combine(o, sin_i, cos_i, phi);
+        const HairEvalPdf<T> e = combine<true, true>(o, sin_i, cos_i, phi);
         r.pdf = e.pdf;
         r.weight = e.pdf > T(0) ? e.f / e.pdf : V3(T(0));
         return r;
@@ -143,7 +136,7 @@ template <typename T> class ChiangFiber {
     // Σ_p A_p(wo): the directional albedo, exact for this model because every M_p and
     // N_p is normalised.
     HAIRSCATTER_HD V3 albedo(const V3& wo) const {
-        const Outgoing o = outgoing(wo);
+        const Outgoing o = outgoing<false>(wo);
         V3 a(T(0));
         for (int p = 0; p <= kLobes; ++p) a += o.a[p];
         return a;
@@ -153,7 +146,7 @@ template <typename T> class ChiangFiber {
     // The terms that depend on wo only, shared by eval, pdf and sample.
     struct Outgoing {
         V3 a[kLobes + 1];          // A_p
-        T w[kLobes + 1];           // lobe selection probabilities
+        T w[kLobes + 1];           // lobe selection probabilities (only when asked for)
         T sin_o[kLobes + 1], cos_o[kLobes + 1];  // tilted θo' per lobe
         T phi_p[kLobes];           // Φ(p, h)
     };
@@ -165,7 +158,17 @@ template <typename T> class ChiangFiber {
         return ChiangMaterial<T>(params);
     }
 
-    HAIRSCATTER_HD Outgoing outgoing(const V3& wo) const {
+    // eval, pdf and eval_pdf: f and/or pdf at (wo, wi).
+    template <bool kF, bool kPdf> HAIRSCATTER_HD HairEvalPdf<T> query(const V3& wo, const V3& wi) const {
+        const Outgoing o = outgoing<kPdf>(wo);
+        const T sin_i = clamp(wi.x, T(-1), T(1));
+        // φ = φi - φo from one atan2 of the azimuthal cross and dot products.
+        const T phi = elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
+        return combine<kF, kPdf>(o, sin_i, cos_from_sin(sin_i), phi);
+    }
+
+    // kW: also the lobe selection probabilities w (pdf and sample need them, eval not).
+    template <bool kW> HAIRSCATTER_HD Outgoing outgoing(const V3& wo) const {
         using std::sqrt;
         const FiberParams<T>& prm = mat_.params();
         Outgoing o;
@@ -183,35 +186,42 @@ template <typename T> class ChiangFiber {
                     elem::exp(-prm.sigma_a.z * chord));
         const Attenuation<T, kLobes> att =
             attenuation<T, kLobes>(fresnel_dielectric(cos_o * cos_gamma_o_, prm.eta), tr);
-        T total = T(0);
         for (int p = 0; p <= kLobes; ++p) {
             o.a[p] = att.a[p];
-            o.w[p] = (att.a[p].x + att.a[p].y + att.a[p].z) * T(1.0 / 3.0);
-            total += o.w[p];
             const typename CuticleTilt<T>::Rotated r = mat_.tilt().rotate(p, sin_o, cos_o);
             o.sin_o[p] = r.sin_theta;
             o.cos_o[p] = r.cos_theta;
         }
-        // total ≥ F ≥ ((η - 1)/(η + 1))² > 0: the R lobe never vanishes.
-        const T inv_total = T(1) / total;
-        for (int p = 0; p <= kLobes; ++p) o.w[p] *= inv_total;
         for (int p = 0; p < kLobes; ++p) o.phi_p[p] = exit_azimuth(p, gamma_o_, gamma_t);
+        if constexpr (kW) {
+            T total = T(0);
+            for (int p = 0; p <= kLobes; ++p) {
+                o.w[p] = (att.a[p].x + att.a[p].y + att.a[p].z) * T(1.0 / 3.0);
+                total += o.w[p];
+            }
+            // total ≥ F ≥ ((η - 1)/(η + 1))² > 0: the R lobe never vanishes.
+            const T inv_total = T(1) / total;
+            for (int p = 0; p <= kLobes; ++p) o.w[p] *= inv_total;
+        }
         return o;
     }
 
-    // f = Σ_p M_p A_p N_p and pdf = Σ_p M_p w_p N_p over the same lobe terms.
+    // f = Σ_p M_p A_p N_p and pdf = Σ_p M_p w_p N_p over the same lobe terms (kF, kPdf
+    // select which).
+    template <bool kF, bool kPdf>
     HAIRSCATTER_HD HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
-        HairEvalPdf<T> r;
-        for (int p = 0; p < kLobes; ++p) {
-            const T mn = mat_.longitudinal(p).eval(sin_i, cos_i, o.sin_o[p], o.cos_o[p]) *
-                         azimuthal_logistic(mat_.azimuthal(), phi, o.phi_p[p]);
-            r.f += mn * o.a[p];
-            r.pdf += mn * o.w[p];
-        }
-        const T mn = mat_.longitudinal(kLobes).eval(sin_i, cos_i, o.sin_o[kLobes], o.cos_o[kLobes]) *
+        T mn[kLobes + 1];
+        for (int p = 0; p < kLobes; ++p)
+            mn[p] = mat_.longitudinal(p).eval(sin_i, cos_i, o.sin_o[p], o.cos_o[p]) *
+                    azimuthal_logistic(mat_.azimuthal(), phi, o.phi_p[p]);
+        // The residual lumps all orders: uniform in φ.
+        mn[kLobes] = mat_.longitudinal(kLobes).eval(sin_i, cos_i, o.sin_o[kLobes], o.cos_o[kLobes]) *
                      kInvTwoPi<T>;
-        r.f += mn * o.a[kLobes];
-        r.pdf += mn * o.w[kLobes];
+        HairEvalPdf<T> r;
+        for (int p = 0; p <= kLobes; ++p) {
+            if constexpr (kF) r.f += mn[p] * o.a[p];
+            if constexpr (kPdf) r.pdf += mn[p] * o.w[p];
+        }
         return r;
     }
 
