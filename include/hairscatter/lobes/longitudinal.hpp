@@ -57,16 +57,13 @@ template <typename T> class DeonLongitudinal {
     // The log argument is floored at the smallest normal number instead of clamping u1,
     // so the distribution is exact wherever e^(-2/v) does not underflow.
     HAIRSCATTER_HD T sample_sin_theta(T sin_o, T cos_o, T u1, T u2) const {
-        using std::cos;
-        using std::log;
         const T arg = u1 + (T(1) - u1) * exp_m2_over_v_;
-        const T one_minus_c = clamp(-v_ * log(arg > kMinNormal<T>
-                                                   ? arg
-                                                   : kMinNormal<T>),
-                                    T(0), T(2));
+        const T one_minus_c = clamp(-v_ * elem::log(arg > kMinNormal<T> ? arg : kMinNormal<T>), T(0), T(2));
         const T c = T(1) - one_minus_c;
         const T s = safe_sqrt(one_minus_c * (T(2) - one_minus_c));
-        return clamp(-c * sin_o + s * cos(kTwoPi<T> * u2) * cos_o, T(-1), T(1));
+        T sin_az, cos_az;
+        elem::sincos(kTwoPi<T> * u2, sin_az, cos_az);
+        return clamp(-c * sin_o + s * cos_az * cos_o, T(-1), T(1));
     }
 
   private:

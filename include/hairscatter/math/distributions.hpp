@@ -41,11 +41,11 @@ template <typename T> class TrimmedLogistic {
 
     // u ∈ [0, 1] → x ∈ [-π, π]; never NaN: the atanh argument is kept inside (-1, 1).
     HAIRSCATTER_HD T sample(T u) const {
-        using std::log1p;
         constexpr T lim = T(1) - kEpsilon<T>;
         const T z = clamp(norm_ * (T(2) * u - T(1)), -lim, lim);
-        // atanh(z) = ½ log1p(2z / (1 - z)), written out for device portability.
-        const T x = s_ * log1p(T(2) * z / (T(1) - z));
+        // 2 atanh(z) = log((1 + z)/(1 - z)); the quotient lies in [ε/2, 2/ε], so the log's
+        // argument is normal, and x needs absolute (not relative) accuracy near 0.
+        const T x = s_ * elem::log((T(1) + z) / (T(1) - z));
         return clamp(x, -kPi<T>, kPi<T>);
     }
 

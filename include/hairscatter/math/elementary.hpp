@@ -52,6 +52,44 @@ inline float asin_half(float x) {
                           0.026554542206161328f, 0.038085023561092654f);
 }
 
+// log x for positive normal x: x = m·2^e with m ∈ [√½, √2), log m = 2 atanh(s),
+// s = (m - 1)/(m + 1), |s| ≤ 0.172, by its series to s⁹ (truncation 1e-9 relative).
+inline float log_float(float x) {
+    std::int32_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    std::int32_t e = ((bits >> 23) & 0xff) - 127;
+    bits = (bits & 0x007fffff) | 0x3f800000;
+    float m;
+    std::memcpy(&m, &bits, sizeof m);
+    if (m > 1.41421356f) {
+        m *= 0.5f;
+        e += 1;
+    }
+    const float f = m - 1.0f;  // exact (Sterbenz)
+    const float sv = f / (2.0f + f);
+    const float z = sv * sv;
+    const float log_m = sv * hairscatter::detail::horner(z, 2.0f, 2.0f / 3, 2.0f / 5, 2.0f / 7, 2.0f / 9);
+    const float ef = float(e);
+    return (ef * 1.42860682030941723212e-6f + log_m) + ef * 0.693145751953125f;
+}
+
+// sin and cos of |x| ≲ 100: x = qπ/2 + r with |r| ≤ π/4 (three-part Cody–Waite), then the
+// Taylor series of sin r to r⁹ and cos r to r¹⁰ (truncation below 2e-9), rotated by q.
+inline void sincos_float(float x, float& s, float& c) {
+    const float q = (x * 0.636619772367581343f + 12582912.0f) - 12582912.0f;  // round, as in exp
+    const float r = ((x - q * 1.5703125f) - q * 4.83751296997070312e-4f) - q * 7.54978995489188216e-8f;
+    const float z = r * r;
+    const float sr = r + r * z * hairscatter::detail::horner(z, -1.0f / 6, 1.0f / 120, -1.0f / 5040, 1.0f / 362880);
+    const float cr = 1.0f + z * hairscatter::detail::horner(z, -0.5f, 1.0f / 24, -1.0f / 720, 1.0f / 40320,
+                                                            -1.0f / 3628800);
+    switch (std::int32_t(q) & 3) {
+        case 0: s = sr, c = cr; break;
+        case 1: s = cr, c = -sr; break;
+        case 2: s = -sr, c = -cr; break;
+        default: s = -cr, c = sr; break;
+    }
+}
+
 }  // namespace detail
 
 template <typename T> HAIRSCATTER_HD T exp(T x) {
@@ -81,6 +119,34 @@ template <> HAIRSCATTER_HD inline float atan2(float y, float x) {
     if (ay > ax) r = kHalfPi<float> - r;
     if (x < 0.0f) r = kPi<float> - r;
     return std::copysign(r, y);
+#endif
+}
+
+// Natural logarithm of a positive normal number (callers floor their arguments).
+template <typename T> HAIRSCATTER_HD T log(T x) {
+    using std::log;
+    return log(x);
+}
+template <> HAIRSCATTER_HD inline float log(float x) {
+#if defined(__CUDA_ARCH__)
+    return ::logf(x);
+#else
+    return detail::log_float(x);
+#endif
+}
+
+// sin and cos together, for angles within a few turns of zero.
+template <typename T> HAIRSCATTER_HD void sincos(T x, T& s, T& c) {
+    using std::cos;
+    using std::sin;
+    s = sin(x);
+    c = cos(x);
+}
+template <> HAIRSCATTER_HD inline void sincos(float x, float& s, float& c) {
+#if defined(__CUDA_ARCH__)
+    ::sincosf(x, &s, &c);
+#else
+    detail::sincos_float(x, s, c);
 #endif
 }
 

@@ -99,8 +99,6 @@ template <typename T> class ChiangFiber {
     // Importance sampling (d'Eon, Marschner & Hanika 2013): u.x picks the lobe with
     // probability ∝ mean(A_p), (u.y, u.z) sample θi from M_p, u.w samples φ from N_p.
     HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const {
-        using std::cos;
-        using std::sin;
         using std::sqrt;
         const Outgoing o = outgoing<true>(wo);
         int p = kLobes;
@@ -122,7 +120,8 @@ template <typename T> class ChiangFiber {
         // Rotate wo's azimuthal direction by φ instead of going through atan2 and back.
         const T len = sqrt(wo.y * wo.y + wo.z * wo.z);
         const T ay = len > T(0) ? wo.y / len : T(1), az = len > T(0) ? wo.z / len : T(0);
-        const T c = cos(phi), s = sin(phi);
+        T s, c;
+        elem::sincos(phi, s, c);
 
         HairSample<T> r;
         r.wi = V3(sin_i, cos_i * (ay * c - az * s), cos_i * (ay * s + az * c));
