@@ -1,0 +1,245 @@
+// Benchmarks of hairscatter's Chiang model: ns per call of eval, pdf, eval_pdf and sample
+// in float and double, the per-hit ChiangFiber and per-material ChiangMaterial
+// constructors, each at β_m ∈ {0.05, 0.3, 1.0} (argument bm = index); next to them
+// bench_ref::HairBxDF (reference/pbrt_style.hpp, pbrt-v4's algorithm) and the calibration
+// loop body that the speed goal is stated in. scripts/bench.sh runs it and writes the
+// results with the machine, compiler and flags to bench/results/.
+//
+// Arguments: bm = β_m index (0.05, 0.3, 1.0); wi = 0 for wi uniform on the sphere,
+// 1 for wi drawn by the sampler (so that the lobe peaks are hit).
+#include <cmath>
+#include <cstddef>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include <hairscatter/hairscatter.hpp>
+
+#include "reference/inputs.hpp"
+#include "reference/pbrt_style.hpp"
+
+namespace {
+
+using bench_ref::inputs;
+using bench_ref::kMask;
+
+std::string label(const benchmark::State& state, bool with_wi) {
+    std::string s = "beta_m=" + std::to_string(bench_ref::kBetaM[state.range(0)]).substr(0, 4);
+    if (with_wi) s += state.range(1) ? " wi=sampled" : " wi=uniform";
+    return s;
+}
+
+void beta_args(benchmark::internal::Benchmark* b) {
+    b->ArgNames({"bm"});
+    for (int i = 0; i < 3; ++i) b->Args({i});
+}
+void beta_wi_args(benchmark::internal::Benchmark* b) {
+    b->ArgNames({"bm", "wi"});
+    for (int w = 0; w < 2; ++w)
+        for (int i = 0; i < 3; ++i) b->Args({i, w});
+}
+
+// The unit of the speed goal: one body of this loop over random a, b ∈ [0, 1).
+template <typename T> void BM_Calib(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    std::size_t i = 0;
+    for (auto _ : state) {
+        const T a = in.calib_a[i], b = in.calib_b[i];
+        T r = std::exp(-a) + std::log(T(1) + b) + std::atan2(a, b) + std::sqrt(a * b) + std::sin(a) +
+              std::cos(b) + std::asin(T(0.9) * a) + std::sinh(b);
+        benchmark::DoNotOptimize(r);
+        i = (i + 1) & kMask;
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+// ---- ours -----------------------------------------------------------------------------
+
+template <typename T> void BM_Eval(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto b = std::size_t(state.range(0));
+    const auto& fib = in.fibers[b];
+    const auto& wi = in.wi[state.range(1)][b];
+    std::size_t i = 0;
+    for (auto _ : state) {
+        auto r = fib[i].eval(in.wo[i], wi[i]);
+        benchmark::DoNotOptimize(r);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, true));
+}
+
+template <typename T> void BM_Pdf(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto b = std::size_t(state.range(0));
+    const auto& fib = in.fibers[b];
+    const auto& wi = in.wi[state.range(1)][b];
+    std::size_t i = 0;
+    for (auto _ : state) {
+        auto r = fib[i].pdf(in.wo[i], wi[i]);
+        benchmark::DoNotOptimize(r);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, true));
+}
+
+template <typename T> void BM_EvalPdf(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto b = std::size_t(state.range(0));
+    const auto& fib = in.fibers[b];
+    const auto& wi = in.wi[state.range(1)][b];
+    std::size_t i = 0;
+    for (auto _ : state) {
+        auto r = fib[i].eval_pdf(in.wo[i], wi[i]);
+        benchmark::DoNotOptimize(r);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, true));
+}
+
+template <typename T> void BM_Sample(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto& fib = in.fibers[std::size_t(state.range(0))];
+    std::size_t i = 0;
+    for (auto _ : state) {
+        auto r = fib[i].sample(in.wo[i], in.u[i]);
+        benchmark::DoNotOptimize(r);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, false));
+}
+
+// Per hit: the fiber from a material and a varying h (the object is materialised).
+template <typename T> void BM_FiberCtor(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto& mat = in.materials[std::size_t(state.range(0))];
+    std::size_t i = 0;
+    for (auto _ : state) {
+        hairscatter::ChiangFiber<T> f(mat, in.h[i]);
+        benchmark::DoNotOptimize(f);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, false));
+}
+
+// Per material: validation and every v-, s- and α-dependent constant (σa varied).
+template <typename T> void BM_MaterialCtor(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    hairscatter::FiberParams<T> p = bench_ref::bench_params<T>(int(state.range(0)));
+    const auto sigma = p.sigma_a;
+    std::size_t i = 0;
+    for (auto _ : state) {
+        p.sigma_a = sigma * (T(1) + T(0.1) * in.h[i]);
+        hairscatter::ChiangMaterial<T> m(p);
+        benchmark::DoNotOptimize(m);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, false));
+}
+
+// ---- the pbrt-v4-style reference --------------------------------------------------------
+
+template <typename T> void BM_RefF(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto b = std::size_t(state.range(0));
+    const auto& ref = in.refs[b];
+    const auto& wi = in.wi[state.range(1)][b];
+    std::size_t i = 0;
+    for (auto _ : state) {
+        auto r = ref[i].f(in.wo[i], wi[i]);
+        benchmark::DoNotOptimize(r);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, true));
+}
+
+template <typename T> void BM_RefPdf(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto b = std::size_t(state.range(0));
+    const auto& ref = in.refs[b];
+    const auto& wi = in.wi[state.range(1)][b];
+    std::size_t i = 0;
+    for (auto _ : state) {
+        auto r = ref[i].PDF(in.wo[i], wi[i]);
+        benchmark::DoNotOptimize(r);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, true));
+}
+
+template <typename T> void BM_RefSample(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto& ref = in.refs[std::size_t(state.range(0))];
+    std::size_t i = 0;
+    for (auto _ : state) {
+        auto r = ref[i].Sample_f(in.wo[i], in.u[i]);
+        benchmark::DoNotOptimize(r);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, false));
+}
+
+// pbrt builds a HairBxDF per hit: v_p, s and the tilt angles are computed there. The
+// parameters pass through DoNotOptimize each time, as if read from a material, so that
+// none of that is constant-folded or hoisted.
+template <typename T> void BM_RefCtor(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    hairscatter::FiberParams<T> p = bench_ref::bench_params<T>(int(state.range(0)));
+    std::size_t i = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(p);
+        bench_ref::HairBxDF<T> r(in.h[i], p.eta, p.sigma_a, p.beta_m, p.beta_n, p.alpha);
+        benchmark::DoNotOptimize(r);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, false));
+}
+
+}  // namespace
+
+BENCHMARK_TEMPLATE(BM_Calib, float);
+BENCHMARK_TEMPLATE(BM_Calib, double);
+
+BENCHMARK_TEMPLATE(BM_Eval, float)->Apply(beta_wi_args);
+BENCHMARK_TEMPLATE(BM_Eval, double)->Apply(beta_wi_args);
+BENCHMARK_TEMPLATE(BM_Pdf, float)->Apply(beta_wi_args);
+BENCHMARK_TEMPLATE(BM_Pdf, double)->Apply(beta_wi_args);
+BENCHMARK_TEMPLATE(BM_EvalPdf, float)->Apply(beta_wi_args);
+BENCHMARK_TEMPLATE(BM_EvalPdf, double)->Apply(beta_wi_args);
+BENCHMARK_TEMPLATE(BM_Sample, float)->Apply(beta_args);
+BENCHMARK_TEMPLATE(BM_Sample, double)->Apply(beta_args);
+BENCHMARK_TEMPLATE(BM_FiberCtor, float)->Apply(beta_args);
+BENCHMARK_TEMPLATE(BM_FiberCtor, double)->Apply(beta_args);
+BENCHMARK_TEMPLATE(BM_MaterialCtor, float)->Apply(beta_args);
+BENCHMARK_TEMPLATE(BM_MaterialCtor, double)->Apply(beta_args);
+
+BENCHMARK_TEMPLATE(BM_RefF, float)->Apply(beta_wi_args);
+BENCHMARK_TEMPLATE(BM_RefF, double)->Apply(beta_wi_args);
+BENCHMARK_TEMPLATE(BM_RefPdf, float)->Apply(beta_wi_args);
+BENCHMARK_TEMPLATE(BM_RefPdf, double)->Apply(beta_wi_args);
+BENCHMARK_TEMPLATE(BM_RefSample, float)->Apply(beta_args);
+BENCHMARK_TEMPLATE(BM_RefSample, double)->Apply(beta_args);
+BENCHMARK_TEMPLATE(BM_RefCtor, float)->Apply(beta_args);
+BENCHMARK_TEMPLATE(BM_RefCtor, double)->Apply(beta_args);
+
+#ifndef HAIRSCATTER_BENCH_FLAGS_STRING
+#define HAIRSCATTER_BENCH_FLAGS_STRING "(unknown)"
+#endif
+
+int main(int argc, char** argv) {
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+#if defined(__clang__)
+    benchmark::AddCustomContext("compiler", "clang " __clang_version__);
+#elif defined(__GNUC__)
+    benchmark::AddCustomContext("compiler", "gcc " __VERSION__);
+#endif
+    benchmark::AddCustomContext("flags", HAIRSCATTER_BENCH_FLAGS_STRING);
+    benchmark::AddCustomContext("inputs", std::to_string(bench_ref::kInputs) + " (wo, wi, u, h) tuples, cycled");
+    // Build the inputs before the first timing (they are function-local statics).
+    (void)inputs<float>();
+    (void)inputs<double>();
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}

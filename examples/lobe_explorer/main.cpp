@@ -1,0 +1,360 @@
+// lobe_explorer — an image of the hair BCSDF f(wo, wi) = ChiangFiber::eval over the whole
+// sphere of incident directions, for one outgoing direction and one set of fiber
+// parameters. Writes the linear values as OpenEXR and a tone-mapped PNG preview, and
+// prints the maximum and ∫ f dωi over the grid (the directional albedo: 1 for σa = 0).
+//
+//   lobe_explorer --theta-o 30 --beta-m 0.3 --beta-n 0.3 -o out/lobe_explorer
+//
+// Image layout: x = φ = φi - φo from -180° (left) to +180° (right), so φ = 0 (backward
+// scattering: R, TRT) is the centre column and |φ| = 180° (forward: TT) the two edges;
+// y = θi from +90° (top, along the fiber tangent) to -90° (bottom). Directions follow
+// the library's fiber frame (theory.md §1): w = (sinθ, cosθ cosφ, cosθ sinφ), φo = 0.
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <glm/glm.hpp>
+
+#include <hairscatter/hairscatter.hpp>
+
+#include "image.hpp"
+#include "image_io.hpp"
+#include "preview.hpp"
+
+namespace hs = hairscatter;
+using glm::dvec3;
+using lobe_explorer::LinearImage;
+
+namespace {
+
+constexpr double kPi = hs::kPi<double>;
+
+struct Options {
+    double theta_o_deg = 30.0;
+    double h = 0.0;
+    int average_h = 0;  // 0: the single offset h
+    double eta = 1.55, beta_m = 0.3, beta_n = 0.3, alpha_deg = 2.0;
+    double eumelanin = 1.3, pheomelanin = 0.0;
+    std::vector<double> color, sigma_a;  // alternatives to the melanin concentrations
+    int width = 720, height = 360, supersample = 1, threads = 0;
+    std::string tone = "log";
+    double decades = 4.0, exposure = 0.0;
+    bool no_annotate = false;
+    std::string output = "out/lobe_explorer";
+};
+
+// What the image is of, after the options have been turned into library parameters.
+struct Setup {
+    hs::FiberParams<double> params;
+    std::string sigma_a_source;  // how σa was given, for the summary
+    std::vector<double> offsets;  // the h that eval is averaged over (one for --h)
+    dvec3 wo{0.0};
+};
+
+// Offsets for --average-h N: the midpoints of N equal cells of (-1, 1), so that the
+// average is the midpoint rule for ½ ∫ f dh (a whole fiber seen from afar).
+std::vector<double> uniform_offsets(int n) {
+    std::vector<double> h(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) h[std::size_t(k)] = -1.0 + (2.0 * k + 1.0) / n;
+    return h;
+}
+
+std::string fmt(const char* format, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof(buf), format, v);
+    return buf;
+}
+
+std::string rgb_string(const dvec3& c, const char* format = "%.4g") {
+    return "(" + fmt(format, c.r) + ", " + fmt(format, c.g) + ", " + fmt(format, c.b) + ")";
+}
+
+// Fills s from the options; throws std::invalid_argument (from sigma_a_from_color) for a
+// bad --color. sigma_a_source is set before σa so that an error can say where σa came from.
+void make_setup(const Options& o, Setup& s) {
+    s.params.eta = o.eta;
+    s.params.beta_m = o.beta_m;
+    s.params.beta_n = o.beta_n;
+    s.params.alpha = hs::radians(o.alpha_deg);
+    if (!o.sigma_a.empty()) {
+        s.params.sigma_a = dvec3(o.sigma_a[0], o.sigma_a[1], o.sigma_a[2]);
+        s.sigma_a_source = "--sigma-a";
+    } else if (!o.color.empty()) {
+        const dvec3 c(o.color[0], o.color[1], o.color[2]);
+        s.sigma_a_source = "--color " + rgb_string(c);
+        s.params.sigma_a = hs::sigma_a_from_color(c, o.beta_n);
+    } else {
+        s.params.sigma_a = hs::sigma_a_from_melanin(o.eumelanin, o.pheomelanin);
+        s.sigma_a_source = "eumelanin " + fmt("%g", o.eumelanin) + ", pheomelanin " + fmt("%g", o.pheomelanin);
+    }
+    s.offsets = o.average_h > 0 ? uniform_offsets(o.average_h) : std::vector<double>{o.h};
+    const double theta_o = hs::radians(o.theta_o_deg);
+    s.wo = dvec3(std::sin(theta_o), std::cos(theta_o), 0.0);
+}
+
+struct Rendered {
+    LinearImage image;
+    dvec3 integral{0.0};  // Σ f dωi over the (sub-)pixels
+    double seconds = 0.0;
+};
+
+// Column x covers φ ∈ [-π + xΔφ, -π + (x+1)Δφ]; row y covers θi from π/2 - yΔθ down to
+// π/2 - (y+1)Δθ. Each pixel holds the mean of f at the centres of S × S sub-pixels; the
+// integral weights each by its exact solid angle Δφ (sinθ_top - sinθ_bottom), the
+// integral of cosθ dθ dφ over the sub-pixel.
+Rendered render(const std::vector<hs::ChiangFiber<double>>& fibers, const dvec3& wo, int width, int height,
+                int supersample, int threads) {
+    const auto start = std::chrono::steady_clock::now();
+    Rendered r{LinearImage(width, height), dvec3(0.0), 0.0};
+    const int S = supersample;
+    const double dphi = 2.0 * kPi / (double(width) * S), dtheta = kPi / (double(height) * S);
+    const double inv_fibers = 1.0 / double(fibers.size()), inv_sub = 1.0 / (double(S) * S);
+    std::vector<dvec3> row_integral(std::size_t(height), dvec3(0.0));
+
+    auto render_row = [&](int y) {
+        dvec3 acc(0.0);
+        for (int b = 0; b < S; ++b) {
+            const double theta_top = 0.5 * kPi - (double(y) * S + b) * dtheta;
+            const double theta_bottom = theta_top - dtheta, theta = theta_top - 0.5 * dtheta;
+            const double d_omega = dphi * (std::sin(theta_top) - std::sin(theta_bottom));
+            const double sin_t = std::sin(theta), cos_t = std::cos(theta);
+            for (int x = 0; x < width; ++x) {
+                dvec3 pixel(0.0);
+                for (int a = 0; a < S; ++a) {
+                    const double phi = -kPi + (double(x) * S + a + 0.5) * dphi;
+                    const dvec3 wi(sin_t, cos_t * std::cos(phi), cos_t * std::sin(phi));
+                    dvec3 f(0.0);
+                    for (const auto& fiber : fibers) f += fiber.eval(wo, wi);
+                    f *= inv_fibers;
+                    pixel += f;
+                    acc += f * d_omega;
+                }
+                r.image.at(x, y) += pixel * inv_sub;
+            }
+        }
+        row_integral[std::size_t(y)] = acc;
+    };
+
+    // Rows are independent: hand them out to the workers one at a time.
+    std::atomic<int> next{0};
+    auto worker = [&] {
+        for (int y = next++; y < height; y = next++) render_row(y);
+    };
+    const int n = std::clamp(threads > 0 ? threads : int(std::thread::hardware_concurrency()), 1, height);
+    std::vector<std::thread> pool;
+    for (int t = 1; t < n; ++t) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+
+    for (const dvec3& row : row_integral) r.integral += row;
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return r;
+}
+
+// The smallest S for which the S × S sub-pixel grid resolves the sharpest lobes, so that
+// the integral is within about 1 %. By Poisson summation the midpoint rule's error for a
+// lobe of width w sampled at pitch Δ decays like exp(-2π² w/Δ) (logistic of scale s,
+// w = s) or exp(-2π² w²/Δ²) (the longitudinal lobes, w ≈ sqrt(v), sharpest for TT, v0/4),
+// which is below 1 % for s ≥ 0.45 Δ and sqrt(v) ≥ 0.55 Δ.
+int supersample_needed(const hs::FiberParams<double>& p, const Options& o) {
+    const double s = hs::logistic_scale(p.beta_n);
+    const double width_theta = std::sqrt(0.25 * hs::longitudinal_variance(p.beta_m));
+    const double pixel_phi = 2.0 * kPi / o.width, pixel_theta = kPi / o.height;
+    const double ratio = std::max(pixel_phi / (s / 0.45), pixel_theta / (width_theta / 0.55));
+    return std::max(1, int(std::ceil(ratio)));
+}
+
+// "out/x", "out/x.exr" and "out/x.png" all name the pair out/x.exr + out/x.png.
+std::string strip_image_extension(std::string base) {
+    for (const char* ext : {".exr", ".png", ".EXR", ".PNG"}) {
+        const std::string e(ext);
+        if (base.size() > e.size() && base.compare(base.size() - e.size(), e.size(), e) == 0)
+            return base.substr(0, base.size() - e.size());
+    }
+    return base;
+}
+
+int run(const Options& o) {
+    Setup setup;
+    std::vector<hs::ChiangFiber<double>> fibers;
+    try {
+        make_setup(o, setup);
+        // The host constructor validates the parameters and h, throwing
+        // std::invalid_argument with a message that names the bad one.
+        for (double h : setup.offsets) fibers.emplace_back(setup.params, h);
+    } catch (const std::invalid_argument& e) {
+        std::fprintf(stderr, "lobe_explorer: invalid parameters: %s\n", e.what());
+        if (std::string(e.what()).find("alpha") != std::string::npos)
+            std::fprintf(stderr, "  (--alpha is in degrees: |alpha| <= 22.5)\n");
+        if (std::string(e.what()).find("sigma_a.") != std::string::npos)
+            std::fprintf(stderr, "  (sigma_a came from %s)\n", setup.sigma_a_source.c_str());
+        return 2;
+    }
+
+    const Rendered r = render(fibers, setup.wo, o.width, o.height, o.supersample, o.threads);
+
+    // Maximum of the image (any channel) and where it is.
+    double max_f = -1.0;
+    int max_x = 0, max_y = 0;
+    for (int y = 0; y < o.height; ++y)
+        for (int x = 0; x < o.width; ++x) {
+            const dvec3& p = r.image.at(x, y);
+            const double m = std::max({p.r, p.g, p.b});
+            if (m > max_f) max_f = m, max_x = x, max_y = y;
+        }
+    const double max_phi = -180.0 + (max_x + 0.5) * 360.0 / o.width;
+    const double max_theta = 90.0 - (max_y + 0.5) * 180.0 / o.height;
+    dvec3 albedo(0.0);
+    for (const auto& fiber : fibers) albedo += fiber.albedo(setup.wo);
+    albedo /= double(fibers.size());
+
+    const std::string h_text = o.average_h > 0 ? "h averaged over " + std::to_string(o.average_h) +
+                                                     " uniformly spaced offsets in (-1, 1)"
+                                               : "h = " + fmt("%g", o.h);
+    const std::string fiber_text = "eta " + fmt("%g", o.eta) + ", beta_m " + fmt("%g", o.beta_m) + ", beta_n " +
+                                   fmt("%g", o.beta_n) + ", alpha " + fmt("%g", o.alpha_deg) +
+                                   " deg, sigma_a " + rgb_string(setup.params.sigma_a);
+    const std::string outgoing_text = "theta_o = " + fmt("%g", o.theta_o_deg) + " deg, phi_o = 0, " + h_text;
+
+    // Outputs.
+    const std::string base = strip_image_extension(o.output);
+    const std::string exr_path = base + ".exr", png_path = base + ".png";
+    lobe_explorer::PreviewOptions preview;
+    preview.tone = o.tone == "log" ? lobe_explorer::ToneMap::kLog : lobe_explorer::ToneMap::kReinhard;
+    preview.decades = o.decades;
+    preview.exposure = o.exposure;
+    preview.annotate = !o.no_annotate;
+    preview.theta_o_deg = o.theta_o_deg;
+    preview.title = {"hairscatter ChiangFiber f(wo, wi): " + outgoing_text, fiber_text};
+    const std::string tone_text =
+        preview.tone == lobe_explorer::ToneMap::kLog
+            ? "log10 luminance false colour, " + fmt("%g", o.decades) + " decades below the maximum"
+            : "Reinhard, exposure " + fmt("%+g", o.exposure) + " stops, sRGB";
+    try {
+        const std::filesystem::path parent = std::filesystem::path(base).parent_path();
+        if (!parent.empty()) std::filesystem::create_directories(parent);
+        lobe_explorer::write_exr(
+            exr_path, r.image,
+            {{"hairscatter:model", "ChiangFiber (Chiang et al. 2016, d'Eon et al. 2011 M_p)"},
+             {"hairscatter:values", "f(wo, wi) with the cosine inside: Lo = integral of f Li dwi"},
+             {"hairscatter:axes", "x: phi = phi_i - phi_o, -180 deg (left edge) to +180 deg (right edge); "
+                                  "y: theta_i, +90 deg (top edge) to -90 deg (bottom edge)"},
+             {"hairscatter:outgoing", outgoing_text},
+             {"hairscatter:fiber", fiber_text}});
+        lobe_explorer::write_png(png_path, lobe_explorer::make_preview(r.image, preview));
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "lobe_explorer: %s\n", e.what());
+        return 1;
+    }
+
+    std::printf("lobe_explorer: wrote %s (linear f, float RGB, %d x %d)\n", exr_path.c_str(), o.width, o.height);
+    std::printf("               wrote %s (%s%s)\n", png_path.c_str(), tone_text.c_str(),
+                preview.annotate ? ", annotated" : "");
+    std::printf("  outgoing  %s\n", outgoing_text.c_str());
+    std::printf("  fiber     %s [from %s]\n", fiber_text.c_str(), setup.sigma_a_source.c_str());
+    std::printf("  grid      x: phi -180..180 deg, y: theta_i +90 (top)..-90 (bottom); %d x %d sub-samples "
+                "per pixel; %.2f s\n",
+                o.supersample, o.supersample, r.seconds);
+    std::printf("  max f     %.5g at theta_i = %.2f deg, phi = %.2f deg\n", max_f, max_theta, max_phi);
+    std::printf("  integral  of f dw_i over the grid = %s   (model albedo sum A_p = %s)\n",
+                rgb_string(r.integral, "%.5f").c_str(), rgb_string(albedo, "%.5f").c_str());
+    const int needed = supersample_needed(setup.params, o);
+    if (needed > o.supersample)
+        std::printf("  note      the grid is too coarse for these lobes: the integral is inaccurate and the image\n"
+                    "            aliased; use --supersample %d (or a larger --width/--height)\n",
+                    needed);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    CLI::App app{
+        "lobe_explorer: an image of the hair BCSDF f(wo, wi) (hairscatter::ChiangFiber::eval) over the "
+        "sphere of incident directions wi.\n"
+        "x axis: phi = phi_i - phi_o from -180 deg (left) to +180 deg (right); phi = 0 (centre) is "
+        "backward scattering (R, TRT), |phi| = 180 (edges) forward scattering (TT).\n"
+        "y axis: theta_i from +90 deg (top, along the fiber tangent) to -90 deg (bottom); the lobes sit "
+        "near the specular cone theta_i = -theta_o.\n"
+        "Writes <output>.exr (linear f, float RGB, one pixel per grid cell) and <output>.png (a preview: "
+        "by default log10 of the luminance in false colour, with axes and a colour bar).\n"
+        "Prints the maximum of f and the integral of f over the sphere (the albedo; 1 for a lossless "
+        "fiber, e.g. --eumelanin 0)."};
+    app.get_formatter()->column_width(34);
+
+    app.add_option("--theta-o", o.theta_o_deg, "Outgoing inclination theta_o in degrees (phi_o = 0)")
+        ->check(CLI::Range(-90.0, 90.0))
+        ->capture_default_str();
+    auto* h_opt = app.add_option("--h", o.h, "Offset across the fiber, in [-1, 1] (0 = centre)")->capture_default_str();
+    app.add_option("--average-h", o.average_h,
+                   "Instead of one h, average f over N uniformly spaced offsets in (-1, 1): a whole fiber")
+        ->check(CLI::Range(1, 100000))
+        ->excludes(h_opt);
+    app.add_option("--eta", o.eta, "Index of refraction (> 1)")->capture_default_str();
+    app.add_option("--beta-m", o.beta_m, "Longitudinal roughness, (0, 1]")->capture_default_str();
+    app.add_option("--beta-n", o.beta_n, "Azimuthal roughness, (0, 1]")->capture_default_str();
+    app.add_option("--alpha", o.alpha_deg, "Cuticle-scale tilt in degrees, |alpha| <= 22.5")->capture_default_str();
+    auto* eu = app.add_option("--eumelanin", o.eumelanin, "Eumelanin concentration (sets sigma_a)")->capture_default_str();
+    auto* pheo = app.add_option("--pheomelanin", o.pheomelanin, "Pheomelanin concentration (sets sigma_a)")
+                     ->capture_default_str();
+    auto* color = app.add_option("--color", o.color,
+                                 "Instead of melanin: sigma_a for this diffuse-looking colour r,g,b in (0, 1] "
+                                 "(Chiang et al. 2016 eq. 9)")
+                      ->delimiter(',')
+                      ->expected(3)
+                      ->type_name("R,G,B")
+                      ->excludes(eu)
+                      ->excludes(pheo);
+    app.add_option("--sigma-a", o.sigma_a, "Instead of melanin: absorption per unit fiber radius r,g,b (>= 0)")
+        ->delimiter(',')
+        ->expected(3)
+        ->type_name("R,G,B")
+        ->excludes(eu)
+        ->excludes(pheo)
+        ->excludes(color);
+    app.add_option("--width", o.width, "Image width in pixels (phi)")->check(CLI::Range(1, 16384))->capture_default_str();
+    app.add_option("--height", o.height, "Image height in pixels (theta_i)")
+        ->check(CLI::Range(1, 16384))
+        ->capture_default_str();
+    app.add_option("--supersample", o.supersample,
+                   "S x S samples per pixel (smoother image, more accurate integral for sharp lobes)")
+        ->check(CLI::Range(1, 64))
+        ->capture_default_str();
+    app.add_option("--threads", o.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
+    app.add_option("--tonemap", o.tone,
+                   "PNG preview: 'log' = false colour (viridis) of log10 luminance over --decades below the "
+                   "maximum, showing faint and sharp lobes together; 'reinhard' = f * 2^exposure, x/(1+x), "
+                   "sRGB, showing the hair's hue")
+        ->check(CLI::IsMember({"log", "reinhard"}))
+        ->capture_default_str();
+    app.add_option("--decades", o.decades, "log preview: decades of f shown below the maximum")
+        ->check(CLI::Range(0.1, 30.0))
+        ->capture_default_str();
+    app.add_option("--exposure", o.exposure, "reinhard preview: exposure in stops")->capture_default_str();
+    app.add_flag("--no-annotate", o.no_annotate, "PNG without axes, labels and colour bar (same size as the EXR)");
+    app.add_option("-o,--output", o.output,
+                   "Output basename: writes <output>.exr and <output>.png, creating the directory")
+        ->capture_default_str();
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::Success& e) {  // --help
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "lobe_explorer: %s\nRun with --help for the options.\n", e.what());
+        return 2;
+    }
+    return run(o);
+}

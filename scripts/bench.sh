@@ -1,0 +1,246 @@
+#!/usr/bin/env bash
+# hairscatter benchmarks (not run by CI): configure, build, run, and write
+# bench/results/chiang_<date>.txt with the machine, compiler, flags, the Google Benchmark
+# medians and a table in calibration units (see bench/chiang_bench.cpp).
+#
+#   scripts/bench.sh                      full run (5 repetitions, medians; ~2-3 minutes)
+#   scripts/bench.sh --quick              1 repetition, short runs: a smoke test, no results file
+#   scripts/bench.sh --filter REGEX       only the matching benchmarks (plus the calibration loop)
+#   scripts/bench.sh --min-time S         seconds per repetition (default 0.2)
+#   scripts/bench.sh --out FILE           results file (default bench/results/chiang_<date>.txt)
+#   scripts/bench.sh --headers REV        benchmark include/ as committed in REV (e.g. HEAD, to
+#                                         compare with uncommitted header changes); the bench
+#                                         code and build files are the working tree's. Builds in
+#                                         build/bench-REV; default file chiang_<date>_<REV>.txt
+#   scripts/bench.sh --no-deps            skip the apt package check (or HAIRSCATTER_SKIP_DEPS=1)
+#
+# Build tree: build/bench (Release; the bench targets add -O2 -march=native themselves,
+# bench/CMakeLists.txt). Timings are the medians of the repetitions' CPU times: on a
+# shared machine the wall time also counts the time other processes hold the core.
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$ROOT"
+
+BUILD="$ROOT/build/bench"
+SRC="$ROOT"
+headers_rev=""
+reps=5
+min_time=0.2
+filter=""
+out=""
+quick=0
+install_deps=1
+[[ "${HAIRSCATTER_SKIP_DEPS:-0}" == 1 ]] && install_deps=0
+
+while [[ $# -gt 0 ]]; do
+    case "$1" in
+        --quick) quick=1; reps=1; min_time=0.05 ;;
+        --filter) filter="$2"; shift ;;
+        --min-time) min_time="$2"; shift ;;
+        --out) out="$2"; shift ;;
+        --headers) headers_rev="$2"; shift ;;
+        --no-deps) install_deps=0 ;;
+        -h | --help) sed -n '2,20p' "$0"; exit 0 ;;
+        *) echo "bench.sh: unknown option '$1'" >&2; exit 2 ;;
+    esac
+    shift
+done
+
+# --- dependencies ---------------------------------------------------------------------
+if [[ $install_deps == 1 ]] && command -v dpkg >/dev/null 2>&1 && command -v apt-get >/dev/null 2>&1; then
+    missing=()
+    for pkg in cmake make g++ libglm-dev libbenchmark-dev python3; do
+        dpkg -s "$pkg" 2>/dev/null | grep -q '^Status: install ok installed' || missing+=("$pkg")
+    done
+    if [[ ${#missing[@]} -gt 0 ]]; then
+        echo "bench.sh: installing ${missing[*]}"
+        sudo_cmd=()
+        [[ $(id -u) -ne 0 ]] && sudo_cmd=(sudo)
+        "${sudo_cmd[@]}" apt-get update
+        DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y --no-install-recommends "${missing[@]}"
+    fi
+fi
+
+# --- build ------------------------------------------------------------------------------
+if [[ -n "$headers_rev" ]]; then
+    # A source tree of its own: the working tree's build files and bench/, REV's include/.
+    rev_name="$(git -C "$ROOT" rev-parse --short "$headers_rev")"
+    SRC="$ROOT/build/bench-src-$rev_name"
+    BUILD="$ROOT/build/bench-$rev_name"
+    rm -rf "$SRC"
+    mkdir -p "$SRC"
+    for f in CMakeLists.txt cmake LICENSE bench; do
+        if [[ -e "$ROOT/$f" ]]; then cp -r "$ROOT/$f" "$SRC/"; fi
+    done
+    rm -rf "$SRC/bench/results"
+    git -C "$ROOT" archive "$headers_rev" include | tar -x -C "$SRC"
+fi
+cmake -S "$SRC" -B "$BUILD" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF \
+    -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$BUILD" --target chiang_bench bench_crosscheck -j "$(nproc 2>/dev/null || echo 2)"
+
+BENCH="$BUILD/bench/chiang_bench"
+CROSS="$BUILD/bench/bench_crosscheck"
+JSON="$BUILD/chiang_bench.json"
+CONSOLE="$BUILD/chiang_bench.console.txt"
+CROSSOUT="$BUILD/bench_crosscheck.txt"
+
+# --- run --------------------------------------------------------------------------------
+echo "bench.sh: cross-check"
+"$CROSS" | tee "$CROSSOUT"
+
+load_before="$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
+busy_before="$(ps -eo pcpu=,comm= --sort=-pcpu 2>/dev/null | awk '$1 > 5 {printf "%s(%s%%) ", $2, $1}' || true)"
+# Repetitions interleaved in random order, so that a burst of load from another process
+# spoils one repetition of many benchmarks instead of every repetition of one.
+args=(--benchmark_repetitions="$reps" --benchmark_min_time="$min_time"
+      --benchmark_enable_random_interleaving=true
+      --benchmark_out="$JSON" --benchmark_out_format=json)
+[[ $reps -gt 1 ]] && args+=(--benchmark_report_aggregates_only=true)
+[[ -n "$filter" ]] && args+=(--benchmark_filter="BM_Calib|$filter")
+echo "bench.sh: $BENCH ${args[*]}"
+start=$(date +%s)
+"$BENCH" "${args[@]}" 2>&1 | tee "$CONSOLE"
+elapsed=$(( $(date +%s) - start ))
+load_after="$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
+
+if [[ $quick == 1 && -z "$out" ]]; then
+    echo "bench.sh: --quick: no results file written"
+    exit 0
+fi
+
+# --- the results file -------------------------------------------------------------------
+mkdir -p "$ROOT/bench/results"
+if [[ -z "$out" ]]; then
+    out="$ROOT/bench/results/chiang_$(date +%Y-%m-%d)${headers_rev:+_$rev_name}.txt"
+fi
+
+cxx="$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$BUILD/CMakeCache.txt")"
+compile_cmd="$(python3 - "$BUILD/compile_commands.json" <<'EOF'
+import json, sys
+for e in json.load(open(sys.argv[1])):
+    if e["file"].endswith("bench/chiang_bench.cpp"):
+        print(e.get("command") or " ".join(e.get("arguments", [])))
+        break
+EOF
+)"
+
+{
+    echo "hairscatter benchmark: Chiang model (bench/chiang_bench.cpp, scripts/bench.sh)"
+    echo
+    echo "date:      $(date -u '+%Y-%m-%d %H:%M:%S UTC')"
+    if [[ -n "$headers_rev" ]]; then
+        echo "headers:   include/ of commit $rev_name (--headers $headers_rev); bench/ from the working tree"
+    else
+        dirty="$(git -C "$ROOT" status --porcelain -- include 2>/dev/null | head -1 || true)"
+        echo "commit:    $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')${dirty:+ (with uncommitted changes in include/)}"
+    fi
+    echo "           sha1 of include/**/*.hpp $(cd "$SRC" && find include -name '*.hpp' | LC_ALL=C sort | xargs cat | sha1sum | cut -c1-12)"
+    echo "uname -a:  $(uname -a)"
+    echo "cpu:       $(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -1), $(nproc) cores ($(lscpu | sed -n 's/^CPU(s):[[:space:]]*//p' | head -1) CPUs)"
+    echo "compiler:  $("$cxx" --version | head -1)"
+    march="$("$cxx" -march=native -Q --help=target 2>/dev/null | awk '$1 == "-march=" {print $2}' | head -1 || true)"
+    echo "flags:     -O2 -march=native (= ${march:-?} here) -DNDEBUG on the bench targets; they come after"
+    echo "           the Release flags, so -O2 wins over -O3. The compile command:"
+    echo "           ${compile_cmd}"
+    echo "run:       chiang_bench ${args[*]}"
+    echo "           ${elapsed} s; load average before ${load_before}, after ${load_after}"
+    [[ -n "$busy_before" ]] && echo "           other busy processes at the start: ${busy_before}"
+    echo
+    echo "== Summary (from the medians of the CPU times) =="
+    echo
+    python3 - "$JSON" <<'EOF'
+import json, re, sys
+
+data = json.load(open(sys.argv[1]))
+rows = {}
+cv = []
+for b in data["benchmarks"]:
+    agg = b.get("aggregate_name")
+    name = b.get("run_name", b["name"])
+    if agg == "cv":
+        cv.append((b["cpu_time"], name))
+    if agg not in (None, "median"):
+        continue
+    if agg is None and any(x.get("aggregate_name") for x in data["benchmarks"]):
+        continue
+    rows[name] = b["cpu_time"]  # ns
+
+def get(fn, T, bm=None, wi=None):
+    n = "%s<%s>" % (fn, T)
+    if bm is not None:
+        n += "/bm:%d" % bm
+    if wi is not None:
+        n += "/wi:%d" % wi
+    return rows.get(n)
+
+calf = get("BM_Calib", "float")
+cald = get("BM_Calib", "double")
+if not calf:
+    print("(no calibration result: cannot form the table)")
+    sys.exit(0)
+print("calibration loop body: float %.1f ns, double %.1f ns. u = ns / %.1f ns (the float calibration loop) in"
+      % (calf, cald or float("nan"), calf))
+print("both tables. pbrt-v4 (stated for this machine kind, float, -O2 -march=native): f 6.5 u, Sample_f 14 u,")
+print("PDF 6.6 u; the goal is ours <= pbrt/4, i.e. eval <= 1.63 u and sample <= 3.50 u. 'x pbrt' = stated pbrt u /")
+print("our u (goal >= 4); 'ref/ours' = bench_ref (reference/pbrt_style.hpp, same binary) / ours.")
+print("eval_pdf's reference is f + PDF (pbrt has no combined call); ctor = the per-hit constructor")
+print("(ChiangFiber from a ChiangMaterial; bench_ref::HairBxDF like pbrt's), material = ChiangMaterial.")
+betas = ["0.05", "0.30", "1.00"]
+calls = [("eval", "BM_Eval", "BM_RefF", True, 6.5), ("pdf", "BM_Pdf", "BM_RefPdf", True, 6.6),
+         ("eval_pdf", "BM_EvalPdf", None, True, None), ("sample", "BM_Sample", "BM_RefSample", False, 14.0),
+         ("ctor", "BM_FiberCtor", "BM_RefCtor", False, None), ("material", "BM_MaterialCtor", None, False, None)]
+for T in ("float", "double"):
+    print()
+    print("%s:" % T)
+    print("  %-9s %-5s %-8s %9s %7s %9s %7s %9s %8s" % ("call", "b_m", "wi", "ours ns", "ours u", "ref ns", "ref u",
+                                                      "ref/ours", "x pbrt"))
+    for call, fn, rfn, has_wi, pbrt_u in calls:
+        for wi in ((0, 1) if has_wi else (None,)):
+            for bm in range(3):
+                ours = get(fn, T, bm, wi)
+                if ours is None:
+                    continue
+                if call == "eval_pdf":
+                    a, b = get("BM_RefF", T, bm, wi), get("BM_RefPdf", T, bm, wi)
+                    ref = a + b if a is not None and b is not None else None
+                else:
+                    ref = get(rfn, T, bm, wi) if rfn else None
+                wis = "-" if wi is None else ("uniform", "sampled")[wi]
+                line = "  %-9s %-5s %-8s %9.1f %7.2f" % (call, betas[bm], wis, ours, ours / calf)
+                line += (" %9.1f %7.2f %9.2f" % (ref, ref / calf, ref / ours)) if ref else " %9s %7s %9s" % ("", "", "")
+                if pbrt_u and T == "float":
+                    line += " %8.2f" % (pbrt_u / (ours / calf))
+                print(line.rstrip())
+
+def slow(fn, T, wi, bm):
+    a, b = get(fn, T, 1, wi), get(fn, T, bm, wi)
+    return b / a if a and b else float("nan")
+print()
+print("slow paths: time at beta_m = 1.0 and at 0.05, each / time at beta_m = 0.3 (pbrt-v4 f: 2.3x at 1.0):")
+print("  %-22s %8s %8s" % ("", "1.0", "0.05"))
+for label, fn, wi in (("ours eval", "BM_Eval", 0), ("ours eval (wi sampled)", "BM_Eval", 1),
+                      ("ours sample", "BM_Sample", None), ("ref f", "BM_RefF", 0),
+                      ("ref f (wi sampled)", "BM_RefF", 1), ("ref Sample_f", "BM_RefSample", None)):
+    for T in ("float", "double"):
+        print("  %-22s %7.2fx %7.2fx  %s" % (label, slow(fn, T, wi, 2), slow(fn, T, wi, 0), T))
+if cv:
+    cv.sort(reverse=True)
+    print()
+    print("noise: coefficient of variation of the CPU time over the repetitions: median %.1f %%, max %.1f %% (%s)"
+          % (100 * sorted(c for c, _ in cv)[len(cv) // 2], 100 * cv[0][0], cv[0][1]))
+EOF
+    echo
+    echo "== bench_crosscheck (double; and float accuracy against the accurate double reference) =="
+    echo
+    cat "$CROSSOUT"
+    echo
+    echo "== Google Benchmark console output (medians and coefficients of variation) =="
+    echo
+    echo "(\"Library was built as DEBUG\" refers to Debian's libbenchmark package, not to this code.)"
+    echo
+    grep -v -E '_(mean|stddev) ' "$CONSOLE"
+} >"$out"
+
+echo "bench.sh: wrote ${out#"$ROOT"/}"

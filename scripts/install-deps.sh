@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# Install the Debian/Ubuntu packages hairscatter needs, but only those missing.
+#
+#   scripts/install-deps.sh [tests|example|bench|all]...   (default: tests)
+#
+# Nothing is done (and no root is needed) when everything is already installed.
+# Set HAIRSCATTER_SKIP_DEPS=1 to skip this step entirely (e.g. on a machine
+# whose dependencies come from elsewhere).
+set -euo pipefail
+
+usage() {
+    echo "usage: $0 [tests|example|bench|all]..." >&2
+    exit 2
+}
+
+if [[ "${HAIRSCATTER_SKIP_DEPS:-0}" == 1 ]]; then
+    echo "install-deps: HAIRSCATTER_SKIP_DEPS=1, not checking packages"
+    exit 0
+fi
+
+# Packages per purpose. (libboost-math-dev brings the Boost headers and
+# BoostConfig.cmake; make is listed because cmake only recommends it.)
+tests_pkgs=(cmake make g++ clang libglm-dev libgtest-dev libgmock-dev libboost-math-dev)
+example_pkgs=(cmake make g++ libglm-dev libopenexr-dev libcli11-dev libstb-dev libpng-dev)
+bench_pkgs=(cmake make g++ libglm-dev libbenchmark-dev python3 python3-matplotlib)
+
+[[ $# -eq 0 ]] && set -- tests
+wanted=()
+for what in "$@"; do
+    case "$what" in
+        tests | test) wanted+=("${tests_pkgs[@]}") ;;
+        example | examples) wanted+=("${example_pkgs[@]}") ;;
+        bench | benchmarks) wanted+=("${bench_pkgs[@]}") ;;
+        all) wanted+=("${tests_pkgs[@]}" "${example_pkgs[@]}" "${bench_pkgs[@]}") ;;
+        -h | --help) usage ;;
+        *) echo "install-deps: unknown set '$what'" >&2; usage ;;
+    esac
+done
+
+if ! command -v dpkg >/dev/null 2>&1 || ! command -v apt-get >/dev/null 2>&1; then
+    echo "install-deps: not a Debian-like system (no dpkg/apt-get); assuming the dependencies are installed:"
+    printf '  %s\n' "${wanted[@]}" | sort -u
+    exit 0
+fi
+
+is_installed() {
+    dpkg -s "$1" 2>/dev/null | grep -q '^Status: install ok installed'
+}
+
+missing=()
+for pkg in $(printf '%s\n' "${wanted[@]}" | sort -u); do
+    is_installed "$pkg" || missing+=("$pkg")
+done
+
+if [[ ${#missing[@]} -eq 0 ]]; then
+    echo "install-deps: all packages present ($*)"
+    exit 0
+fi
+
+echo "install-deps: installing missing packages: ${missing[*]}"
+SUDO=()
+if [[ "$(id -u)" -ne 0 ]]; then
+    if command -v sudo >/dev/null 2>&1; then
+        SUDO=(sudo)
+    else
+        echo "install-deps: not root and sudo is unavailable; please install: ${missing[*]}" >&2
+        exit 1
+    fi
+fi
+
+export DEBIAN_FRONTEND=noninteractive
+retry() {
+    local n
+    for n in 1 2 3; do
+        if "$@"; then return 0; fi
+        echo "install-deps: '$*' failed (attempt $n/3)" >&2
+        sleep $((n * 5))
+    done
+    return 1
+}
+
+retry "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q
+retry "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive \
+    apt-get install -y -q --no-install-recommends "${missing[@]}"
+echo "install-deps: done"

@@ -1,0 +1,210 @@
+#!/usr/bin/env bash
+# hairscatter: the full test run (what CI runs).
+#
+#   scripts/test.sh                 all steps
+#   scripts/test.sh --quick         only step gcc (configure + build + ctest)
+#   scripts/test.sh --only asan,consumer
+#   scripts/test.sh --skip cuda
+#   scripts/test.sh --clang-build-only
+#
+# Steps (build trees under build/):
+#   gcc       GCC,   Release, -Werror: build + ctest            (build/test-gcc)
+#   clang     Clang, Release, -Werror: build + ctest            (build/test-clang)
+#   asan      GCC, -O1 -g, asserts on, ASan+UBSan: build + ctest (build/test-asan)
+#   consumer  install to build/prefix; consume via find_package and add_subdirectory
+#   cuda      nvcc compile check of tests/cuda/*.cu (skipped without nvcc)
+#
+# Options: -j N / JOBS=N parallelism (default: nproc); --no-deps (or
+# HAIRSCATTER_SKIP_DEPS=1) skips the apt package check.
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$ROOT"
+
+ALL_STEPS=(gcc clang asan consumer cuda)
+steps=("${ALL_STEPS[@]}")
+skip=()
+clang_ctest=1
+install_deps=1
+JOBS="${JOBS:-$(nproc 2>/dev/null || echo 2)}"
+
+usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
+
+while [[ $# -gt 0 ]]; do
+    case "$1" in
+        --quick) steps=(gcc) ;;
+        --only) IFS=, read -r -a steps <<<"${2:?--only needs a list}"; shift ;;
+        --only=*) IFS=, read -r -a steps <<<"${1#--only=}" ;;
+        --skip) IFS=, read -r -a more <<<"${2:?--skip needs a list}"; skip+=("${more[@]}"); shift ;;
+        --skip=*) IFS=, read -r -a more <<<"${1#--skip=}"; skip+=("${more[@]}") ;;
+        --clang-build-only) clang_ctest=0 ;;
+        --no-deps) install_deps=0 ;;
+        -j) JOBS="${2:?-j needs a number}"; shift ;;
+        -j*) JOBS="${1#-j}" ;;
+        -h | --help) usage; exit 0 ;;
+        *) echo "test.sh: unknown argument '$1'" >&2; usage >&2; exit 2 ;;
+    esac
+    shift
+done
+for s in "${steps[@]}" "${skip[@]}"; do
+    [[ " ${ALL_STEPS[*]} " == *" $s "* ]] || { echo "test.sh: unknown step '$s' (steps: ${ALL_STEPS[*]})" >&2; exit 2; }
+done
+
+# ---------------------------------------------------------------------------
+# Bookkeeping: per-step timing and the ctest totals, summarised on exit.
+# ---------------------------------------------------------------------------
+declare -a summary=()
+total_passed=0
+total_failed=0
+current_step=""
+script_start=$SECONDS
+LOG_DIR="$ROOT/build/logs"
+mkdir -p "$LOG_DIR"
+
+section() {
+    printf '\n'
+    printf '=%.0s' {1..78}; printf '\n'
+    printf '== %s\n' "$*"
+    printf '=%.0s' {1..78}; printf '\n'
+}
+
+fmt_time() { printf '%dm%02ds' $(($1 / 60)) $(($1 % 60)); }
+
+on_exit() {
+    local rc=$?
+    if [[ -n "$current_step" ]]; then
+        summary+=("$(printf '%-10s FAILED  %s' "$current_step" "$(fmt_time $((SECONDS - step_start)))")")
+    fi
+    section "Summary"
+    local line
+    for line in "${summary[@]}"; do echo "  $line"; done
+    echo "  total      $(fmt_time $((SECONDS - script_start)))"
+    if [[ $rc -eq 0 ]]; then
+        echo "test.sh: all requested steps passed"
+    else
+        echo "test.sh: FAILED (exit code $rc)" >&2
+    fi
+    # The plain closing line with the ctest totals of every step.
+    echo "ctest: ${total_passed} passed, ${total_failed} failed"
+    exit "$rc"
+}
+trap on_exit EXIT
+
+enabled() {
+    local s
+    for s in "${skip[@]}"; do [[ "$s" == "$1" ]] && return 1; done
+    for s in "${steps[@]}"; do [[ "$s" == "$1" ]] && return 0; done
+    return 1
+}
+
+run_step() {
+    local name="$1" title="$2"
+    shift 2
+    enabled "$name" || return 0
+    section "[$name] $title"
+    current_step="$name"
+    step_start=$SECONDS
+    "$@"
+    summary+=("$(printf '%-10s ok      %s' "$name" "$(fmt_time $((SECONDS - step_start)))")")
+    current_step=""
+}
+
+# ctest with the usual summary line; its counts are added to the totals.
+run_ctest() {
+    local dir="$1" log
+    log="$LOG_DIR/ctest-$(basename "$1").log"
+    shift
+    local rc=0
+    (cd "$dir" && ctest --output-on-failure --no-tests=error -j "$JOBS" "$@") 2>&1 | tee "$log" || rc=$?
+    local passed failed
+    passed=$(sed -nE 's/^[0-9]+% tests passed, ([0-9]+) tests? failed out of ([0-9]+).*/\2 \1/p' "$log" | tail -n 1)
+    if [[ -n "$passed" ]]; then
+        read -r total failed <<<"$passed"
+        total_passed=$((total_passed + total - failed))
+        total_failed=$((total_failed + failed))
+    fi
+    return "$rc"
+}
+
+# configure + build [+ ctest] of the project in one build tree.
+build_and_test() {
+    local dir="$1" run_tests="$2"
+    shift 2
+    echo "+ cmake -S . -B $dir $*"
+    cmake -S . -B "$dir" -DHAIRSCATTER_BUILD_TESTS=ON "$@"
+    echo "+ cmake --build $dir -j $JOBS"
+    cmake --build "$dir" -j "$JOBS"
+    if [[ "$run_tests" == 1 ]]; then
+        run_ctest "$dir"
+    else
+        echo "(ctest skipped for $dir)"
+    fi
+}
+
+step_deps() { bash "$ROOT/scripts/install-deps.sh" tests; }
+
+step_gcc() {
+    build_and_test build/test-gcc 1 \
+        -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=g++ -DHAIRSCATTER_WERROR=ON
+}
+
+step_clang() {
+    build_and_test build/test-clang "$clang_ctest" \
+        -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ -DHAIRSCATTER_WERROR=ON
+}
+
+step_asan() {
+    # Debug keeps assert()/HAIRSCATTER_DCHECK on; -O1 keeps the run time sane.
+    export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:${ASAN_OPTIONS:-}"
+    export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
+    build_and_test build/test-asan 1 \
+        -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g" -DCMAKE_CXX_COMPILER=g++ \
+        -DHAIRSCATTER_SANITIZE=ON
+}
+
+step_consumer() {
+    local prefix="$ROOT/build/prefix"
+    rm -rf "$prefix" build/consumer-find_package build/consumer-subdirectory
+
+    echo "+ install to build/prefix"
+    cmake -S . -B build/install -DCMAKE_BUILD_TYPE=Release -DHAIRSCATTER_BUILD_TESTS=OFF -DHAIRSCATTER_INSTALL=ON
+    cmake --install build/install --prefix "$prefix"
+    local f
+    for f in include/hairscatter/hairscatter.hpp include/hairscatter/config.hpp \
+             share/cmake/hairscatter/hairscatterConfig.cmake \
+             share/cmake/hairscatter/hairscatterConfigVersion.cmake \
+             share/cmake/hairscatter/hairscatterTargets.cmake; do
+        [[ -f "$prefix/$f" ]] || { echo "consumer: missing installed file $f" >&2; return 1; }
+    done
+
+    echo "+ consumer via find_package(hairscatter CONFIG)"
+    cmake -S tests/consumer -B build/consumer-find_package -DCMAKE_BUILD_TYPE=Release \
+        -DCONSUMER_MODE=find_package -DCMAKE_PREFIX_PATH="$prefix"
+    cmake --build build/consumer-find_package -j "$JOBS"
+    build/consumer-find_package/consumer
+
+    echo "+ consumer via add_subdirectory(<repo root>)"
+    cmake -S tests/consumer -B build/consumer-subdirectory -DCMAKE_BUILD_TYPE=Release \
+        -DCONSUMER_MODE=subdirectory -DHAIRSCATTER_SOURCE_DIR="$ROOT"
+    cmake --build build/consumer-subdirectory -j "$JOBS"
+    build/consumer-subdirectory/consumer
+}
+
+step_cuda() { bash "$ROOT/scripts/cuda-check.sh"; }
+
+echo "hairscatter test.sh: steps=[$(for s in "${steps[@]}"; do enabled "$s" && printf '%s ' "$s"; done)] jobs=$JOBS root=$ROOT"
+
+if [[ "$install_deps" == 1 ]]; then
+    section "[deps] Debian packages"
+    step_start=$SECONDS
+    current_step="deps"
+    step_deps
+    summary+=("$(printf '%-10s ok      %s' deps "$(fmt_time $((SECONDS - step_start)))")")
+    current_step=""
+fi
+
+run_step gcc      "GCC Release -Werror: build + ctest (build/test-gcc)"            step_gcc
+run_step clang    "Clang Release -Werror: build + ctest (build/test-clang)"        step_clang
+run_step asan     "GCC ASan+UBSan (-O1 -g, asserts on): build + ctest (build/test-asan)" step_asan
+run_step consumer "Install + downstream consumer (find_package, add_subdirectory)" step_consumer
+run_step cuda     "CUDA compile check (nvcc -c tests/cuda/*.cu)"                   step_cuda
