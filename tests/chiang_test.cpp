@@ -210,6 +210,29 @@ template <typename T> void check_sample_consistency(double tol) {
 TEST(ChiangSample, PdfAndWeightAgreeWithQueriesDouble) { check_sample_consistency<double>(1e-9); }
 TEST(ChiangSample, PdfAndWeightAgreeWithQueriesFloat) { check_sample_consistency<float>(1e-4); }
 
+// fiber.at(wo) hoists the wo terms; its eval, pdf and sample must be the fiber's exactly.
+TEST(ChiangFiber, BoundToWoMatchesUnbound) {
+    std::mt19937_64 rng(31);
+    std::uniform_real_distribution<double> uni(0, 1);
+    for (int k = 0; k < 50; ++k) {
+        const Config c{0.05 + 0.95 * uni(rng), 0.1 + 0.9 * uni(rng), 2, -1 + 2 * uni(rng), 0};
+        const hs::ChiangFiber<float> fiber(params<float>(c, 0.5), float(c.h));
+        const glm::vec3 wo(ref::dir(std::asin(-1 + 2 * uni(rng)), 2 * kPi * uni(rng)));
+        const auto at = fiber.at(wo);
+        for (int j = 0; j < 50; ++j) {
+            const glm::vec3 wi(ref::dir(std::asin(-1 + 2 * uni(rng)), 2 * kPi * uni(rng)));
+            EXPECT_EQ(at.eval(wi), fiber.eval(wo, wi));
+            EXPECT_EQ(at.pdf(wi), fiber.pdf(wo, wi));
+            const glm::vec4 u(float(uni(rng)), float(uni(rng)), float(uni(rng)), float(uni(rng)));
+            const auto a = at.sample(u), b = fiber.sample(wo, u);
+            EXPECT_EQ(a.wi, b.wi);
+            EXPECT_EQ(a.pdf, b.pdf);
+            EXPECT_EQ(a.weight, b.weight);
+            EXPECT_EQ(a.lobe, b.lobe);
+        }
+    }
+}
+
 // The tilt convention of pbrt-v4 (theory.md §3.3): the R lobe peaks at θi = 2α - θo,
 // TT at -(θo + α), TRT at -(θo + 4α). Scanned at the azimuths where each lobe is alone.
 TEST(ChiangTilt, LobesPeakWherePbrtV4PutsThem) {

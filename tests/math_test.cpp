@@ -299,3 +299,10 @@ TEST(Elementary, FloatLogAndSincosAreAccurate) {
     EXPECT_LT(wla, 1e-7);
     EXPECT_LT(wsc, 2e-7);
 }
+
+TEST(Elementary, DoubleExpFlushesSubnormalsToZero) {
+    EXPECT_EQ(hs::elem::exp(-709.0), 0.0);
+    EXPECT_EQ(hs::elem::exp(-1e300), 0.0);
+    EXPECT_EQ(hs::elem::exp(-700.0), std::exp(-700.0));
+    EXPECT_EQ(hs::elem::exp(1.5), std::exp(1.5));
+}

@@ -27,6 +27,10 @@ template <typename T> inline constexpr T kMaxCuticleTilt = kPi<T> / T(8);
 // Checks every field; returns an empty string when the parameters are valid, else one
 // message per bad field naming the field, its value and the allowed range.
 template <typename T> std::string validate(const FiberParams<T>& p) {
+    bool ok = p.eta > T(1) && std::isfinite(p.eta) && p.beta_m > T(0) && p.beta_m <= T(1) && p.beta_n > T(0) &&
+              p.beta_n <= T(1) && std::abs(p.alpha) <= kMaxCuticleTilt<T>;
+    for (int c = 0; c < 3; ++c) ok = ok && p.sigma_a[c] >= T(0) && std::isfinite(p.sigma_a[c]);
+    if (ok) return std::string();  // the common case builds no stream (materials may be made per strand)
     std::ostringstream msg;
     auto bad = [&](const char* name, double value, const char* range) {
         if (msg.tellp() > 0) msg << "; ";

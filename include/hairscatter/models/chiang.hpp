@@ -79,6 +79,17 @@ template <typename T> class ChiangFiber {
     using V4 = glm::vec<4, T>;
     static constexpr int kLobes = ChiangMaterial<T>::kLobes;
 
+  private:
+    // The terms that depend on wo only, shared by eval, pdf and sample.
+    struct Outgoing {
+        V3 a[kLobes + 1];          // A_p
+        T w[kLobes + 1];           // lobe selection probabilities (only when asked for)
+        T sin_o[kLobes + 1], cos_o[kLobes + 1];  // tilted θo' per lobe
+        T phi_p[kLobes];           // Φ(p, h)
+    };
+
+  public:
+
     // Cheap, device-callable: h is clamped into [-1, 1] (hit offsets round slightly out).
     HAIRSCATTER_HD ChiangFiber(const ChiangMaterial<T>& material, T h) : mat_(material) {
         h_ = h > T(1) ? T(1) : (h >= T(-1) ? h : T(-1));
@@ -92,15 +103,68 @@ template <typename T> class ChiangFiber {
     HAIRSCATTER_HD T h() const { return h_; }
     HAIRSCATTER_HD const ChiangMaterial<T>& material() const { return mat_; }
 
-    HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi) const { return query<true, false>(wo, wi).f; }
-    HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return query<false, true>(wo, wi).pdf; }
-    HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const { return query<true, true>(wo, wi); }
+    HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi) const { return query<true, false>(outgoing<false>(wo), wo, wi).f; }
+    HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return query<false, true>(outgoing<true>(wo), wo, wi).pdf; }
+    HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const {
+        return query<true, true>(outgoing<true>(wo), wo, wi);
+    }
 
     // Importance sampling (d'Eon, Marschner & Hanika 2013): u.x picks the lobe with
     // probability ∝ mean(A_p), (u.y, u.z) sample θi from M_p, u.w samples φ from N_p.
     HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const {
+        return sample_from(outgoing<true>(wo), wo, u);
+    }
+
+    // The fiber at a fixed outgoing direction: everything that depends on wo alone (A_p,
+    // the tilted θo', Φ(p, h), the lobe probabilities) is computed once here, and eval,
+    // pdf and sample of the returned object take only wi or u. A renderer that evaluates
+    // a light sample and draws a BCSDF sample at the same hit pays for wo once. Holds a
+    // copy of the fiber, so it may outlive it.
+    class At {
+      public:
+        HAIRSCATTER_HD V3 eval(const V3& wi) const { return fiber_.template query<true, false>(o_, wo_, wi).f; }
+        HAIRSCATTER_HD T pdf(const V3& wi) const { return fiber_.template query<false, true>(o_, wo_, wi).pdf; }
+        HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wi) const { return fiber_.template query<true, true>(o_, wo_, wi); }
+        HAIRSCATTER_HD HairSample<T> sample(const V4& u) const { return fiber_.sample_from(o_, wo_, u); }
+        HAIRSCATTER_HD const V3& wo() const { return wo_; }
+
+      private:
+        friend class ChiangFiber;
+        HAIRSCATTER_HD At(const ChiangFiber& f, const V3& wo) : fiber_(f), wo_(wo), o_(f.template outgoing<true>(wo)) {}
+        ChiangFiber fiber_;
+        V3 wo_;
+        Outgoing o_;
+    };
+    HAIRSCATTER_HD At at(const V3& wo) const { return At(*this, wo); }
+
+    // Σ_p A_p(wo): the directional albedo, exact for this model because every M_p and
+    // N_p is normalised.
+    HAIRSCATTER_HD V3 albedo(const V3& wo) const {
+        const Outgoing o = outgoing<false>(wo);
+        V3 a(T(0));
+        for (int p = 0; p <= kLobes; ++p) a += o.a[p];
+        return a;
+    }
+
+  private:
+    static ChiangMaterial<T> checked(const FiberParams<T>& params, T h) {
+        if (!(h >= T(-1) && h <= T(1)))
+            throw std::invalid_argument("hairscatter: h = " + std::to_string(double(h)) +
+                                        " is outside its range [-1, 1]");
+        return ChiangMaterial<T>(params);
+    }
+
+    // eval, pdf and eval_pdf: f and/or pdf at (wo, wi).
+    template <bool kF, bool kPdf>
+    HAIRSCATTER_HD HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
+        const T sin_i = clamp(wi.x, T(-1), T(1));
+        // φ = φi - φo from one atan2 of the azimuthal cross and dot products.
+        const T phi = elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
+        return combine<kF, kPdf>(o, sin_i, cos_from_sin(sin_i), phi);
+    }
+
+    HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
         using std::sqrt;
-        const Outgoing o = outgoing<true>(wo);
         int p = kLobes;
         T acc = T(0);
         for (int q = 0; q < kLobes; ++q) {
@@ -130,40 +194,6 @@ template <typename T> class ChiangFiber {
         r.pdf = e.pdf;
         r.weight = e.pdf > T(0) ? e.f / e.pdf : V3(T(0));
         return r;
-    }
-
-    // Σ_p A_p(wo): the directional albedo, exact for this model because every M_p and
-    // N_p is normalised.
-    HAIRSCATTER_HD V3 albedo(const V3& wo) const {
-        const Outgoing o = outgoing<false>(wo);
-        V3 a(T(0));
-        for (int p = 0; p <= kLobes; ++p) a += o.a[p];
-        return a;
-    }
-
-  private:
-    // The terms that depend on wo only, shared by eval, pdf and sample.
-    struct Outgoing {
-        V3 a[kLobes + 1];          // A_p
-        T w[kLobes + 1];           // lobe selection probabilities (only when asked for)
-        T sin_o[kLobes + 1], cos_o[kLobes + 1];  // tilted θo' per lobe
-        T phi_p[kLobes];           // Φ(p, h)
-    };
-
-    static ChiangMaterial<T> checked(const FiberParams<T>& params, T h) {
-        if (!(h >= T(-1) && h <= T(1)))
-            throw std::invalid_argument("hairscatter: h = " + std::to_string(double(h)) +
-                                        " is outside its range [-1, 1]");
-        return ChiangMaterial<T>(params);
-    }
-
-    // eval, pdf and eval_pdf: f and/or pdf at (wo, wi).
-    template <bool kF, bool kPdf> HAIRSCATTER_HD HairEvalPdf<T> query(const V3& wo, const V3& wi) const {
-        const Outgoing o = outgoing<kPdf>(wo);
-        const T sin_i = clamp(wi.x, T(-1), T(1));
-        // φ = φi - φo from one atan2 of the azimuthal cross and dot products.
-        const T phi = elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
-        return combine<kF, kPdf>(o, sin_i, cos_from_sin(sin_i), phi);
     }
 
     // kW: also the lobe selection probabilities w (pdf and sample need them, eval not).
