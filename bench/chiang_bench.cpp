@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 
@@ -109,6 +110,71 @@ template <typename T> void BM_Sample(benchmark::State& state) {
     state.SetLabel(label(state, false));
 }
 
+// ChiangFiber::at(wo): the wo terms computed once per hit.
+template <typename T> void BM_At(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto& fib = in.fibers[std::size_t(state.range(0))];
+    std::size_t i = 0;
+    for (auto _ : state) {
+        auto r = fib[i].at(in.wo[i]);
+        benchmark::DoNotOptimize(r);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, false));
+}
+
+// eval / sample of a bound fiber: what each further call at the same hit costs. 64 bound
+// fibers (different wo, h) are cycled against the 4096 wi / u inputs.
+template <typename T> std::vector<typename hairscatter::ChiangFiber<T>::At> bound(const benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto& fib = in.fibers[std::size_t(state.range(0))];
+    std::vector<typename hairscatter::ChiangFiber<T>::At> at;
+    for (std::size_t k = 0; k < 64; ++k) at.push_back(fib[k].at(in.wo[k]));
+    return at;
+}
+
+template <typename T> void BM_AtEval(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto at = bound<T>(state);
+    const auto& wi = in.wi[state.range(1)][std::size_t(state.range(0))];
+    std::size_t i = 0;
+    for (auto _ : state) {
+        auto r = at[i & 63].eval(wi[i]);
+        benchmark::DoNotOptimize(r);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, true));
+}
+
+template <typename T> void BM_AtSample(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto at = bound<T>(state);
+    std::size_t i = 0;
+    for (auto _ : state) {
+        auto r = at[i & 63].sample(in.u[i]);
+        benchmark::DoNotOptimize(r);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, false));
+}
+
+// One path vertex as a renderer shades it: the fiber for the hit, a light sample's eval
+// and a BCSDF sample for the continuation. pbrt-v4 does f + Sample_f (6.5 + 14 units).
+template <typename T> void BM_Hit(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto& mat = in.materials[std::size_t(state.range(0))];
+    const auto& wi = in.wi[0][std::size_t(state.range(0))];
+    std::size_t i = 0;
+    for (auto _ : state) {
+        const auto at = hairscatter::ChiangFiber<T>(mat, in.h[i]).at(in.wo[i]);
+        auto f = at.eval(wi[i]);
+        auto s = at.sample(in.u[i]);
+        benchmark::DoNotOptimize(f);
+        benchmark::DoNotOptimize(s);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, false));
+}
 // Per hit: the fiber from a material and a varying h (the object is materialised).
 template <typename T> void BM_FiberCtor(benchmark::State& state) {
     const auto& in = inputs<T>();
@@ -195,6 +261,24 @@ template <typename T> void BM_RefCtor(benchmark::State& state) {
     state.SetLabel(label(state, false));
 }
 
+// The reference's vertex: construct pbrt's HairBxDF for the hit, f for the light sample,
+// Sample_f for the continuation.
+template <typename T> void BM_RefHit(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const int b = int(state.range(0));
+    const auto& wi = in.wi[0][std::size_t(b)];
+    std::size_t i = 0;
+    for (auto _ : state) {
+        const auto ref = bench_ref::make_ref<T>(b, in.h[i]);
+        auto f = ref.f(in.wo[i], wi[i]);
+        auto s = ref.Sample_f(in.wo[i], in.u[i]);
+        benchmark::DoNotOptimize(f);
+        benchmark::DoNotOptimize(s);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, false));
+}
+
 }  // namespace
 
 BENCHMARK_TEMPLATE(BM_Calib, float);
@@ -208,6 +292,15 @@ BENCHMARK_TEMPLATE(BM_EvalPdf, float)->Apply(beta_wi_args);
 BENCHMARK_TEMPLATE(BM_EvalPdf, double)->Apply(beta_wi_args);
 BENCHMARK_TEMPLATE(BM_Sample, float)->Apply(beta_args);
 BENCHMARK_TEMPLATE(BM_Sample, double)->Apply(beta_args);
+BENCHMARK_TEMPLATE(BM_At, float)->Apply(beta_args);
+BENCHMARK_TEMPLATE(BM_At, double)->Apply(beta_args);
+BENCHMARK_TEMPLATE(BM_AtEval, float)->Apply(beta_wi_args);
+BENCHMARK_TEMPLATE(BM_AtEval, double)->Apply(beta_wi_args);
+BENCHMARK_TEMPLATE(BM_AtSample, float)->Apply(beta_args);
+BENCHMARK_TEMPLATE(BM_AtSample, double)->Apply(beta_args);
+BENCHMARK_TEMPLATE(BM_Hit, float)->Apply(beta_args);
+BENCHMARK_TEMPLATE(BM_Hit, double)->Apply(beta_args);
+BENCHMARK_TEMPLATE(BM_RefHit, float)->Apply(beta_args);
 BENCHMARK_TEMPLATE(BM_FiberCtor, float)->Apply(beta_args);
 BENCHMARK_TEMPLATE(BM_FiberCtor, double)->Apply(beta_args);
 BENCHMARK_TEMPLATE(BM_MaterialCtor, float)->Apply(beta_args);

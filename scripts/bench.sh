@@ -187,10 +187,16 @@ print("PDF 6.6 u; the goal is ours <= pbrt/4, i.e. eval <= 1.63 u and sample <= 
 print("our u (goal >= 4); 'ref/ours' = bench_ref (reference/pbrt_style.hpp, same binary) / ours.")
 print("eval_pdf's reference is f + PDF (pbrt has no combined call); ctor = the per-hit constructor")
 print("(ChiangFiber from a ChiangMaterial; bench_ref::HairBxDF like pbrt's), material = ChiangMaterial.")
+print("at(wo) = binding a fiber to wo (the wo terms, once per hit); at.eval / at.sample = each call on a bound")
+print("fiber (compared with pbrt's per-call f / Sample_f, which redo the wo terms); hit = one path vertex as a")
+print("renderer shades it: fiber + at(wo) + eval(light wi) + sample(u), against pbrt's f + Sample_f (6.5 + 14 u)")
+print("and the reference's HairBxDF + f + Sample_f.")
 betas = ["0.05", "0.30", "1.00"]
 calls = [("eval", "BM_Eval", "BM_RefF", True, 6.5), ("pdf", "BM_Pdf", "BM_RefPdf", True, 6.6),
          ("eval_pdf", "BM_EvalPdf", None, True, None), ("sample", "BM_Sample", "BM_RefSample", False, 14.0),
-         ("ctor", "BM_FiberCtor", "BM_RefCtor", False, None), ("material", "BM_MaterialCtor", None, False, None)]
+         ("ctor", "BM_FiberCtor", "BM_RefCtor", False, None), ("material", "BM_MaterialCtor", None, False, None),
+         ("at(wo)", "BM_At", None, False, None), ("at.eval", "BM_AtEval", "BM_RefF", True, 6.5),
+         ("at.sample", "BM_AtSample", "BM_RefSample", False, 14.0), ("hit", "BM_Hit", "BM_RefHit", False, 20.5)]
 for T in ("float", "double"):
     print()
     print("%s:" % T)
