@@ -22,7 +22,7 @@ fi
 # BoostConfig.cmake; make is listed because cmake only recommends it.)
 tests_pkgs=(cmake make g++ clang libglm-dev libgtest-dev libgmock-dev libboost-math-dev)
 example_pkgs=(cmake make g++ libglm-dev libopenexr-dev libcli11-dev libstb-dev libpng-dev)
-bench_pkgs=(cmake make g++ libglm-dev libbenchmark-dev python3 python3-matplotlib)
+bench_pkgs=(cmake make g++ libglm-dev libbenchmark-dev python3)
 
 [[ $# -eq 0 ]] && set -- tests
 wanted=()

@@ -13,6 +13,7 @@
 #   asan      GCC, -O1 -g, asserts on, ASan+UBSan: build + ctest (build/test-asan)
 #   consumer  install to build/prefix; consume via find_package and add_subdirectory
 #   cuda      nvcc compile check of tests/cuda/*.cu (skipped without nvcc)
+#   example   build examples/ and bench/ with -Werror, run the lobe explorer small
 #
 # Options: -j N / JOBS=N parallelism (default: nproc); --no-deps (or
 # HAIRSCATTER_SKIP_DEPS=1) skips the apt package check.
@@ -21,7 +22,7 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 
-ALL_STEPS=(gcc clang asan consumer cuda)
+ALL_STEPS=(gcc clang asan consumer cuda example)
 steps=("${ALL_STEPS[@]}")
 skip=()
 clang_ctest=1
@@ -192,6 +193,21 @@ step_consumer() {
 
 step_cuda() { bash "$ROOT/scripts/cuda-check.sh"; }
 
+# The main example and the benchmarks must keep compiling (-Werror) even though CI runs
+# neither at full size: build both, and run the example small.
+step_example() {
+    if [[ "$install_deps" == 1 ]]; then
+        bash "$ROOT/scripts/install-deps.sh" example
+        bash "$ROOT/scripts/install-deps.sh" bench
+    fi
+    cmake -S . -B build/test-example -DCMAKE_BUILD_TYPE=Release -DHAIRSCATTER_BUILD_TESTS=OFF \
+        -DHAIRSCATTER_BUILD_EXAMPLES=ON -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_WERROR=ON
+    cmake --build build/test-example -j "$JOBS"
+    local out="$ROOT/build/test-example/out/explorer"
+    build/test-example/examples/lobe_explorer/lobe_explorer --width 90 --height 45 --eumelanin 0 -o "$out"
+    [[ -s "$out.exr" && -s "$out.png" ]] || { echo "example: no EXR/PNG written" >&2; return 1; }
+}
+
 echo "hairscatter test.sh: steps=[$(for s in "${steps[@]}"; do enabled "$s" && printf '%s ' "$s"; done)] jobs=$JOBS root=$ROOT"
 
 if [[ "$install_deps" == 1 ]]; then
@@ -208,3 +224,4 @@ run_step clang    "Clang Release -Werror: build + ctest (build/test-clang)"     
 run_step asan     "GCC ASan+UBSan (-O1 -g, asserts on): build + ctest (build/test-asan)" step_asan
 run_step consumer "Install + downstream consumer (find_package, add_subdirectory)" step_consumer
 run_step cuda     "CUDA compile check (nvcc -c tests/cuda/*.cu)"                   step_cuda
+run_step example  "Example and benchmarks build (-Werror); the example runs small" step_example
