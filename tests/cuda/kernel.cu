@@ -18,6 +18,8 @@ struct KernelOutput {
     glm::vec<3, T> sample_weight;
     T sample_pdf;
     int sample_lobe;
+    glm::vec<3, T> bound_f;     // through fiber.at(wo): the per-hit bound object
+    T bound_sample_pdf;
 };
 
 namespace {
@@ -42,6 +44,9 @@ __global__ void evaluate_fiber(hairscatter::ChiangMaterial<T> mat, const glm::ve
     r.sample_weight = s.weight;
     r.sample_pdf = s.pdf;
     r.sample_lobe = static_cast<int>(s.lobe);
+    const auto at = fiber.at(wo[i]);
+    r.bound_f = at.eval(wi[i]);
+    r.bound_sample_pdf = at.sample(u[i]).pdf + at.pdf(wi[i]) + at.eval_pdf(wi[i]).pdf;
     out[i] = r;
 }
 
