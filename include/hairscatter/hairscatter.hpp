@@ -14,3 +14,5 @@
 #include "lobes/longitudinal.hpp"
 #include "lobes/tilt.hpp"
 #include "models/chiang.hpp"
+#include "math/quadrature.hpp"
+#include "dual/tables.hpp"

@@ -51,6 +51,15 @@ template <typename T> class TrimmedLogistic {
 
     HAIRSCATTER_HD T invert(T x) const { return cdf(x); }
 
+    // Probability of the arc [a, a + len] (0 ≤ len ≤ 2π) when the density is read on the
+    // circle (as N_p is, after wrapping φ - Φ): the arc is split where it crosses ±π.
+    HAIRSCATTER_HD T arc_mass(T a, T len) const {
+        a = wrap_pi(a);
+        const T b = a + len;
+        if (b <= kPi<T>) return cdf(b) - cdf(a);
+        return (T(1) - cdf(a)) + cdf(b - kTwoPi<T>);
+    }
+
   private:
     T s_ = T(1), inv_s_ = T(1), norm_ = T(1), pdf_scale_ = T(1);
 };

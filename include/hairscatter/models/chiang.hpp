@@ -61,6 +61,16 @@ template <typename T> class ChiangMaterial {
     HAIRSCATTER_HD const TrimmedLogistic<T>& azimuthal() const { return n_; }
     HAIRSCATTER_HD const CuticleTilt<T>& tilt() const { return tilt_; }
 
+    // The longitudinal shift of lobe p's peak in θi + θo (Marschner's α_p in d'Eon's
+    // corrected 2θh form): the lobe peaks at θi = α_p - θo. pbrt-v4's tilt gives 2α (R),
+    // -α (TT), -4α (TRT), 0 (residual).
+    HAIRSCATTER_HD T lobe_shift(int p) const {
+        const T a = params_.alpha;
+        return p == 0 ? T(2) * a : p == 1 ? -a : p == 2 ? T(-4) * a : T(0);
+    }
+    // The longitudinal variance v_p of lobe p (β_p² of the dual-scattering tables).
+    HAIRSCATTER_HD T lobe_variance(int p) const { return m_[p].variance(); }
+
   private:
     FiberParams<T> params_;
     DeonLongitudinal<T> m_[kLobes + 1];
@@ -136,6 +146,25 @@ template <typename T> class ChiangFiber {
         Outgoing o_;
     };
     HAIRSCATTER_HD At at(const V3& wo) const { return At(*this, wo); }
+
+    // Per lobe: A_p(wo) and the fraction of N_p that scatters backward (|φ| < π/2).
+    // M_p integrates to 1, so ∫ over the backward half of f_p = A_p · backward; these are
+    // what the dual-scattering tables integrate (dual/tables.hpp).
+    struct LobeSplit {
+        V3 a[kLobes + 1];
+        T backward[kLobes + 1];
+    };
+    HAIRSCATTER_HD LobeSplit lobe_split(const V3& wo) const {
+        const Outgoing o = outgoing<false>(wo);
+        LobeSplit r;
+        for (int p = 0; p < kLobes; ++p) {
+            r.a[p] = o.a[p];
+            r.backward[p] = mat_.azimuthal().arc_mass(-kHalfPi<T> - o.phi_p[p], kPi<T>);
+        }
+        r.a[kLobes] = o.a[kLobes];
+        r.backward[kLobes] = T(0.5);  // the residual is uniform in φ
+        return r;
+    }
 
     // Σ_p A_p(wo): the directional albedo, exact for this model because every M_p and
     // N_p is normalised.
