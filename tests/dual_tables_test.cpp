@@ -11,8 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include <hairscatter/dual/tables.hpp>
-#include <hairscatter/hairscatter.hpp>
+#include <hairscatter/dual.hpp>
 
 #include "support/reference_chiang.hpp"
 

@@ -1,5 +1,6 @@
 // hairscatter — physically based hair and fur scattering, header-only.
-// The umbrella header: include this, or the individual headers below.
+// The umbrella header of the single-fiber core: include this, or the individual headers
+// below. Dual scattering (host-side tables, density grids) has its own: <hairscatter/dual.hpp>.
 #pragma once
 
 #include "config.hpp"
@@ -14,5 +15,3 @@
 #include "lobes/longitudinal.hpp"
 #include "lobes/tilt.hpp"
 #include "models/chiang.hpp"
-#include "math/quadrature.hpp"
-#include "dual/tables.hpp"
