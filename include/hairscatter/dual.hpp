@@ -5,3 +5,4 @@
 #include "hairscatter.hpp"
 #include "math/quadrature.hpp"
 #include "dual/tables.hpp"
+#include "dual/bcsdf.hpp"
