@@ -96,32 +96,35 @@ void report(const char* what, double measured, double expected) {
 
 }  // namespace
 
-// The perpendicular ray through cell centres of the aligned block. Deposit is exact and
-// the interpolant along the ray is piecewise linear with kinks at cell centres, which the
-// default step (half a cell, starting at a face) never straddles: only rounding remains.
-// The partial ray ends deep inside and starts outside, so the trilinear ramp at the entry
-// face (±½ cell around it, symmetric) integrates to the exact value too.
+// The perpendicular ray through cell centres of the aligned block. The deposit is exact and
+// the interpolant inside the block is constant, so the one error is the march's: the
+// trilinear ramps at the block's faces (L_v from 0 to 1/s² over one cell) have kinks at the
+// cell centres, and a midpoint step that straddles a kink is off by O(step²). Tolerance
+// 5e-3 relative at the default step (half a cell); measured 0 to 5e-4 depending on where the
+// steps fall. The partial ray ends deep inside, and the ramp at its entry face is symmetric
+// about the face, so it integrates to the exact value as well.
 TEST(DensityGrid, ParallelBlockPerpendicularRayMatchesAnalyticN) {
     const auto g = aligned_grid<double>();
     const glm::dvec3 o(2, -1, 1.1), d(0, 1, 0);
     const double full = g.fibers_crossed(o, d, kInf), half = g.fibers_crossed(o, d, 2.0);
     report("aligned block, perpendicular, across (double)", full, 10);
     report("aligned block, perpendicular, to mid-block (double)", half, 5);
-    EXPECT_NEAR(full, analytic_n(kAligned, o, d, kInf), 1e-9 * 10);
-    EXPECT_NEAR(half, analytic_n(kAligned, o, d, 2.0), 1e-9 * 5);
+    EXPECT_NEAR(full, analytic_n(kAligned, o, d, kInf), 5e-3 * 10);
+    EXPECT_NEAR(half, analytic_n(kAligned, o, d, 2.0), 5e-3 * 5);
     EXPECT_NEAR(g.length_density({2, 1, 1}), 1 / (0.04 * 0.04), 1e-9 * 625);
 
     const auto gf = aligned_grid<float>();
     const float nf = gf.fibers_crossed(glm::vec3(2, -1, 1.1f), glm::vec3(0, 1, 0), hs::kUnbounded<float>);
     report("aligned block, perpendicular, across (float)", nf, 10);
-    EXPECT_NEAR(nf, 10, 1e-4 * 10);  // float rounding of the deposit and the march
+    EXPECT_NEAR(nf, 10, 5e-3 * 10);
 }
 
 // Inclined by θ from the fibers' normal plane the ray crosses 2rρ·cosθ per unit length; across
-// the whole block its path is 1/cosθ longer, so it meets the same 10 fibers at any θ. Rays
-// that stay inside are exact for the same reason as above; those that cross the y faces
-// obliquely pass through the trilinear ramps, whose integral is exact only up to the
-// curvature of the product interpolant: tolerance 2e-3 relative (measured below).
+// the whole block its path is 1/cosθ longer, so it meets the same 10 fibers at any θ (and
+// more when φ ≠ 0 lengthens its way across the y–z square). Segments inside the block see a
+// constant integrand: exact up to rounding. Rays across pass the ramps at the faces, with the
+// march error of the test above: tolerance 5e-3 relative (measured up to 3.7e-3 at θ = 30°;
+// 1e-9 with an eighth of the default step).
 TEST(DensityGrid, ParallelBlockInclinedRayScalesByCosTheta) {
     const auto g = aligned_grid<double>();
     const glm::dvec3 centre(2, 1, 1.1);
@@ -133,11 +136,12 @@ TEST(DensityGrid, ParallelBlockInclinedRayScalesByCosTheta) {
             const double across = g.fibers_crossed(o, d, kInf), expected = analytic_n(kAligned, o, d, kInf);
             // Inside only: a segment of length 0.5 around the centre.
             const double inside = g.fibers_crossed(centre - 0.25 * d, d, 0.5);
+            const double inside_expected = 0.5 * kAligned.rate() * std::hypot(d.y, d.z);
             const std::string what = "θ = " + std::to_string(int(theta)) + "°, φ = " + std::to_string(int(phi)) + "°";
             report(("aligned block, inclined, across, " + what).c_str(), across, expected);
-            report(("aligned block, inclined, inside (0.5), " + what).c_str(), inside, 0.5 * kAligned.rate() * std::hypot(d.y, d.z));
-            EXPECT_NEAR(across, expected, 2e-3 * expected) << what;
-            EXPECT_NEAR(inside, 0.5 * kAligned.rate() * std::hypot(d.y, d.z), 1e-9) << what;
+            report(("aligned block, inclined, inside (0.5), " + what).c_str(), inside, inside_expected);
+            EXPECT_NEAR(across, expected, 5e-3 * expected) << what;
+            EXPECT_NEAR(inside, inside_expected, 1e-9) << what;
         }
     // Along the fibers nothing is crossed (tracked orientation); the isotropic model instead
     // charges the mean π/4 for the same hair length.
@@ -146,39 +150,40 @@ TEST(DensityGrid, ParallelBlockInclinedRayScalesByCosTheta) {
     const auto iso = aligned_grid<double>(hs::FiberOrientation::kIsotropic);
     const double expected_iso = kPi / 4 * 2 * kAligned.r / (kAligned.s * kAligned.s) * kAligned.length;
     report("aligned block, isotropic model, along the fibers", iso.fibers_crossed(o, along, kInf), expected_iso);
-    EXPECT_NEAR(iso.fibers_crossed(o, along, kInf), expected_iso, 1e-9 * expected_iso);
-    EXPECT_NEAR(iso.fibers_crossed({2, -1, 1.1}, {0, 1, 0}, kInf), kPi / 4 * 10, 1e-9 * 10);
+    EXPECT_NEAR(iso.fibers_crossed(o, along, kInf), expected_iso, 5e-3 * expected_iso);
+    EXPECT_NEAR(iso.fibers_crossed({2, -1, 1.1}, {0, 1, 0}, kInf), kPi / 4 * 10, 5e-3 * 10);
 }
 
 // The analytic rate itself, against the geometry: rays through the actual cylinders
-// (radius r, along x) counted exactly and averaged over 32 × 32 stratified offsets within
-// one lattice period. Tolerance 1 %: the 1024-ray average and the block's edges (O(r/width)).
+// (radius r, along x) counted exactly, their offsets spread over one lattice period by a
+// 1597-point Fibonacci lattice (so each 1-D projection is stratified too). Tolerance 1 %:
+// the finite ray set (≈ 1/1597 per projection) and the block's edges (O(r/width)).
 TEST(DensityGrid, ExplicitCylindersMatchTheAnalyticRate) {
     const Block& b = kAligned;
+    const int m = 1597, g = 987;  // consecutive Fibonacci numbers
     for (double theta : {0.0, 45.0})
         for (double phi : {0.0, 20.0}) {
             const glm::dvec3 d = inclined(theta, phi);
             const double dyz = std::hypot(d.y, d.z);
             double hits = 0, expected = 0;
-            const int m = 32;
-            for (int a = 0; a < m; ++a)
-                for (int c = 0; c < m; ++c) {
-                    const glm::dvec3 centre(2, 1 + (a + 0.5) / m * b.s, 1 + (c + 0.5) / m * b.s);
-                    const glm::dvec3 o = centre - 3.0 * d / dyz;
-                    const double t_max = 6.0 / dyz;
-                    expected += analytic_n(b, o, d, t_max);
-                    for (int j = 0; j < b.ny; ++j)
-                        for (int k = 0; k < b.nz; ++k) {
-                            // Closest approach of the ray's y–z projection to the fiber axis.
-                            const double py = (j + 0.5) * b.s - o.y, pz = (k + 0.5) * b.s - o.z;
-                            const double t = (py * d.y + pz * d.z) / (dyz * dyz);
-                            const double dist = std::abs(py * d.z - pz * d.y) / dyz;
-                            const double x = o.x + t * d.x;
-                            hits += (dist < b.r && t >= 0 && t <= t_max && x >= 0 && x <= b.length) ? 1 : 0;
-                        }
-                }
-            hits /= m * m;
-            expected /= m * m;
+            for (int i = 0; i < m; ++i) {
+                const double fy = (i + 0.5) / m, fz = std::fmod((i * double(g) + 0.5) / m, 1.0);
+                const glm::dvec3 centre(2, 1 + fy * b.s, 1 + fz * b.s);
+                const glm::dvec3 o = centre - 3.0 * d / dyz;
+                const double t_max = 6.0 / dyz;
+                expected += analytic_n(b, o, d, t_max);
+                for (int j = 0; j < b.ny; ++j)
+                    for (int k = 0; k < b.nz; ++k) {
+                        // Closest approach of the ray's y–z projection to the fiber axis.
+                        const double py = (j + 0.5) * b.s - o.y, pz = (k + 0.5) * b.s - o.z;
+                        const double t = (py * d.y + pz * d.z) / (dyz * dyz);
+                        const double dist = std::abs(py * d.z - pz * d.y) / dyz;
+                        const double x = o.x + t * d.x;
+                        hits += (dist < b.r && t >= 0 && t <= t_max && x >= 0 && x <= b.length) ? 1 : 0;
+                    }
+            }
+            hits /= m;
+            expected /= m;
             report(("explicit cylinders, θ = " + std::to_string(int(theta)) + "°, φ = " +
                     std::to_string(int(phi)) + "°").c_str(), hits, expected);
             EXPECT_NEAR(hits, expected, 0.01 * expected);
@@ -211,13 +216,16 @@ TEST(DensityGrid, UnalignedLatticeWithinTheAliasingBound) {
     EXPECT_NEAR(sum / rays, sum_expected / rays, 0.01 * sum_expected / rays);
 }
 
-// Away from the hair the grid reads exactly 0: beyond the last cell centre next to hair
-// nothing blends in, and rays that miss the box do not march at all.
+// Away from the hair the grid reads 0: beyond the last cell centre next to hair nothing
+// blends in, and rays that miss the box do not march at all. Next to a face the strands
+// start on, rounding of the face's position can leave a sliver of ~1e-17 of length in the
+// neighbouring cell: below 1e-12 there, exactly 0 elsewhere.
 TEST(DensityGrid, ZeroOutsideTheBlock) {
     const auto g = aligned_grid<double>();
     EXPECT_EQ(g.fibers_crossed({2, -1, 2.3}, {0, 1, 0}, kInf), 0.0);   // above the block, last row
     EXPECT_EQ(g.fibers_crossed({2, -1, 2.1}, {0, 1, 0}, kInf), 0.0);   // first empty row's centre
-    EXPECT_EQ(g.fibers_crossed({-0.3, -1, 1}, {0, 1, 0}, kInf), 0.0);  // before the strands start
+    EXPECT_LT(g.fibers_crossed({-0.3, -1, 1}, {0, 1, 0}, kInf), 1e-12);  // before the strands start
+    EXPECT_LT(g.fibers_crossed({4.3, -1, 1}, {0, 1, 0}, kInf), 1e-12);   // after they end
     EXPECT_EQ(g.fibers_crossed({2, -1, 5}, {0, 1, 0}, kInf), 0.0);     // misses the box
     EXPECT_EQ(g.fibers_crossed({2, 3, 1}, {0, 1, 0}, kInf), 0.0);      // starts past it, leaving
     EXPECT_EQ(g.fibers_crossed({2, -1, 1}, {0, 1, 0}, 0.5), 0.0);      // stops before it
@@ -306,6 +314,19 @@ TEST(DensityGrid, DepositIsExactAndClippedToTheBox) {
     EXPECT_EQ(g.add_segment({kInf, 0.5, 0.5}, {0.5, 0.5, 0.5}), 0.0);
     EXPECT_EQ(g.add_strand(std::vector<glm::dvec3>{{0.5, 0.5, 0.5}}), 0.0);
     EXPECT_NEAR(g.total_length(), glm::length(b - a) + 0.5, 1e-14);
+
+    // from_strands pads the strands' bounds by a cell, so nothing is clipped (float too).
+    const Strands<float> strands{{glm::vec3(0.1f, 0.2f, 0.3f), glm::vec3(0.9f, 0.4f, 0.35f), glm::vec3(0.5f, 1, 2)},
+                                 {glm::vec3(-1, -1, -1), glm::vec3(-0.5f, -1, -1)}};
+    const auto gf = hs::DensityGrid<float>::from_strands(strands, 0.1f, 0.01f);
+    const float total = glm::length(strands[0][1] - strands[0][0]) + glm::length(strands[0][2] - strands[0][1]) + 0.5f;
+    EXPECT_NEAR(gf.total_length(), total, 1e-6f * total);
+    for (int a = 0; a < 3; ++a) {  // cubic cells of 0.1; a cell of padding at least
+        EXPECT_NEAR(gf.cell_size()[a], 0.1f, 1e-6f);
+        EXPECT_NEAR(gf.box_min()[a], -1.1f, 1e-6f);
+        EXPECT_GE(gf.box_max()[a], glm::vec3(0.9f, 1, 2)[a] + 0.1f - 1e-6f);
+        EXPECT_LE(gf.box_max()[a], glm::vec3(0.9f, 1, 2)[a] + 0.2f + 1e-6f);
+    }
 }
 
 // Tracked orientation on isotropic hair (short segments in uniformly random directions):
@@ -327,7 +348,9 @@ TEST(DensityGrid, OrientationModelsOnIsotropicHair) {
     const auto tracked = hs::DensityGrid<double>::from_strands(hair, 0.2, r);
     const auto iso = hs::DensityGrid<double>::from_strands(hair, 0.2, r, hs::FiberOrientation::kIsotropic);
     const double lv = count * len / 8.0;  // per unit volume inside [0, 2]³
-    for (const glm::dvec3& d : {glm::dvec3(0, 1, 0), glm::normalize(glm::dvec3(1, 1, 1))}) {
+    // Through the centre, leaving through the y faces away from their edges: the trilinear
+    // ramps at the faces integrate to the true step there (not so near edges and corners).
+    for (const glm::dvec3& d : {glm::dvec3(0, 1, 0), glm::normalize(glm::dvec3(0.3, 1, 0.5))}) {
         const glm::dvec3 o = glm::dvec3(1, 1, 1) - 3.0 * d;
         const double expected = kPi / 4 * 2 * r * lv * path_in_box({0, 0, 0}, {2, 2, 2}, o, d, kInf);
         const double nt = tracked.fibers_crossed(o, d, kInf), ni = iso.fibers_crossed(o, d, kInf);
@@ -426,13 +449,14 @@ struct ConstantSlab {
     }
 };
 
-// A fake deep-opacity map: n looked up in a light-space raster (here: by the pixel of x.xy),
-// ignoring the direction (the map was rendered from the light). float, as a GPU map would be.
+// A fake deep-opacity map: n read from a 2 × 2 light-space raster over [0, 2)² by the pixel
+// of x.xy, ignoring the direction (the map was rendered from the light). float, as a GPU
+// map would be.
 struct FakeDeepOpacityMap {
-    float n_per_pixel[4] = {0.0f, 1.5f, 3.0f, 7.25f};
+    float n[2][2] = {{0.0f, 1.5f}, {3.0f, 7.25f}};  // [py][px]
     float fibers_crossed(const glm::vec3& x, const glm::vec3&, float) const {
-        const int px = x.x < 0 ? 0 : (x.x < 1 ? 1 : 2), py = x.y < 0 ? 0 : 1;
-        return n_per_pixel[(px + py) % 4];
+        const int px = x.x < 1 ? 0 : 1, py = x.y < 1 ? 0 : 1;
+        return n[py][px];
     }
 };
 
@@ -466,7 +490,7 @@ TEST(DensityInterface, ForwardTransmittanceAndSpread) {
     EXPECT_EQ(t.z, 0.0);
     EXPECT_EQ(hs::forward_transmittance(a_f, 0.0), glm::dvec3(1.0));  // no hair: a_f^0 = 1, even for 0
     EXPECT_EQ(hs::forward_spread(beta2, 4.0), 4.0 * beta2);
-    EXPECT_EQ(hs::forward_spread(0.01f, 5.0f), 0.05f);
+    EXPECT_FLOAT_EQ(hs::forward_spread(0.01f, 5.0f), 0.05f);
 }
 
 // The plug-in proof: forward_scattering(), the library's entry point for global multiple
@@ -486,7 +510,7 @@ TEST(DensityInterface, RendererSourcesPlugInUnchanged) {
     EXPECT_EQ(hs::forward_scattering(slab, x, -wi, a_f, beta2).transmittance, glm::dvec3(1.0));  // away from it
 
     const FakeDeepOpacityMap map;
-    const auto fm = hs::forward_scattering(map, glm::vec3(0.5f, 0.5f, 0), glm::vec3(0, 0, 1), glm::vec3(0.5f),
+    const auto fm = hs::forward_scattering(map, glm::vec3(1.5f, 0.5f, 0), glm::vec3(0, 0, 1), glm::vec3(0.5f),
                                            glm::vec3(0.01f));
     EXPECT_EQ(fm.n, 1.5f);
     EXPECT_NEAR(fm.transmittance.x, std::pow(0.5f, 1.5f), 1e-7);

@@ -80,6 +80,24 @@ TEST(DualBcsdf, DirectlyLitPointHasNoScatteredTerm) {
     }
 }
 
+// A deep-opacity-map renderer passes T_f and σ̄²_f instead of n: with T_f = a_f(θi)^n
+// and σ̄²_f = n β̄²_f(θi) supplied by hand at a fixed light direction the result is the same.
+TEST(DualBcsdf, TransmittanceInputMatchesFiberCount) {
+    const HairSetup s(kHairs[2]);
+    const glm::dvec3 wo = direction(35, 0.2), wi = direction(-40, 2.9);
+    const auto e = s.tables.lookup(std::asin(wi.x));
+    const double n = 4;
+    hs::DualScatteringLight<double> light;
+    light.direct_fraction = 0;
+    light.use_transmittance = true;
+    light.T_f = glm::dvec3(std::pow(e.a_f.r, n), std::pow(e.a_f.g, n), std::pow(e.a_f.b, n));
+    light.sigma2_f = n * (e.beta2_f.r + e.beta2_f.g + e.beta2_f.b) / 3;
+    const hs::DualScatteringFiber<double> by_transmittance(hs::ChiangFiber<double>(s.material, 0.1), s.tables, light);
+    const glm::dvec3 a = by_transmittance.eval(wo, wi), b = s.at(0.1, n, 0.0).eval(wo, wi);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 1e-12 * (1 + b[c]));
+    EXPECT_GT(b.r, 0.0);
+}
+
 // Shadowed with n fibers in the way: the scattered term falls with T_f = a_f^n.
 TEST(DualBcsdf, ScatteredLightFallsWithDensity) {
     const HairSetup s(kHairs[0]);

@@ -18,12 +18,18 @@
 
 namespace hairscatter {
 
-// What the renderer knows about the light path at the shading point.
+// What the renderer knows about the light path at the shading point: either the number n
+// of fibers crossed toward the light (dual/density.hpp), from which T_f = a_f(θi)^n and
+// σ̄²_f = n β̄²_f(θi) follow (theory.md §5.2), or T_f and σ̄²_f themselves (from a deep
+// opacity map that accumulated Π a_f and Σ β̄²_f along the way): set use_transmittance.
 template <typename T> struct DualScatteringLight {
-    T n = T(0);                // fibers crossed toward the light (dual/density.hpp)
+    T n = T(0);                // fibers crossed toward the light
     T direct_fraction = T(1);  // 1 if a shadow ray reaches the light, else 0
     T d_f = T(0.7);            // forward density factor (applied once, in F_scatter)
     T d_b = T(0.7);            // backward density factor
+    bool use_transmittance = false;
+    glm::vec<3, T> T_f{T(1)};  // with use_transmittance: the forward transmittance
+    T sigma2_f = T(0);         // with use_transmittance: the summed forward variance
 };
 
 // F = F_direct + F_scatter of theory.md §5.3 in the library's eval convention (cosine
@@ -52,6 +58,8 @@ template <typename T> class DualScatteringFiber {
         : fiber_(fiber), tables_(&tables), light_(light) {
         light_.n = light_.n > T(0) ? light_.n : T(0);
         light_.direct_fraction = clamp(light_.direct_fraction, T(0), T(1));
+        light_.sigma2_f = light_.sigma2_f > T(0) ? light_.sigma2_f : T(0);
+        for (int c = 0; c < 3; ++c) light_.T_f[c] = clamp(light_.T_f[c], T(0), T(1));
     }
 
     const DualScatteringLight<T>& light() const { return light_; }
@@ -145,23 +153,27 @@ template <typename T> class DualScatteringFiber {
         return V3(sin_i, cos_i * (ay * c - az * s), cos_i * (ay * s + az * c));
     }
 
-    T transmittance_scalar(const DualScatteringEntry<T>& e) const {
+    // T_f and σ̄²_f for light arriving with the table entry e of its inclination.
+    V3 transmittance(const DualScatteringEntry<T>& e) const {
         using std::pow;
-        return mean(V3(pow(e.a_f.x, light_.n), pow(e.a_f.y, light_.n), pow(e.a_f.z, light_.n)));
+        if (light_.use_transmittance) return light_.T_f;
+        return V3(pow(e.a_f.x, light_.n), pow(e.a_f.y, light_.n), pow(e.a_f.z, light_.n));
+    }
+    T forward_variance(const DualScatteringEntry<T>& e) const {
+        return light_.use_transmittance ? light_.sigma2_f : light_.n * mean(e.beta2_f);
     }
 
     Mixture mixture(const V3& wo) const {
         using std::asin;
         using std::cos;
-        using std::pow;
         using std::sin;
         Mixture m;
         const T sin_o = clamp(wo.x, T(-1), T(1)), cos_o = cos_from_sin(sin_o);
         const T theta_o = asin(sin_o);
         const DualScatteringEntry<T> eo = tables_->lookup(theta_o);
         const DualScatteringEntry<T> es = tables_->lookup(-theta_o);  // the specular cone
-        const T s2f = light_.n * mean(es.beta2_f);
-        const T scatter = light_.d_f * (transmittance_scalar(es) - light_.direct_fraction);
+        const T s2f = forward_variance(es);
+        const T scatter = light_.d_f * (mean(transmittance(es)) - light_.direct_fraction);
         const T df = light_.direct_fraction;
         const ChiangMaterial<T>& mat = fiber_.material();
 
@@ -201,15 +213,14 @@ template <typename T> class DualScatteringFiber {
 
     HairEvalPdf<T> combine(const Mixture& mix, const V3& wo, const V3& wi, T phi, const HairEvalPdf<T>& single) const {
         using std::asin;
-        using std::pow;
         const T sin_i = clamp(wi.x, T(-1), T(1)), cos_i = cos_from_sin(sin_i);
         const T sin_o = clamp(wo.x, T(-1), T(1));
         const bool forward = phi > kHalfPi<T> || phi < -kHalfPi<T>;
         const DualScatteringEntry<T> ei = tables_->lookup(asin(sin_i));
         const DualScatteringEntry<T> eo = tables_->lookup(asin(sin_o));
         const T df = light_.direct_fraction;
-        const V3 tf(pow(ei.a_f.x, light_.n), pow(ei.a_f.y, light_.n), pow(ei.a_f.z, light_.n));
-        const T s2f = light_.n * mean(ei.beta2_f);
+        const V3 tf = transmittance(ei);
+        const T s2f = forward_variance(ei);
 
         // The f_back shape at this θi (the pdf uses the mixture's fixed shape instead).
         const T s2b = mean(ei.sigma2_b) > T(1e-6) ? mean(ei.sigma2_b) : T(1e-6);

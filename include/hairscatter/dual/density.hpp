@@ -119,7 +119,11 @@ HAIRSCATTER_HD ForwardScattering<T> forward_scattering(const D& density, const g
 //              (sqrt(2/3) against π/4), +41 % for a ray along one of two crossed families
 //              (sqrt(1/2) against 1/2). Strands running either way add up, never cancel.
 //   kIsotropic ignores the tangents and uses the isotropic mean sinψ = π/4.
-// n = ∫ L_v·D·(mean sinψ) ds along the ray, by the midpoint rule with a step knob.
+// n = ∫ L_v·D·(mean sinψ) ds along the ray, by the midpoint rule in equal steps no longer
+// than march_step (default half a cell). The integrand has kinks at cell centres, so the
+// error is O(step²): at most 0.4 % at the default step across the faces of a block of
+// parallel strands, 0 inside it (tests/density_test.cpp). n is the expectation over where
+// the ray passes between the fibers; a grid cannot resolve finer structure than its cells.
 enum class FiberOrientation { kTracked, kIsotropic };
 
 // Σ ℓ t tᵀ of the hair in a cell (or, after division by the cell volume, per unit volume).
@@ -140,7 +144,8 @@ template <typename T> struct HairLengthTensor {
     HAIRSCATTER_HD T length() const { return xx + yy + zz; }  // trace: t·t = 1
     // dᵀ M d: the length-weighted Σ ℓ cos²ψ for a unit d.
     HAIRSCATTER_HD T along(const glm::vec<3, T>& d) const {
-        return xx * d.x * d.x + yy * d.y * d.y + zz * d.z * d.z + T(2) * (xy * d.x * d.y + xz * d.x * d.z + yz * d.y * d.z);
+        return xx * d.x * d.x + yy * d.y * d.y + zz * d.z * d.z +
+               T(2) * (xy * d.x * d.y + xz * d.x * d.z + yz * d.y * d.z);
     }
     HAIRSCATTER_HD HairLengthTensor& operator+=(const HairLengthTensor& o) {
         xx += o.xx, yy += o.yy, zz += o.zz, xy += o.xy, xz += o.xz, yz += o.yz;
