@@ -6,3 +6,4 @@
 #include "math/quadrature.hpp"
 #include "dual/tables.hpp"
 #include "dual/bcsdf.hpp"
+#include "dual/density.hpp"

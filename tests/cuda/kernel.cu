@@ -5,6 +5,7 @@
 // the material is built on the host and passed to the kernel by value; the
 // fiber is constructed and evaluated on the device.
 #include <hairscatter/hairscatter.hpp>
+#include <hairscatter/dual/density.hpp>
 
 #include <cuda_runtime.h>
 
@@ -49,6 +50,17 @@ __global__ void evaluate_fiber(hairscatter::ChiangMaterial<T> mat, const glm::ve
     r.bound_sample_pdf = at.sample(u[i]).pdf + at.pdf(wi[i]) + at.eval_pdf(wi[i]).pdf;
     out[i] = r;
 }
+
+// The shipped density grid is queried on the device through its trivially copyable view
+// (cells copied to device memory by the renderer), as is any renderer's own source.
+template <typename T>
+__global__ void fibers_toward_light(hairscatter::DensityGridView<T> grid, const glm::vec<3, T>* x,
+                                    const glm::vec<3, T>* to_light, T* n, int count) {
+    const int i = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
+    if (i < count) n[i] = grid.fibers_crossed(x[i], to_light[i], hairscatter::kUnbounded<T>);
+}
+template __global__ void fibers_toward_light<float>(hairscatter::DensityGridView<float>, const glm::vec<3, float>*,
+                                                    const glm::vec<3, float>*, float*, int);
 
 template <typename T>
 hairscatter::ChiangMaterial<T> make_material() {
