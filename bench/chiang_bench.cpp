@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -54,127 +55,84 @@ template <typename T> void BM_Calib(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations());
 }
 
+// Runs call(i) over the cycled inputs, the result through DoNotOptimize, and labels the run.
+template <typename F> void cycle(benchmark::State& state, bool with_wi, F&& call) {
+    std::size_t i = 0;
+    for (auto _ : state) {
+        auto r = call(i);
+        benchmark::DoNotOptimize(r);
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(label(state, with_wi));
+}
+
+// The inputs of one (β_m, wi set) argument pair.
+template <typename T> struct Args {
+    const bench_ref::Inputs<T>& in = inputs<T>();
+    std::size_t b;
+    const std::vector<glm::vec<3, T>>& wi;
+    Args(const benchmark::State& state, bool with_wi)
+        : b(std::size_t(state.range(0))), wi(in.wi[with_wi ? state.range(1) : 0][b]) {}
+};
+
 // ---- ours -----------------------------------------------------------------------------
 
 template <typename T> void BM_Eval(benchmark::State& state) {
-    const auto& in = inputs<T>();
-    const auto b = std::size_t(state.range(0));
-    const auto& fib = in.fibers[b];
-    const auto& wi = in.wi[state.range(1)][b];
-    std::size_t i = 0;
-    for (auto _ : state) {
-        auto r = fib[i].eval(in.wo[i], wi[i]);
-        benchmark::DoNotOptimize(r);
-        i = (i + 1) & kMask;
-    }
-    state.SetLabel(label(state, true));
+    const Args<T> a(state, true);
+    cycle(state, true, [&](std::size_t i) { return a.in.fibers[a.b][i].eval(a.in.wo[i], a.wi[i]); });
 }
 
 template <typename T> void BM_Pdf(benchmark::State& state) {
-    const auto& in = inputs<T>();
-    const auto b = std::size_t(state.range(0));
-    const auto& fib = in.fibers[b];
-    const auto& wi = in.wi[state.range(1)][b];
-    std::size_t i = 0;
-    for (auto _ : state) {
-        auto r = fib[i].pdf(in.wo[i], wi[i]);
-        benchmark::DoNotOptimize(r);
-        i = (i + 1) & kMask;
-    }
-    state.SetLabel(label(state, true));
+    const Args<T> a(state, true);
+    cycle(state, true, [&](std::size_t i) { return a.in.fibers[a.b][i].pdf(a.in.wo[i], a.wi[i]); });
 }
 
 template <typename T> void BM_EvalPdf(benchmark::State& state) {
-    const auto& in = inputs<T>();
-    const auto b = std::size_t(state.range(0));
-    const auto& fib = in.fibers[b];
-    const auto& wi = in.wi[state.range(1)][b];
-    std::size_t i = 0;
-    for (auto _ : state) {
-        auto r = fib[i].eval_pdf(in.wo[i], wi[i]);
-        benchmark::DoNotOptimize(r);
-        i = (i + 1) & kMask;
-    }
-    state.SetLabel(label(state, true));
+    const Args<T> a(state, true);
+    cycle(state, true, [&](std::size_t i) { return a.in.fibers[a.b][i].eval_pdf(a.in.wo[i], a.wi[i]); });
 }
 
 template <typename T> void BM_Sample(benchmark::State& state) {
-    const auto& in = inputs<T>();
-    const auto& fib = in.fibers[std::size_t(state.range(0))];
-    std::size_t i = 0;
-    for (auto _ : state) {
-        auto r = fib[i].sample(in.wo[i], in.u[i]);
-        benchmark::DoNotOptimize(r);
-        i = (i + 1) & kMask;
-    }
-    state.SetLabel(label(state, false));
+    const Args<T> a(state, false);
+    cycle(state, false, [&](std::size_t i) { return a.in.fibers[a.b][i].sample(a.in.wo[i], a.in.u[i]); });
 }
 
 // ChiangFiber::at(wo): the wo terms computed once per hit.
 template <typename T> void BM_At(benchmark::State& state) {
-    const auto& in = inputs<T>();
-    const auto& fib = in.fibers[std::size_t(state.range(0))];
-    std::size_t i = 0;
-    for (auto _ : state) {
-        auto r = fib[i].at(in.wo[i]);
-        benchmark::DoNotOptimize(r);
-        i = (i + 1) & kMask;
-    }
-    state.SetLabel(label(state, false));
+    const Args<T> a(state, false);
+    cycle(state, false, [&](std::size_t i) { return a.in.fibers[a.b][i].at(a.in.wo[i]); });
 }
 
 // eval / sample of a bound fiber: what each further call at the same hit costs. 64 bound
 // fibers (different wo, h) are cycled against the 4096 wi / u inputs.
-template <typename T> std::vector<typename hairscatter::ChiangFiber<T>::At> bound(const benchmark::State& state) {
-    const auto& in = inputs<T>();
-    const auto& fib = in.fibers[std::size_t(state.range(0))];
+template <typename T> std::vector<typename hairscatter::ChiangFiber<T>::At> bound(const Args<T>& a) {
     std::vector<typename hairscatter::ChiangFiber<T>::At> at;
-    for (std::size_t k = 0; k < 64; ++k) at.push_back(fib[k].at(in.wo[k]));
+    for (std::size_t k = 0; k < 64; ++k) at.push_back(a.in.fibers[a.b][k].at(a.in.wo[k]));
     return at;
 }
 
 template <typename T> void BM_AtEval(benchmark::State& state) {
-    const auto& in = inputs<T>();
-    const auto at = bound<T>(state);
-    const auto& wi = in.wi[state.range(1)][std::size_t(state.range(0))];
-    std::size_t i = 0;
-    for (auto _ : state) {
-        auto r = at[i & 63].eval(wi[i]);
-        benchmark::DoNotOptimize(r);
-        i = (i + 1) & kMask;
-    }
-    state.SetLabel(label(state, true));
+    const Args<T> a(state, true);
+    const auto at = bound(a);
+    cycle(state, true, [&](std::size_t i) { return at[i & 63].eval(a.wi[i]); });
 }
 
 template <typename T> void BM_AtSample(benchmark::State& state) {
-    const auto& in = inputs<T>();
-    const auto at = bound<T>(state);
-    std::size_t i = 0;
-    for (auto _ : state) {
-        auto r = at[i & 63].sample(in.u[i]);
-        benchmark::DoNotOptimize(r);
-        i = (i + 1) & kMask;
-    }
-    state.SetLabel(label(state, false));
+    const Args<T> a(state, false);
+    const auto at = bound(a);
+    cycle(state, false, [&](std::size_t i) { return at[i & 63].sample(a.in.u[i]); });
 }
 
 // One path vertex as a renderer shades it: the fiber for the hit, a light sample's eval
 // and a BCSDF sample for the continuation. pbrt-v4 does f + Sample_f (6.5 + 14 units).
 template <typename T> void BM_Hit(benchmark::State& state) {
-    const auto& in = inputs<T>();
-    const auto& mat = in.materials[std::size_t(state.range(0))];
-    const auto& wi = in.wi[0][std::size_t(state.range(0))];
-    std::size_t i = 0;
-    for (auto _ : state) {
-        const auto at = hairscatter::ChiangFiber<T>(mat, in.h[i]).at(in.wo[i]);
-        auto f = at.eval(wi[i]);
-        auto s = at.sample(in.u[i]);
-        benchmark::DoNotOptimize(f);
-        benchmark::DoNotOptimize(s);
-        i = (i + 1) & kMask;
-    }
-    state.SetLabel(label(state, false));
+    const Args<T> a(state, false);
+    cycle(state, false, [&](std::size_t i) {
+        const auto at = hairscatter::ChiangFiber<T>(a.in.materials[a.b], a.in.h[i]).at(a.in.wo[i]);
+        return std::make_pair(at.eval(a.wi[i]), at.sample(a.in.u[i]));
+    });
 }
+
 // Per hit: the fiber from a material and a varying h (the object is materialised).
 template <typename T> void BM_FiberCtor(benchmark::State& state) {
     const auto& in = inputs<T>();
@@ -206,43 +164,18 @@ template <typename T> void BM_MaterialCtor(benchmark::State& state) {
 // ---- the pbrt-v4-style reference --------------------------------------------------------
 
 template <typename T> void BM_RefF(benchmark::State& state) {
-    const auto& in = inputs<T>();
-    const auto b = std::size_t(state.range(0));
-    const auto& ref = in.refs[b];
-    const auto& wi = in.wi[state.range(1)][b];
-    std::size_t i = 0;
-    for (auto _ : state) {
-        auto r = ref[i].f(in.wo[i], wi[i]);
-        benchmark::DoNotOptimize(r);
-        i = (i + 1) & kMask;
-    }
-    state.SetLabel(label(state, true));
+    const Args<T> a(state, true);
+    cycle(state, true, [&](std::size_t i) { return a.in.refs[a.b][i].f(a.in.wo[i], a.wi[i]); });
 }
 
 template <typename T> void BM_RefPdf(benchmark::State& state) {
-    const auto& in = inputs<T>();
-    const auto b = std::size_t(state.range(0));
-    const auto& ref = in.refs[b];
-    const auto& wi = in.wi[state.range(1)][b];
-    std::size_t i = 0;
-    for (auto _ : state) {
-        auto r = ref[i].PDF(in.wo[i], wi[i]);
-        benchmark::DoNotOptimize(r);
-        i = (i + 1) & kMask;
-    }
-    state.SetLabel(label(state, true));
+    const Args<T> a(state, true);
+    cycle(state, true, [&](std::size_t i) { return a.in.refs[a.b][i].PDF(a.in.wo[i], a.wi[i]); });
 }
 
 template <typename T> void BM_RefSample(benchmark::State& state) {
-    const auto& in = inputs<T>();
-    const auto& ref = in.refs[std::size_t(state.range(0))];
-    std::size_t i = 0;
-    for (auto _ : state) {
-        auto r = ref[i].Sample_f(in.wo[i], in.u[i]);
-        benchmark::DoNotOptimize(r);
-        i = (i + 1) & kMask;
-    }
-    state.SetLabel(label(state, false));
+    const Args<T> a(state, false);
+    cycle(state, false, [&](std::size_t i) { return a.in.refs[a.b][i].Sample_f(a.in.wo[i], a.in.u[i]); });
 }
 
 // pbrt builds a HairBxDF per hit: v_p, s and the tilt angles are computed there. The
@@ -264,19 +197,11 @@ template <typename T> void BM_RefCtor(benchmark::State& state) {
 // The reference's vertex: construct pbrt's HairBxDF for the hit, f for the light sample,
 // Sample_f for the continuation.
 template <typename T> void BM_RefHit(benchmark::State& state) {
-    const auto& in = inputs<T>();
-    const int b = int(state.range(0));
-    const auto& wi = in.wi[0][std::size_t(b)];
-    std::size_t i = 0;
-    for (auto _ : state) {
-        const auto ref = bench_ref::make_ref<T>(b, in.h[i]);
-        auto f = ref.f(in.wo[i], wi[i]);
-        auto s = ref.Sample_f(in.wo[i], in.u[i]);
-        benchmark::DoNotOptimize(f);
-        benchmark::DoNotOptimize(s);
-        i = (i + 1) & kMask;
-    }
-    state.SetLabel(label(state, false));
+    const Args<T> a(state, false);
+    cycle(state, false, [&](std::size_t i) {
+        const auto ref = bench_ref::make_ref<T>(int(a.b), a.in.h[i]);
+        return std::make_pair(ref.f(a.in.wo[i], a.wi[i]), ref.Sample_f(a.in.wo[i], a.in.u[i]));
+    });
 }
 
 }  // namespace
