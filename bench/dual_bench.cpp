@@ -1,0 +1,115 @@
+// Benchmarks of dual scattering (dual/): the per-material table build at several
+// resolutions, the density grid's ray march, and the dual-scattering BCSDF's eval and
+// sample next to the single-fiber model they wrap. Run: build/…/bench/dual_bench.
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include <hairscatter/dual.hpp>
+
+namespace {
+
+namespace hs = hairscatter;
+using V3 = glm::dvec3;
+
+hs::FiberParams<double> blond() {
+    hs::FiberParams<double> p;
+    p.sigma_a = hs::sigma_a_from_melanin(0.15, 0.05);
+    return p;
+}
+
+// Tables per fiber parameter set: θ samples × h nodes (the two resolution knobs).
+void BM_DualTablesBuild(benchmark::State& state) {
+    const hs::ChiangMaterial<double> mat(blond());
+    hs::DualTableOptions<double> opt;
+    opt.theta_samples = int(state.range(0));
+    opt.h_nodes = int(state.range(1));
+    for (auto _ : state) {
+        auto t = hs::DualScatteringTables<double>::build<hs::ChiangFiber>(mat, opt);
+        benchmark::DoNotOptimize(t);
+    }
+}
+BENCHMARK(BM_DualTablesBuild)->ArgNames({"theta", "h"})->Args({64, 32})->Args({256, 32})->Args({64, 8})->Unit(benchmark::kMicrosecond);
+
+struct Scene {
+    std::vector<V3> wo, wi, x, to_light;
+    std::vector<glm::dvec4> u;
+    std::vector<double> h;
+    Scene() {
+        std::mt19937_64 rng(3);
+        std::uniform_real_distribution<double> uni(0, 1);
+        auto dir = [&] {
+            const double z = 2 * uni(rng) - 1, p = 6.283185307179586 * uni(rng), r = std::sqrt(1 - z * z);
+            return V3(z, r * std::cos(p), r * std::sin(p));
+        };
+        for (int i = 0; i < 1024; ++i) {
+            wo.push_back(dir());
+            wi.push_back(dir());
+            to_light.push_back(dir());
+            x.push_back(V3(uni(rng), uni(rng), uni(rng)));
+            u.emplace_back(uni(rng), uni(rng), uni(rng), uni(rng));
+            h.push_back(2 * uni(rng) - 1);
+        }
+    }
+};
+const Scene& scene() {
+    static const Scene s;
+    return s;
+}
+
+// A unit cube of hair: 40 × 40 strands along x, 10 cells per side (the march knob at its
+// default, half a cell).
+void BM_DensityMarch(benchmark::State& state) {
+    std::vector<std::vector<V3>> strands;
+    for (int j = 0; j < 40; ++j)
+        for (int k = 0; k < 40; ++k) strands.push_back({V3(0, (j + 0.5) / 40, (k + 0.5) / 40), V3(1, (j + 0.5) / 40, (k + 0.5) / 40)});
+    const auto grid = hs::DensityGrid<double>::from_strands(strands, 0.1, 0.004);
+    const Scene& s = scene();
+    std::size_t i = 0;
+    for (auto _ : state) {
+        auto n = grid.fibers_crossed(s.x[i], s.to_light[i], hs::kUnbounded<double>);
+        benchmark::DoNotOptimize(n);
+        i = (i + 1) & 1023;
+    }
+}
+BENCHMARK(BM_DensityMarch);
+
+template <bool kSample, bool kDual> void BM_Shade(benchmark::State& state) {
+    const hs::ChiangMaterial<double> mat(blond());
+    const auto tables = hs::DualScatteringTables<double>::build<hs::ChiangFiber>(mat);
+    hs::DualScatteringLight<double> light;
+    light.n = 5;
+    light.direct_fraction = 0;
+    const Scene& s = scene();
+    std::size_t i = 0;
+    for (auto _ : state) {
+        const hs::ChiangFiber<double> fiber(mat, s.h[i]);
+        if constexpr (kDual) {
+            const hs::DualScatteringFiber<double> d(fiber, tables, light);
+            if constexpr (kSample) {
+                auto r = d.sample(s.wo[i], s.u[i]);
+                benchmark::DoNotOptimize(r);
+            } else {
+                auto r = d.eval(s.wo[i], s.wi[i]);
+                benchmark::DoNotOptimize(r);
+            }
+        } else if constexpr (kSample) {
+            auto r = fiber.sample(s.wo[i], s.u[i]);
+            benchmark::DoNotOptimize(r);
+        } else {
+            auto r = fiber.eval(s.wo[i], s.wi[i]);
+            benchmark::DoNotOptimize(r);
+        }
+        i = (i + 1) & 1023;
+    }
+}
+BENCHMARK_TEMPLATE(BM_Shade, false, false)->Name("BM_SingleEval<double>");
+BENCHMARK_TEMPLATE(BM_Shade, true, false)->Name("BM_SingleSample<double>");
+BENCHMARK_TEMPLATE(BM_Shade, false, true)->Name("BM_DualEval<double>");
+BENCHMARK_TEMPLATE(BM_Shade, true, true)->Name("BM_DualSample<double>");
+
+}  // namespace
+
+BENCHMARK_MAIN();
