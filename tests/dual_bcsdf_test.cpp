@@ -181,6 +181,35 @@ TEST(DualBcsdf, SampleMatchesPdfChi2) {
                 smeared.p_value);
 }
 
+// float builds too: the mixture sampler against its pdf, and sample/pdf agreement to float
+// rounding (1e-4: pdf() recomputes φ with atan2 from the rounded wi).
+TEST(DualBcsdf, FloatSamplerMatchesPdf) {
+    hs::FiberParams<float> p;
+    p.sigma_a = hs::sigma_a_from_melanin(0.3f, 0.2f);
+    const hs::ChiangMaterial<float> mat(p);
+    const auto tables = hs::DualScatteringTables<float>::build<hs::ChiangFiber>(mat);
+    for (float n : {0.0f, 8.0f}) {
+        hs::DualScatteringLight<float> light;
+        light.n = n;
+        light.direct_fraction = n == 0.0f ? 1.0f : 0.0f;
+        const hs::DualScatteringFiber<float> d(hs::ChiangFiber<float>(mat, 0.4f), tables, light);
+        const glm::vec3 wo(direction(40, 0.3));
+        chi2::Options opt;
+        opt.num_tests = 2;
+        opt.samples = 200000;
+        const auto r = chi2::test([&](const glm::dvec4& u) { return glm::dvec3(d.sample(wo, glm::vec4(u)).wi); },
+                                  [&](const glm::dvec3& wi) { return double(d.pdf(wo, glm::vec3(wi))); }, opt);
+        EXPECT_TRUE(r.passed) << "n " << n << "\n" << r.report;
+        std::mt19937 rng(2);
+        std::uniform_real_distribution<float> uni(0, 1);
+        for (int k = 0; k < 2000; ++k) {
+            const auto s = d.sample(wo, glm::vec4(uni(rng), uni(rng), uni(rng), uni(rng)));
+            ASSERT_GT(s.pdf, 0.0f);
+            EXPECT_NEAR(d.pdf(wo, s.wi) / s.pdf, 1.0f, 1e-4f);
+        }
+    }
+}
+
 TEST(DualBcsdf, SamplePdfAndWeightAgree) {
     const HairSetup s(kHairs[2]);
     std::mt19937_64 rng(9);

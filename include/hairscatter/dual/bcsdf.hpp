@@ -64,14 +64,17 @@ template <typename T> class DualScatteringFiber {
 
     const DualScatteringLight<T>& light() const { return light_; }
 
-    V3 eval(const V3& wo, const V3& wi) const { return eval_pdf(wo, wi).f; }
-    T pdf(const V3& wo, const V3& wi) const { return eval_pdf(wo, wi).pdf; }
-
+    V3 eval(const V3& wo, const V3& wi) const { return value(wo, wi, azimuth(wo, wi), fiber_.eval(wo, wi)); }
+    T pdf(const V3& wo, const V3& wi) const {
+        return density(mixture(wo), wi, azimuth(wo, wi), fiber_.pdf(wo, wi));
+    }
     HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const {
-        const Mixture mix = mixture(wo);
-        const T phi = elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
+        const T phi = azimuth(wo, wi);
         const HairEvalPdf<T> single = fiber_.eval_pdf(wo, wi);
-        return combine(mix, wo, wi, phi, single);
+        HairEvalPdf<T> r;
+        r.f = value(wo, wi, phi, single.f);
+        r.pdf = density(mixture(wo), wi, phi, single.pdf);
+        return r;
     }
 
     // u.x picks the component (single scattering, f_back, f_s^G, f_back^G) and is
@@ -117,11 +120,11 @@ template <typename T> class DualScatteringFiber {
             const T phi = forward ? (half >= T(0) ? kPi<T> - half : -kPi<T> - half) : half;
             wi = direction(wo, sin_i, phi);
         }
-        const T phi = elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
-        const HairEvalPdf<T> e = combine(mix, wo, wi, phi, fiber_.eval_pdf(wo, wi));
+        const T phi = azimuth(wo, wi);
+        const HairEvalPdf<T> single = fiber_.eval_pdf(wo, wi);
         r.wi = wi;
-        r.pdf = e.pdf;
-        r.weight = e.pdf > T(0) ? e.f / e.pdf : V3(T(0));
+        r.pdf = density(mix, wi, phi, single.pdf);
+        r.weight = r.pdf > T(0) ? value(wo, wi, phi, single.f) / r.pdf : V3(T(0));
         return r;
     }
 
@@ -142,6 +145,9 @@ template <typename T> class DualScatteringFiber {
     };
 
     static T mean(const V3& v) { return (v.x + v.y + v.z) * T(1.0 / 3.0); }
+    static T azimuth(const V3& wo, const V3& wi) {
+        return elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
+    }
 
     static V3 direction(const V3& wo, T sin_i, T phi) {
         using std::sqrt;
@@ -211,52 +217,64 @@ template <typename T> class DualScatteringFiber {
         return m;
     }
 
-    HairEvalPdf<T> combine(const Mixture& mix, const V3& wo, const V3& wi, T phi, const HairEvalPdf<T>& single) const {
+    // F(wo, wi) given φ and the single-fiber f_s.
+    V3 value(const V3& wo, const V3& wi, T phi, const V3& f_single) const {
         using std::asin;
         const T sin_i = clamp(wi.x, T(-1), T(1)), cos_i = cos_from_sin(sin_i);
-        const T sin_o = clamp(wo.x, T(-1), T(1));
+        const T sin_o = clamp(wo.x, T(-1), T(1)), cos_o = cos_from_sin(sin_o);
         const bool forward = phi > kHalfPi<T> || phi < -kHalfPi<T>;
         const DualScatteringEntry<T> ei = tables_->lookup(asin(sin_i));
-        const DualScatteringEntry<T> eo = tables_->lookup(asin(sin_o));
         const T df = light_.direct_fraction;
         const V3 tf = transmittance(ei);
         const T s2f = forward_variance(ei);
+        T scatter_max = T(0);
+        for (int c = 0; c < 3; ++c) scatter_max = tf[c] - df > scatter_max ? tf[c] - df : scatter_max;
 
-        // The f_back shape at this θi (the pdf uses the mixture's fixed shape instead).
-        const T s2b = mean(ei.sigma2_b) > T(1e-6) ? mean(ei.sigma2_b) : T(1e-6);
-        const T tb = asin(sin_o) - mean(ei.delta_b);
-        const T sb = std::sin(tb), cb = std::abs(std::cos(tb));
-
-        HairEvalPdf<T> r;
-        V3 f_back(T(0)), f_back_g(T(0)), f_s_g(T(0));
+        V3 f = df * f_single;
         if (!forward) {
-            f_back = ei.A_b * DeonLongitudinal<T>(s2b).eval(sin_i, cos_i, sb, cb) * kInvPi<T>;
-            f_back_g = ei.A_b * DeonLongitudinal<T>(s2b + s2f).eval(sin_i, cos_i, sb, cb) * kInvPi<T>;
-        } else {
+            // f_back and its widened twin, shaped at this θi (the pdf's shape is fixed per wo).
+            const T s2b = mean(ei.sigma2_b) > T(1e-6) ? mean(ei.sigma2_b) : T(1e-6);
+            const T tb = asin(sin_o) - mean(ei.delta_b);
+            const T sb = std::sin(tb), cb = std::abs(std::cos(tb));
+            const V3 f_back = ei.A_b * DeonLongitudinal<T>(s2b).eval(sin_i, cos_i, sb, cb) * kInvPi<T>;
+            f += df * light_.d_b * f_back;
+            if (scatter_max > T(0)) {
+                const V3 f_back_g = ei.A_b * DeonLongitudinal<T>(s2b + s2f).eval(sin_i, cos_i, sb, cb) * kInvPi<T>;
+                for (int c = 0; c < 3; ++c)
+                    if (tf[c] > df) f[c] += (tf[c] - df) * light_.d_f * kPi<T> * light_.d_b * f_back_g[c];
+            }
+        } else if (scatter_max > T(0)) {
+            const DualScatteringEntry<T> eo = tables_->lookup(asin(sin_o));
             const ChiangMaterial<T>& mat = fiber_.material();
-            for (int p = 0; p <= kLobes; ++p)
-                f_s_g += DeonLongitudinal<T>(mat.lobe_variance(p) + s2f).eval(sin_i, cos_i, mix.sin_o[p], mix.cos_o[p]) *
+            V3 f_s_g(T(0));
+            for (int p = 0; p <= kLobes; ++p) {
+                const auto r = mat.tilt().rotate(p, sin_o, cos_o);
+                f_s_g += DeonLongitudinal<T>(mat.lobe_variance(p) + s2f).eval(sin_i, cos_i, r.sin_theta, r.cos_theta) *
                          eo.global[p];
+            }
+            for (int c = 0; c < 3; ++c)
+                if (tf[c] > df) f[c] += (tf[c] - df) * light_.d_f * f_s_g[c];
         }
-        r.f = df * (single.f + light_.d_b * f_back);
-        for (int c = 0; c < 3; ++c) {
-            const T scatter = tf[c] - df;
-            if (scatter > T(0))
-                r.f[c] += scatter * light_.d_f * (f_s_g[c] + kPi<T> * light_.d_b * f_back_g[c]);
-        }
+        return f;
+    }
 
-        // The mixture's density: each component normalised on the sphere.
-        T p_back = T(0), p_back_g = T(0), p_global = T(0);
+    // The mixture's density: each component normalised on the sphere.
+    T density(const Mixture& mix, const V3& wi, T phi, T pdf_single) const {
+        const T sin_i = clamp(wi.x, T(-1), T(1)), cos_i = cos_from_sin(sin_i);
+        const bool forward = phi > kHalfPi<T> || phi < -kHalfPi<T>;
+        T pdf = mix.w[0] * pdf_single;
         if (!forward) {
-            p_back = mix.m_back.eval(sin_i, cos_i, mix.sin_back, mix.cos_back) * kInvPi<T>;
-            p_back_g = mix.m_back_global.eval(sin_i, cos_i, mix.sin_back, mix.cos_back) * kInvPi<T>;
-        } else {
+            if (mix.w[1] > T(0)) pdf += mix.w[1] * mix.m_back.eval(sin_i, cos_i, mix.sin_back, mix.cos_back) * kInvPi<T>;
+            if (mix.w[3] > T(0))
+                pdf += mix.w[3] * mix.m_back_global.eval(sin_i, cos_i, mix.sin_back, mix.cos_back) * kInvPi<T>;
+        } else if (mix.w[2] > T(0)) {
+            T p_global = T(0);
             for (int p = 0; p <= kLobes; ++p)
                 if (mix.g[p] > T(0))
                     p_global += mix.g[p] * mix.m_global[p].eval(sin_i, cos_i, mix.sin_o[p], mix.cos_o[p]) * kInvPi<T>;
+            pdf += mix.w[2] * p_global;
         }
-        r.pdf = mix.w[0] * single.pdf + mix.w[1] * p_back + mix.w[2] * p_global + mix.w[3] * p_back_g;
-        return r;
+        return pdf;
     }
 
     ChiangFiber<T> fiber_;
