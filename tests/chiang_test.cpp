@@ -303,3 +303,19 @@ template <typename T> void sweep_extremes() {
 
 TEST(ChiangExtremes, NoNaNOrInfDouble) { sweep_extremes<double>(); }
 TEST(ChiangExtremes, NoNaNOrInfFloat) { sweep_extremes<float>(); }
+
+// The dual-scattering tables read each lobe's shift from the material: it must be where
+// the tilt puts the lobe (2α, -α, -4α, 0 in θi + θo) and its variance v_p (v, v/4, 4v, 4v).
+TEST(ChiangMaterial, LobeShiftsAndVariancesFollowTheTilt) {
+    hs::FiberParams<double> p;
+    p.alpha = 0.05;
+    p.beta_m = 0.4;
+    const hs::ChiangMaterial<double> m(p);
+    const double expected[4] = {0.1, -0.05, -0.2, 0.0};
+    const double v = hs::longitudinal_variance(0.4);
+    const double variance[4] = {v, v / 4, 4 * v, 4 * v};
+    for (int l = 0; l < 4; ++l) {
+        EXPECT_NEAR(m.lobe_shift(l), expected[l], 1e-15);
+        EXPECT_NEAR(m.lobe_variance(l), variance[l], 1e-15);
+    }
+}

@@ -19,7 +19,7 @@ template <typename T> class CuticleTilt {
     static constexpr int kLobes = 4;  // R, TT, TRT, residual (and every higher order)
 
     CuticleTilt() = default;
-    HAIRSCATTER_HD explicit CuticleTilt(T alpha) {
+    HAIRSCATTER_HD explicit CuticleTilt(T alpha) : alpha_(alpha) {
         using std::sin;
         T s[3], c[3];  // sin, cos of α, 2α, 4α
         s[0] = sin(alpha);
@@ -32,6 +32,13 @@ template <typename T> class CuticleTilt {
         sin_[0] = -s[1], cos_[0] = c[1];
         sin_[1] = s[0], cos_[1] = c[0];
         sin_[2] = s[2], cos_[2] = c[2];
+    }
+
+    // The angle θo is rotated by for lobe p: -2α, α, 4α, 0. Lobe p's peak sits at
+    // θi = -(θo + angle(p)).
+    HAIRSCATTER_HD T angle(int p) const {
+        const T k[kLobes] = {T(-2), T(1), T(4), T(0)};
+        return k[p < kLobes ? p : kLobes - 1] * alpha_;
     }
 
     struct Rotated {
@@ -48,6 +55,7 @@ template <typename T> class CuticleTilt {
     }
 
   private:
+    T alpha_ = T(0);
     T sin_[kLobes] = {T(0), T(0), T(0), T(0)}, cos_[kLobes] = {T(1), T(1), T(1), T(1)};
 };
 

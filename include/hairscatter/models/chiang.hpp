@@ -64,10 +64,7 @@ template <typename T> class ChiangMaterial {
     // The longitudinal shift of lobe p's peak in θi + θo (Marschner's α_p in d'Eon's
     // corrected 2θh form): the lobe peaks at θi = α_p - θo. pbrt-v4's tilt gives 2α (R),
     // -α (TT), -4α (TRT), 0 (residual).
-    HAIRSCATTER_HD T lobe_shift(int p) const {
-        const T a = params_.alpha;
-        return p == 0 ? T(2) * a : p == 1 ? -a : p == 2 ? T(-4) * a : T(0);
-    }
+    HAIRSCATTER_HD T lobe_shift(int p) const { return -tilt_.angle(p); }
     // The longitudinal variance v_p of lobe p (β_p² of the dual-scattering tables).
     HAIRSCATTER_HD T lobe_variance(int p) const { return m_[p].variance(); }
 
