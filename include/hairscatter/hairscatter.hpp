@@ -14,4 +14,6 @@
 #include "lobes/azimuthal.hpp"
 #include "lobes/longitudinal.hpp"
 #include "lobes/tilt.hpp"
+#include "math/wrapped_gaussian.hpp"
 #include "models/chiang.hpp"
+#include "models/deon_farfield.hpp"

@@ -62,6 +62,25 @@ __global__ void fibers_toward_light(hairscatter::DensityGridView<T> grid, const 
 template __global__ void fibers_toward_light<float>(hairscatter::DensityGridView<float>, const glm::vec<3, float>*,
                                                     const glm::vec<3, float>*, float*, int);
 
+// The far-field fiber needs no h; it reads its material (node tables) through a pointer,
+// so the renderer copies the material to device memory once.
+template <typename T>
+__global__ void evaluate_far_field(const hairscatter::DeonFarFieldMaterial<T>* mat, const glm::vec<3, T>* wo,
+                                   const glm::vec<3, T>* wi, const glm::vec<4, T>* u, glm::vec<3, T>* f, T* pdf,
+                                   int n) {
+    const int i = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
+    if (i >= n) return;
+    const hairscatter::DeonFarFieldFiber<T> fiber(*mat);
+    f[i] = fiber.eval(wo[i], wi[i]);
+    pdf[i] = fiber.pdf(wo[i], wi[i]) + fiber.sample(wo[i], u[i]).pdf;
+}
+template __global__ void evaluate_far_field<float>(const hairscatter::DeonFarFieldMaterial<float>*,
+                                                   const glm::vec<3, float>*, const glm::vec<3, float>*,
+                                                   const glm::vec<4, float>*, glm::vec<3, float>*, float*, int);
+template __global__ void evaluate_far_field<double>(const hairscatter::DeonFarFieldMaterial<double>*,
+                                                    const glm::vec<3, double>*, const glm::vec<3, double>*,
+                                                    const glm::vec<4, double>*, glm::vec<3, double>*, double*, int);
+
 template <typename T>
 hairscatter::ChiangMaterial<T> make_material() {
     hairscatter::FiberParams<T> p;

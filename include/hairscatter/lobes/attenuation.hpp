@@ -7,6 +7,7 @@
 
 #include "../config.hpp"
 #include "../math/constants.hpp"
+#include "../math/elementary.hpp"
 #include "../math/functions.hpp"
 
 namespace hairscatter {
@@ -54,5 +55,32 @@ HAIRSCATTER_HD Attenuation<T, P> attenuation(T fresnel, const glm::vec<3, T>& tr
     r.a[P] = r.a[P - 1] * tf / glm::max(V(1) - tf, V(kMinNormal<T>));
     return r;
 }
+
+// The refracted path of a ray leaving toward wo from offset h (theory.md §3.1–3.2), split
+// into the part that depends on θo alone (once per wo) and the part per h:
+//   sinγt = h / η' = h cosθo / sqrt(η² - sin²θo)   (no division by cosθo: finite at ±90°)
+//   T = exp(-σa · 2 cosγt / cosθt)                  (one chord through the fiber, in radii)
+template <typename T> struct FiberRefraction {
+    T gamma_t_scale = T(0);  // sinγt = h · gamma_t_scale
+    T chord_scale = T(2);    // chord = chord_scale · cosγt
+
+    FiberRefraction() = default;
+    HAIRSCATTER_HD FiberRefraction(T sin_o, T cos_o, T eta) {
+        using std::sqrt;
+        gamma_t_scale = cos_o / sqrt(eta * eta - sin_o * sin_o);
+        chord_scale = T(2) / cos_from_sin(sin_o / eta);
+    }
+
+    struct AtOffset {
+        T gamma_t;
+        glm::vec<3, T> transmittance;
+    };
+    HAIRSCATTER_HD AtOffset at(T h, const glm::vec<3, T>& sigma_a) const {
+        const T sin_gamma_t = h * gamma_t_scale;
+        const T chord = chord_scale * cos_from_sin(sin_gamma_t);
+        return {elem::asin(sin_gamma_t), glm::vec<3, T>(elem::exp(-sigma_a.x * chord), elem::exp(-sigma_a.y * chord),
+                                                         elem::exp(-sigma_a.z * chord))};
+    }
+};
 
 }  // namespace hairscatter

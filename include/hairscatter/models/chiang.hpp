@@ -224,21 +224,13 @@ template <typename T> class ChiangFiber {
 
     // kW: also the lobe selection probabilities w (pdf and sample need them, eval not).
     template <bool kW> HAIRSCATTER_HD Outgoing outgoing(const V3& wo) const {
-        using std::sqrt;
         const FiberParams<T>& prm = mat_.params();
         Outgoing o;
         const T sin_o = clamp(wo.x, T(-1), T(1));
         const T cos_o = cos_from_sin(sin_o);
-        // Bravais index η' = sqrt(η² - sin²θo)/cosθo, used as sinγt = h/η' without dividing
-        // by cosθo (finite at θo = ±90°).
-        const T sin_gamma_t = h_ * cos_o / sqrt(prm.eta * prm.eta - sin_o * sin_o);
-        const T cos_gamma_t = cos_from_sin(sin_gamma_t);
-        const T gamma_t = elem::asin(sin_gamma_t);
-        const T cos_theta_t = cos_from_sin(sin_o / prm.eta);
-        // One chord through the fiber has length 2 cosγt / cosθt radii (theory.md §3.2).
-        const T chord = T(2) * cos_gamma_t / cos_theta_t;
-        const V3 tr(elem::exp(-prm.sigma_a.x * chord), elem::exp(-prm.sigma_a.y * chord),
-                    elem::exp(-prm.sigma_a.z * chord));
+        const auto path = FiberRefraction<T>(sin_o, cos_o, prm.eta).at(h_, prm.sigma_a);
+        const T gamma_t = path.gamma_t;
+        const V3& tr = path.transmittance;
         const Attenuation<T, kLobes> att =
             attenuation<T, kLobes>(fresnel_dielectric(cos_o * cos_gamma_o_, prm.eta), tr);
         for (int p = 0; p <= kLobes; ++p) {
