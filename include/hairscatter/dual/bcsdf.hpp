@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "../config.hpp"
+#include "../fiber/frame.hpp"
 #include "../lobes/longitudinal.hpp"
 #include "../math/constants.hpp"
 #include "../math/elementary.hpp"
@@ -118,7 +119,7 @@ template <typename T> class DualScatteringFiber {
             // φ uniform over the chosen half: backward |φ| < π/2, forward |φ| > π/2.
             const T half = kPi<T> * (u.w - T(0.5));
             const T phi = forward ? (half >= T(0) ? kPi<T> - half : -kPi<T> - half) : half;
-            wi = direction(wo, sin_i, phi);
+            wi = direction_from_azimuth(wo, sin_i, phi);
         }
         const T phi = azimuth(wo, wi);
         const HairEvalPdf<T> single = fiber_.eval_pdf(wo, wi);
@@ -149,15 +150,6 @@ template <typename T> class DualScatteringFiber {
         return elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
     }
 
-    static V3 direction(const V3& wo, T sin_i, T phi) {
-        using std::sqrt;
-        const T cos_i = cos_from_sin(sin_i);
-        const T len = sqrt(wo.y * wo.y + wo.z * wo.z);
-        const T ay = len > T(0) ? wo.y / len : T(1), az = len > T(0) ? wo.z / len : T(0);
-        T s, c;
-        elem::sincos(phi, s, c);
-        return V3(sin_i, cos_i * (ay * c - az * s), cos_i * (ay * s + az * c));
-    }
 
     // T_f and σ̄²_f for light arriving with the table entry e of its inclination.
     V3 transmittance(const DualScatteringEntry<T>& e) const {

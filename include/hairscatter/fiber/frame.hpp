@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include "../config.hpp"
+#include "../math/elementary.hpp"
 #include "../math/functions.hpp"
 
 namespace hairscatter {
@@ -34,5 +35,19 @@ template <typename T> struct FiberFrame {
     HAIRSCATTER_HD V to_local(const V& w) const { return V(glm::dot(w, x), glm::dot(w, y), glm::dot(w, z)); }
     HAIRSCATTER_HD V to_world(const V& w) const { return w.x * x + w.y * y + w.z * z; }
 };
+
+// The unit direction with inclination sinθ = sin_theta whose azimuth is φ = phi past wo's,
+// in the fiber frame: rotates wo's azimuthal direction by φ (no atan2 round trip). A wo
+// along the fiber has no azimuth; φ is then measured from the y axis, as atan2(0, 0) = 0.
+template <typename T>
+HAIRSCATTER_HD glm::vec<3, T> direction_from_azimuth(const glm::vec<3, T>& wo, T sin_theta, T phi) {
+    using std::sqrt;
+    const T cos_theta = cos_from_sin(sin_theta);
+    const T len = sqrt(wo.y * wo.y + wo.z * wo.z);
+    const T ay = len > T(0) ? wo.y / len : T(1), az = len > T(0) ? wo.z / len : T(0);
+    T s, c;
+    elem::sincos(phi, s, c);
+    return glm::vec<3, T>(sin_theta, cos_theta * (ay * c - az * s), cos_theta * (ay * s + az * c));
+}
 
 }  // namespace hairscatter

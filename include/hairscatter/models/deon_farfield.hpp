@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "../config.hpp"
+#include "../fiber/frame.hpp"
 #include "../fiber/params.hpp"
 #include "../lobes/attenuation.hpp"
 #include "../lobes/azimuthal.hpp"
@@ -232,14 +233,8 @@ template <typename T> class DeonFarFieldFiber {
                                            mat_->azimuthal().sample(u.w, v))
                                  : wrap_pi(kTwoPi<T> * u.w - kPi<T>);
 
-        // Rotate wo's azimuthal direction by φ instead of going through atan2 and back.
-        const T len = sqrt(wo.y * wo.y + wo.z * wo.z);
-        const T ay = len > T(0) ? wo.y / len : T(1), az = len > T(0) ? wo.z / len : T(0);
-        T s, c;
-        elem::sincos(phi, s, c);
-
         HairSample<T> r;
-        r.wi = V3(sin_i, cos_i * (ay * c - az * s), cos_i * (ay * s + az * c));
+        r.wi = direction_from_azimuth(wo, sin_i, phi);
         r.lobe = p;
         const HairEvalPdf<T> e = combine(o, sin_i, cos_i, phi);
         r.pdf = e.pdf;
