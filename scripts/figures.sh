@@ -20,7 +20,7 @@ mkdir -p docs
     for t in build/figures/tests/*_test; do
         echo
         echo "== $(basename "$t")"
-        "$t" 2>&1 | grep -E '^\[ [a-z]+ *\] ' || true
+        "$t" 2>&1 | grep -E '^\[ [a-z0-9]+ *\] ' || true
     done
 } >"$out"
 echo "figures.sh: wrote ${out#"$ROOT"/}"
