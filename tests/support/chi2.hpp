@@ -97,7 +97,10 @@ inline Result test(const std::function<glm::dvec3(const glm::dvec4&)>& sample,
     std::mt19937_64 rng(opt.seed);
     std::uniform_real_distribution<double> uni(0.0, 1.0);
     for (std::int64_t k = 0; k < opt.samples; ++k) {
-        const glm::dvec4 u(uni(rng), uni(rng), uni(rng), uni(rng));
+        // One at a time: the order in which function arguments are evaluated differs
+        // between compilers, and the same stream should give the same test everywhere.
+        glm::dvec4 u;
+        for (int k = 0; k < 4; ++k) u[k] = uni(rng);
         const glm::dvec3 w = sample(u);
         const double len2 = glm::dot(w, w);
         if (!std::isfinite(len2) || std::abs(len2 - 1) > 1e-3) {
@@ -122,23 +125,38 @@ inline Result test(const std::function<glm::dvec3(const glm::dvec4&)>& sample,
     for (double e : expected) r.expected_total += e;
     r.expected_total /= double(opt.samples);
 
-    // Pool the cells expected to hold fewer than 5 samples into one.
+    // Pool the cells expected to hold fewer than 5 samples into one. The chi-square
+    // approximation needs at least 5 expected in every cell, the pool included: a pool
+    // still below 5 is merged into the kept cell with the smallest expectation (otherwise a
+    // single legitimate tail sample in a pool expecting 0.005 would read as p = 1e-25).
     double pool_obs = double(r.invalid), pool_exp = 0, stat = 0;
-    int kept = 0;
+    std::vector<double> kept_obs, kept_exp;
     for (int c = 0; c < cells; ++c) {
         if (expected[c] < 5) {
             pool_obs += observed[c];
             pool_exp += expected[c];
         } else {
-            stat += (observed[c] - expected[c]) * (observed[c] - expected[c]) / expected[c];
-            ++kept;
+            kept_obs.push_back(observed[c]);
+            kept_exp.push_back(expected[c]);
         }
     }
+    bool impossible = false;  // samples where the pdf integrates to exactly zero
     if (pool_exp > 0 || pool_obs > 0) {
-        // An empty expectation with observed samples is an outright failure.
-        stat += pool_exp > 0 ? (pool_obs - pool_exp) * (pool_obs - pool_exp) / pool_exp : 1e30;
-        ++kept;
+        if (pool_exp <= 0) {
+            impossible = true;
+        } else if (pool_exp >= 5 || kept_exp.empty()) {
+            kept_obs.push_back(pool_obs);
+            kept_exp.push_back(pool_exp);
+        } else {
+            const auto smallest = std::min_element(kept_exp.begin(), kept_exp.end()) - kept_exp.begin();
+            kept_obs[std::size_t(smallest)] += pool_obs;
+            kept_exp[std::size_t(smallest)] += pool_exp;
+        }
     }
+    for (std::size_t c = 0; c < kept_exp.size(); ++c)
+        stat += (kept_obs[c] - kept_exp[c]) * (kept_obs[c] - kept_exp[c]) / kept_exp[c];
+    if (impossible) stat = 1e30;
+    const int kept = int(kept_exp.size());
     r.statistic = stat;
     r.dof = std::max(1, kept - 1);
     r.p_value = boost::math::cdf(boost::math::complement(boost::math::chi_squared(r.dof), stat));
