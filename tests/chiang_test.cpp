@@ -12,6 +12,7 @@
 
 #include <hairscatter/hairscatter.hpp>
 
+#include "support/checks.hpp"
 #include "support/reference_chiang.hpp"
 
 namespace hs = hairscatter;
@@ -289,12 +290,7 @@ template <typename T> void sweep_extremes() {
                                 for (T u1 : {us[0], us[3], us[5]})
                                     for (T u3 : {us[0], us[2], us[5]}) {
                                         const auto s = fiber.sample(wo, glm::vec<4, T>(u0, u1, us[(checked++) % us.size()], u3));
-                                        ASSERT_TRUE(std::isfinite(s.pdf) && s.pdf >= T(0));
-                                        for (int c = 0; c < 3; ++c) {
-                                            ASSERT_TRUE(std::isfinite(s.wi[c]));
-                                            ASSERT_TRUE(std::isfinite(s.weight[c]) && s.weight[c] >= T(0));
-                                        }
-                                        ASSERT_NEAR(double(glm::length(s.wi)), 1.0, 1e-3);
+                                        ASSERT_TRUE(valid_sample(s));
                                     }
                         }
                     }

@@ -18,6 +18,7 @@
 #include <hairscatter/models/deon_farfield.hpp>
 
 #include "support/chi2.hpp"
+#include "support/checks.hpp"
 #include "support/reference_chiang.hpp"
 
 namespace hs = hairscatter;
@@ -486,12 +487,7 @@ template <typename T> void sweep_extremes() {
                                     const auto s = fiber.sample(wo, glm::vec<4, T>(u0, us[(checked + 1) % us.size()],
                                                                                    us[(checked + 2) % us.size()], u3));
                                     ++checked;
-                                    ASSERT_TRUE(std::isfinite(s.pdf) && s.pdf >= T(0));
-                                    for (int c = 0; c < 3; ++c) {
-                                        ASSERT_TRUE(std::isfinite(s.wi[c]));
-                                        ASSERT_TRUE(std::isfinite(s.weight[c]) && s.weight[c] >= T(0));
-                                    }
-                                    ASSERT_NEAR(double(glm::length(s.wi)), 1.0, 1e-3);
+                                    ASSERT_TRUE(valid_sample(s));
                                 }
                         }
                     }
