@@ -48,19 +48,7 @@ while [[ $# -gt 0 ]]; do
 done
 
 # --- dependencies ---------------------------------------------------------------------
-if [[ $install_deps == 1 ]] && command -v dpkg >/dev/null 2>&1 && command -v apt-get >/dev/null 2>&1; then
-    missing=()
-    for pkg in cmake make g++ libglm-dev libbenchmark-dev python3; do
-        dpkg -s "$pkg" 2>/dev/null | grep -q '^Status: install ok installed' || missing+=("$pkg")
-    done
-    if [[ ${#missing[@]} -gt 0 ]]; then
-        echo "bench.sh: installing ${missing[*]}"
-        sudo_cmd=()
-        [[ $(id -u) -ne 0 ]] && sudo_cmd=(sudo)
-        "${sudo_cmd[@]}" apt-get update
-        DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y --no-install-recommends "${missing[@]}"
-    fi
-fi
+[[ $install_deps == 1 ]] && bash "$ROOT/scripts/install-deps.sh" bench
 
 # --- build ------------------------------------------------------------------------------
 if [[ -n "$headers_rev" ]]; then
