@@ -81,6 +81,20 @@ template __global__ void evaluate_far_field<double>(const hairscatter::DeonFarFi
                                                     const glm::vec<3, double>*, const glm::vec<3, double>*,
                                                     const glm::vec<4, double>*, glm::vec<3, double>*, double*, int);
 
+// A preview fiber that keeps R only (lobes/lobe_set.hpp): compiled out on the device too.
+template <typename T>
+__global__ void evaluate_r_only(hairscatter::ChiangMaterial<T> mat, const glm::vec<3, T>* wo,
+                                const glm::vec<3, T>* wi, const glm::vec<4, T>* u, glm::vec<3, T>* f, T* pdf, int n) {
+    const int i = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
+    if (i >= n) return;
+    const hairscatter::BasicChiangFiber<T, hairscatter::Lobes::kR> fiber(mat, T(0.3));
+    f[i] = fiber.eval(wo[i], wi[i]);
+    pdf[i] = fiber.pdf(wo[i], wi[i]) + fiber.sample(wo[i], u[i]).pdf + fiber.at(wo[i]).eval(wi[i]).x;
+}
+template __global__ void evaluate_r_only<float>(hairscatter::ChiangMaterial<float>, const glm::vec<3, float>*,
+                                                const glm::vec<3, float>*, const glm::vec<4, float>*,
+                                                glm::vec<3, float>*, float*, int);
+
 template <typename T>
 hairscatter::ChiangMaterial<T> make_material() {
     hairscatter::FiberParams<T> p;

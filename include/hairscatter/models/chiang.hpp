@@ -14,6 +14,7 @@
 #include "../fiber/params.hpp"
 #include "../lobes/attenuation.hpp"
 #include "../lobes/azimuthal.hpp"
+#include "../lobes/lobe_set.hpp"
 #include "../lobes/longitudinal.hpp"
 #include "../lobes/tilt.hpp"
 #include "../math/constants.hpp"
@@ -81,11 +82,18 @@ template <typename T> class ChiangMaterial {
 // φ = atan2(w.z, w.y); wo toward the viewer, wi toward the light.
 // eval(wo, wi) has the cosine inside: Lo = ∫ eval(wo, wi) Li dωi, so ∫ eval dωi = 1 for
 // σa = 0 (pbrt's HairBxDF::f is eval / |wi.z|).
-template <typename T> class ChiangFiber {
+//
+// kKept selects the lobes at compile time (lobes/lobe_set.hpp); ChiangFiber<T> keeps all
+// four. BasicChiangFiber<float, Lobes::kR> is a one-lobe preview that never computes the
+// refracted path: a dropped lobe costs nothing (bench/chiang_bench.cpp shows it).
+template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
   public:
     using V3 = glm::vec<3, T>;
     using V4 = glm::vec<4, T>;
     static constexpr int kLobes = ChiangMaterial<T>::kLobes;
+    static constexpr unsigned kKeptLobes = kKept;
+    static_assert(kKept != 0u && (kKept & ~Lobes::kAll) == 0u, "keep at least one of R, TT, TRT, residual");
+    HAIRSCATTER_HD static constexpr bool keeps(int p) { return keeps_lobe(kKept, p); }
 
   private:
     // The terms that depend on wo only, shared by eval, pdf and sample.
@@ -99,14 +107,14 @@ template <typename T> class ChiangFiber {
   public:
 
     // Cheap, device-callable: h is clamped into [-1, 1] (hit offsets round slightly out).
-    HAIRSCATTER_HD ChiangFiber(const ChiangMaterial<T>& material, T h) : mat_(material) {
+    HAIRSCATTER_HD BasicChiangFiber(const ChiangMaterial<T>& material, T h) : mat_(material) {
         h_ = h > T(1) ? T(1) : (h >= T(-1) ? h : T(-1));
         gamma_o_ = elem::asin(h_);
         cos_gamma_o_ = cos_from_sin(h_);
     }
 
     // Host convenience: validates the parameters and h, throws std::invalid_argument.
-    ChiangFiber(const FiberParams<T>& params, T h) : ChiangFiber(checked(params, h), h) {}
+    BasicChiangFiber(const FiberParams<T>& params, T h) : BasicChiangFiber(checked(params, h), h) {}
 
     HAIRSCATTER_HD T h() const { return h_; }
     HAIRSCATTER_HD const ChiangMaterial<T>& material() const { return mat_; }
@@ -137,9 +145,9 @@ template <typename T> class ChiangFiber {
         HAIRSCATTER_HD const V3& wo() const { return wo_; }
 
       private:
-        friend class ChiangFiber;
-        HAIRSCATTER_HD At(const ChiangFiber& f, const V3& wo) : fiber_(f), wo_(wo), o_(f.template outgoing<true>(wo)) {}
-        ChiangFiber fiber_;
+        friend class BasicChiangFiber;
+        HAIRSCATTER_HD At(const BasicChiangFiber& f, const V3& wo) : fiber_(f), wo_(wo), o_(f.template outgoing<true>(wo)) {}
+        BasicChiangFiber fiber_;
         V3 wo_;
         Outgoing o_;
     };
@@ -156,24 +164,29 @@ template <typename T> class ChiangFiber {
         const Outgoing o = outgoing<false>(wo);
         LobeSplit r;
         for (int p = 0; p < kLobes; ++p) {
-            r.a[p] = o.a[p];
-            r.backward[p] = mat_.azimuthal().arc_mass(-kHalfPi<T> - o.phi_p[p], kPi<T>);
+            r.a[p] = keeps(p) ? o.a[p] : V3(T(0));
+            r.backward[p] = keeps(p) ? mat_.azimuthal().arc_mass(-kHalfPi<T> - o.phi_p[p], kPi<T>) : T(0);
         }
-        r.a[kLobes] = o.a[kLobes];
+        r.a[kLobes] = keeps(kLobes) ? o.a[kLobes] : V3(T(0));
         r.backward[kLobes] = T(0.5);  // the residual is uniform in φ
         return r;
     }
 
-    // Σ_p A_p(wo): the directional albedo, exact for this model because every M_p and
-    // N_p is normalised.
+    // Σ_p A_p(wo) over the kept lobes: the directional albedo, exact for this model
+    // because every M_p and N_p is normalised.
     HAIRSCATTER_HD V3 albedo(const V3& wo) const {
         const Outgoing o = outgoing<false>(wo);
         V3 a(T(0));
-        for (int p = 0; p <= kLobes; ++p) a += o.a[p];
+        for (int p = 0; p <= kLobes; ++p)
+            if (keeps(p)) a += o.a[p];
         return a;
     }
 
   private:
+    static constexpr int kFirstKept = keeps(0) ? 0 : keeps(1) ? 1 : keeps(2) ? 2 : 3;
+    // Only R needs no refracted path (no transmittance, no γt).
+    static constexpr bool kRefracts = (kKept & ~Lobes::kR) != 0u;
+
     static ChiangMaterial<T> checked(const FiberParams<T>& params, T h) {
         if (!(h >= T(-1) && h <= T(1)))
             throw std::invalid_argument("hairscatter: h = " + std::to_string(double(h)) +
@@ -192,16 +205,16 @@ template <typename T> class ChiangFiber {
 
     HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
         using std::sqrt;
-        int p = kLobes;
+        // The lobe: the first kept p whose cumulative weight exceeds u.x; u.x ≈ 1 must not
+        // land on an empty lobe, so fall back to the last kept lobe with weight.
+        int p = kFirstKept;
         T acc = T(0);
-        for (int q = 0; q < kLobes; ++q) {
+        for (int q = 0; q <= kLobes; ++q) {
+            if (!keeps(q) || !(o.w[q] > T(0))) continue;
+            p = q;
             acc += o.w[q];
-            if (u.x < acc) {
-                p = q;
-                break;
-            }
+            if (u.x < acc) break;
         }
-        while (p > 0 && !(o.w[p] > T(0))) --p;  // u.x ≈ 1 must not land on an empty lobe
 
         const T sin_i = mat_.longitudinal(p).sample_sin_theta(o.sin_o[p], o.cos_o[p], u.y, u.z);
         const T cos_i = cos_from_sin(sin_i);
@@ -223,26 +236,33 @@ template <typename T> class ChiangFiber {
         Outgoing o;
         const T sin_o = clamp(wo.x, T(-1), T(1));
         const T cos_o = cos_from_sin(sin_o);
-        const auto path = FiberRefraction<T>(sin_o, cos_o, prm.eta).at(h_, prm.sigma_a);
-        const T gamma_t = path.gamma_t;
-        const V3& tr = path.transmittance;
-        const Attenuation<T, kLobes> att =
-            attenuation<T, kLobes>(fresnel_dielectric(cos_o * cos_gamma_o_, prm.eta), tr);
+        const T fresnel = fresnel_dielectric(cos_o * cos_gamma_o_, prm.eta);
+        T gamma_t = T(0);
+        if constexpr (kRefracts) {
+            const auto path = FiberRefraction<T>(sin_o, cos_o, prm.eta).at(h_, prm.sigma_a);
+            gamma_t = path.gamma_t;
+            const Attenuation<T, kLobes> att = attenuation<T, kLobes>(fresnel, path.transmittance);
+            for (int p = 0; p <= kLobes; ++p) o.a[p] = att.a[p];
+        } else {
+            o.a[0] = V3(fresnel);
+        }
         for (int p = 0; p <= kLobes; ++p) {
-            o.a[p] = att.a[p];
+            if (!keeps(p)) continue;
             const typename CuticleTilt<T>::Rotated r = mat_.tilt().rotate(p, sin_o, cos_o);
             o.sin_o[p] = r.sin_theta;
             o.cos_o[p] = r.cos_theta;
         }
-        for (int p = 0; p < kLobes; ++p) o.phi_p[p] = exit_azimuth(p, gamma_o_, gamma_t);
+        for (int p = 0; p < kLobes; ++p)
+            if (keeps(p)) o.phi_p[p] = exit_azimuth(p, gamma_o_, gamma_t);
         if constexpr (kW) {
             T total = T(0);
             for (int p = 0; p <= kLobes; ++p) {
-                o.w[p] = (att.a[p].x + att.a[p].y + att.a[p].z) * T(1.0 / 3.0);
+                o.w[p] = keeps(p) ? (o.a[p].x + o.a[p].y + o.a[p].z) * T(1.0 / 3.0) : T(0);
                 total += o.w[p];
             }
-            // total ≥ F ≥ ((η - 1)/(η + 1))² > 0: the R lobe never vanishes.
-            const T inv_total = T(1) / total;
+            // With R kept, total ≥ F ≥ ((η - 1)/(η + 1))² > 0. Without R every kept lobe can
+            // vanish (an opaque fiber): the weights stay 0 and so does the pdf.
+            const T inv_total = total > T(0) ? T(1) / total : T(0);
             for (int p = 0; p <= kLobes; ++p) o.w[p] *= inv_total;
         }
         return o;
@@ -254,13 +274,16 @@ template <typename T> class ChiangFiber {
     HAIRSCATTER_HD HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
         T mn[kLobes + 1];
         for (int p = 0; p < kLobes; ++p)
-            mn[p] = mat_.longitudinal(p).eval(sin_i, cos_i, o.sin_o[p], o.cos_o[p]) *
-                    azimuthal_logistic(mat_.azimuthal(), phi, o.phi_p[p]);
+            if (keeps(p))
+                mn[p] = mat_.longitudinal(p).eval(sin_i, cos_i, o.sin_o[p], o.cos_o[p]) *
+                        azimuthal_logistic(mat_.azimuthal(), phi, o.phi_p[p]);
         // The residual lumps all orders: uniform in φ.
-        mn[kLobes] = mat_.longitudinal(kLobes).eval(sin_i, cos_i, o.sin_o[kLobes], o.cos_o[kLobes]) *
-                     kInvTwoPi<T>;
+        if (keeps(kLobes))
+            mn[kLobes] = mat_.longitudinal(kLobes).eval(sin_i, cos_i, o.sin_o[kLobes], o.cos_o[kLobes]) *
+                         kInvTwoPi<T>;
         HairEvalPdf<T> r;
         for (int p = 0; p <= kLobes; ++p) {
+            if (!keeps(p)) continue;
             if constexpr (kF) r.f += mn[p] * o.a[p];
             if constexpr (kPdf) r.pdf += mn[p] * o.w[p];
         }
@@ -270,5 +293,8 @@ template <typename T> class ChiangFiber {
     ChiangMaterial<T> mat_;
     T h_ = T(0), gamma_o_ = T(0), cos_gamma_o_ = T(1);
 };
+
+// The full model: R, TT, TRT and the residual.
+template <typename T> using ChiangFiber = BasicChiangFiber<T, Lobes::kAll>;
 
 }  // namespace hairscatter
