@@ -21,8 +21,8 @@ fi
 # Packages per purpose. (libboost-math-dev brings the Boost headers and
 # BoostConfig.cmake; make is listed because cmake only recommends it.)
 tests_pkgs=(cmake make g++ clang libglm-dev libgtest-dev libgmock-dev libboost-math-dev)
-example_pkgs=(cmake make g++ libglm-dev libopenexr-dev libcli11-dev libstb-dev libpng-dev)
-bench_pkgs=(cmake make g++ libglm-dev libbenchmark-dev python3)
+example_pkgs=(cmake make g++ libglm-dev libopenexr-dev libcli11-dev libstb-dev libpng-dev libembree-dev libtbb-dev libgtest-dev)
+bench_pkgs=(cmake make g++ libglm-dev libbenchmark-dev libboost-math-dev gnuplot-nox python3)
 
 [[ $# -eq 0 ]] && set -- tests
 wanted=()
