@@ -1,19 +1,26 @@
 #!/usr/bin/env bash
-# Build and run the lobe_explorer example (the README's main command).
+# Build and run an example (the README's main command).
 #
-#   scripts/run-example.sh [lobe_explorer arguments...]
+#   scripts/run-example.sh [render arguments...]                  # the example renderer
+#   scripts/run-example.sh lobe_explorer [lobe_explorer arguments...]
 #
-# Installs the example's Debian packages if missing, configures build/example
-# (Release, examples on, tests off), builds the lobe_explorer target and runs it
-# from the repository root; by default it writes out/lobe_explorer.exr and
-# out/lobe_explorer.png. Run with --help to see the example's own options.
+# Installs the examples' Debian packages if missing, configures build/example (Release,
+# examples on, tests off), builds the chosen target and runs it from the repository
+# root. By default the renderer draws a 1500-hair blond block on a ground plane with dual
+# scattering (importance sampling combined with light sampling, 32 spp, 480 × 360) and
+# writes out/render.exr and out/render.png; the lobe explorer writes
+# out/lobe_explorer.exr and .png. Run with --help to see an example's own options.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 JOBS="${JOBS:-$(nproc 2>/dev/null || echo 2)}"
 BUILD_DIR="build/example"
-TARGET="lobe_explorer"
+TARGET="render"
+if [[ $# -gt 0 && ( "$1" == lobe_explorer || "$1" == render ) ]]; then
+    TARGET="$1"
+    shift
+fi
 
 if [[ ! -f examples/CMakeLists.txt ]]; then
     echo "run-example: examples/CMakeLists.txt is not in this checkout yet; nothing to run." >&2
@@ -34,11 +41,7 @@ if ! cmake --build "$BUILD_DIR" --target "$TARGET" -j "$JOBS"; then
     exit 1
 fi
 
-exe="$BUILD_DIR/examples/$TARGET/$TARGET"
-if [[ ! -x "$exe" ]]; then
-    # Fall back to wherever the example's CMakeLists put the binary.
-    exe="$(find "$BUILD_DIR" -type f -name "$TARGET" -perm -u+x -print -quit)"
-fi
+exe="$(find "$BUILD_DIR/examples" -type f -name "$TARGET" -perm -u+x -print -quit)"
 if [[ -z "$exe" || ! -x "$exe" ]]; then
     echo "run-example: built '$TARGET' but cannot find its executable under $BUILD_DIR" >&2
     exit 1

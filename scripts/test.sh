@@ -206,6 +206,19 @@ step_example() {
     local out="$ROOT/build/test-example/out/explorer"
     build/test-example/examples/lobe_explorer/lobe_explorer --width 90 --height 45 --eumelanin 0 -o "$out"
     [[ -s "$out.exr" && -s "$out.png" ]] || { echo "example: no EXR/PNG written" >&2; return 1; }
+    # The renderer: its .hair loader tests, then a tiny image per integrator whose EXR must
+    # hold only finite values (the summary line reports dropped non-finite samples).
+    ctest --test-dir build/test-example/examples/render --output-on-failure
+    local r="$ROOT/build/test-example/out/render" integrator line
+    for integrator in single dual path; do
+        line="$(build/test-example/examples/render/render --integrator "$integrator" --width 64 --height 48 \
+            --spp 2 --quiet -o "$r-$integrator")"
+        echo "$line"
+        [[ -s "$r-$integrator.exr" && -s "$r-$integrator.png" ]] ||
+            { echo "example: render --integrator $integrator wrote no EXR/PNG" >&2; return 1; }
+        [[ "$line" == *" dropped=0 "* && "$line" == *" nonfinite_pixels=0 "* ]] ||
+            { echo "example: render --integrator $integrator produced non-finite samples" >&2; return 1; }
+    done
 }
 
 echo "hairscatter test.sh: steps=[$(for s in "${steps[@]}"; do enabled "$s" && printf '%s ' "$s"; done)] jobs=$JOBS root=$ROOT"

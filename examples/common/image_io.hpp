@@ -1,0 +1,24 @@
+// hairscatter examples — image files shared by the examples: OpenEXR (linear float RGB)
+// and PNG (8-bit RGB, through stb_image_write).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hairscatter_examples {
+
+// Writes an RGB image of width × height pixels, row-major from the top, 3 floats per pixel
+// (R, G, B), as 32-bit float channels with the given string attributes in the header.
+// Throws std::runtime_error naming the path on failure.
+void write_exr_rgb(const std::string& path, int width, int height, const std::vector<float>& rgb,
+                   const std::vector<std::pair<std::string, std::string>>& attributes);
+
+// Writes 8-bit RGB, 3 bytes per pixel, row-major from the top. Throws std::runtime_error.
+void write_png_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb);
+
+// Linear [0, 1] to the sRGB transfer curve, 8 bits (values outside are clamped).
+std::uint8_t srgb8(double linear);
+
+}  // namespace hairscatter_examples

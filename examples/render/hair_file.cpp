@@ -1,0 +1,197 @@
+// render — reading and writing Cem Yuksel's .hair files, every field checked.
+#include "hair_file.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+namespace render {
+namespace {
+
+constexpr std::size_t kHeaderBytes = 128;
+constexpr std::uint32_t kSegmentsBit = 1, kPointsBit = 2, kThicknessBit = 4, kTransparencyBit = 8, kColorsBit = 16;
+constexpr std::uint32_t kKnownBits = 31;
+
+// Little-endian reads from a byte buffer whose bounds the caller has checked.
+std::uint32_t u32_at(const unsigned char* p) {
+    return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24;
+}
+float f32_at(const unsigned char* p) {
+    const std::uint32_t u = u32_at(p);
+    float f;
+    std::memcpy(&f, &u, 4);
+    return f;
+}
+void put_u32(std::vector<unsigned char>& b, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) b.push_back(static_cast<unsigned char>(v >> (8 * i)));
+}
+void put_f32(std::vector<unsigned char>& b, float f) {
+    std::uint32_t u;
+    std::memcpy(&u, &f, 4);
+    put_u32(b, u);
+}
+
+}  // namespace
+
+std::vector<std::vector<glm::vec3>> HairFile::strands() const {
+    std::vector<std::vector<glm::vec3>> out;
+    out.reserve(segments.size());
+    std::size_t at = 0;
+    for (std::uint32_t s : segments) {
+        out.emplace_back(points.begin() + std::ptrdiff_t(at), points.begin() + std::ptrdiff_t(at + s + 1));
+        at += std::size_t(s) + 1;
+    }
+    return out;
+}
+
+HairFile parse_hair(const std::vector<unsigned char>& bytes, const std::string& name) {
+    auto fail = [&](const std::string& why) { return HairFileError("'" + name + "' is not a valid .hair file: " + why); };
+    if (bytes.size() < kHeaderBytes)
+        throw fail("it has " + std::to_string(bytes.size()) + " bytes, fewer than the 128-byte header (truncated?)");
+    const unsigned char* b = bytes.data();
+    if (std::memcmp(b, "HAIR", 4) != 0) throw fail("it does not start with the magic bytes \"HAIR\"");
+    const std::uint32_t strands = u32_at(b + 4), points = u32_at(b + 8), flags = u32_at(b + 12),
+                        default_segments = u32_at(b + 16);
+    HairFile h;
+    h.default_thickness = f32_at(b + 20);
+    h.default_transparency = f32_at(b + 24);
+    h.default_color = glm::vec3(f32_at(b + 28), f32_at(b + 32), f32_at(b + 36));
+    for (std::size_t i = 40; i < kHeaderBytes && b[i] != 0; ++i) h.info.push_back(char(b[i]));
+
+    if (flags & ~kKnownBits) throw fail("unknown bits in the array flags 0x" + [&] {
+        char s[16];
+        std::snprintf(s, sizeof s, "%x", flags);
+        return std::string(s);
+    }());
+    if (!(flags & kPointsBit)) throw fail("the header says it holds no points array");
+    if (strands > kHairMaxStrands)
+        throw fail("strand count " + std::to_string(strands) + " exceeds the limit " + std::to_string(kHairMaxStrands));
+    if (points > kHairMaxPoints)
+        throw fail("point count " + std::to_string(points) + " exceeds the limit " + std::to_string(kHairMaxPoints));
+    if (!(flags & kSegmentsBit) && default_segments > 65535)
+        throw fail("default segment count " + std::to_string(default_segments) + " exceeds 65535");
+    if (!(flags & kThicknessBit) && !(std::isfinite(h.default_thickness) && h.default_thickness > 0))
+        throw fail("default thickness " + std::to_string(h.default_thickness) + " is not a positive number");
+
+    // Every array's size follows from the header: check the file length before reading.
+    const std::uint64_t per_point = 12u + ((flags & kThicknessBit) ? 4u : 0u) + ((flags & kTransparencyBit) ? 4u : 0u) +
+                                    ((flags & kColorsBit) ? 12u : 0u);
+    const std::uint64_t expected =
+        kHeaderBytes + ((flags & kSegmentsBit) ? 2ull * strands : 0ull) + per_point * std::uint64_t(points);
+    if (bytes.size() < expected)
+        throw fail("it has " + std::to_string(bytes.size()) + " bytes but its header (" + std::to_string(strands) +
+                   " strands, " + std::to_string(points) + " points) needs " + std::to_string(expected) +
+                   " (truncated, or the counts are wrong)");
+    if (bytes.size() > expected)
+        throw fail("it has " + std::to_string(bytes.size() - expected) +
+                   " bytes after the arrays its header announces (wrong counts?)");
+
+    std::size_t at = kHeaderBytes;
+    h.segments.resize(strands);
+    std::uint64_t total = 0;
+    for (std::uint32_t i = 0; i < strands; ++i) {
+        std::uint32_t s = default_segments;
+        if (flags & kSegmentsBit) {
+            s = std::uint32_t(b[at]) | std::uint32_t(b[at + 1]) << 8;
+            at += 2;
+        }
+        h.segments[i] = s;
+        total += std::uint64_t(s) + 1;
+    }
+    if (total != points)
+        throw fail("its strands' segments add up to " + std::to_string(total) + " points but the header says " +
+                   std::to_string(points));
+    h.points.resize(points);
+    for (std::uint32_t i = 0; i < points; ++i, at += 12) {
+        h.points[i] = glm::vec3(f32_at(b + at), f32_at(b + at + 4), f32_at(b + at + 8));
+        if (!(std::isfinite(h.points[i].x) && std::isfinite(h.points[i].y) && std::isfinite(h.points[i].z)))
+            throw fail("point " + std::to_string(i) + " is not finite");
+    }
+    if (flags & kThicknessBit) {
+        h.thickness.resize(points);
+        for (std::uint32_t i = 0; i < points; ++i, at += 4) {
+            h.thickness[i] = f32_at(b + at);
+            if (!(std::isfinite(h.thickness[i]) && h.thickness[i] >= 0))
+                throw fail("thickness of point " + std::to_string(i) + " is " + std::to_string(h.thickness[i]) +
+                           ", not a finite number ≥ 0");
+        }
+    }
+    if (flags & kTransparencyBit) {
+        h.transparency.resize(points);
+        for (std::uint32_t i = 0; i < points; ++i, at += 4) h.transparency[i] = f32_at(b + at);
+    }
+    if (flags & kColorsBit) {
+        h.colors.resize(points);
+        for (std::uint32_t i = 0; i < points; ++i, at += 12)
+            h.colors[i] = glm::vec3(f32_at(b + at), f32_at(b + at + 4), f32_at(b + at + 8));
+    }
+    return h;
+}
+
+HairFile read_hair_file(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw HairFileError("cannot open .hair file '" + path + "'");
+    const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    if (f.bad()) throw HairFileError("cannot read .hair file '" + path + "'");
+    return parse_hair(bytes, path);
+}
+
+std::vector<unsigned char> serialize_hair(const HairFile& h) {
+    std::uint64_t total = 0;
+    for (std::uint32_t s : h.segments) {
+        if (s > 65535) throw HairFileError("cannot write a strand of " + std::to_string(s) + " segments (max 65535)");
+        total += std::uint64_t(s) + 1;
+    }
+    if (total != h.points.size()) throw HairFileError("cannot write: the segments do not add up to the points");
+    auto per_point = [&](std::size_t n, const char* what) {
+        if (n != 0 && n != h.points.size())
+            throw HairFileError(std::string("cannot write: the ") + what + " array does not have one entry per point");
+        return n != 0;
+    };
+    const bool thick = per_point(h.thickness.size(), "thickness"), transp = per_point(h.transparency.size(), "transparency"),
+               color = per_point(h.colors.size(), "colour");
+    std::uint32_t flags = kSegmentsBit | kPointsBit;
+    if (thick) flags |= kThicknessBit;
+    if (transp) flags |= kTransparencyBit;
+    if (color) flags |= kColorsBit;
+
+    std::vector<unsigned char> b(4);
+    std::memcpy(b.data(), "HAIR", 4);
+    put_u32(b, std::uint32_t(h.segments.size()));
+    put_u32(b, std::uint32_t(h.points.size()));
+    put_u32(b, flags);
+    put_u32(b, h.segments.empty() ? 0u : h.segments[0]);
+    put_f32(b, h.default_thickness);
+    put_f32(b, h.default_transparency);
+    for (int c = 0; c < 3; ++c) put_f32(b, h.default_color[c]);
+    char info[88] = {};
+    std::memcpy(info, h.info.data(), std::min<std::size_t>(h.info.size(), 87));
+    b.insert(b.end(), info, info + 88);
+    for (std::uint32_t s : h.segments) {
+        b.push_back(static_cast<unsigned char>(s & 0xff));
+        b.push_back(static_cast<unsigned char>(s >> 8));
+    }
+    for (const glm::vec3& p : h.points)
+        for (int c = 0; c < 3; ++c) put_f32(b, p[c]);
+    if (thick)
+        for (float t : h.thickness) put_f32(b, t);
+    if (transp)
+        for (float t : h.transparency) put_f32(b, t);
+    if (color)
+        for (const glm::vec3& p : h.colors)
+            for (int c = 0; c < 3; ++c) put_f32(b, p[c]);
+    return b;
+}
+
+void write_hair_file(const std::string& path, const HairFile& hair) {
+    const std::vector<unsigned char> b = serialize_hair(hair);
+    std::ofstream f(path, std::ios::binary);
+    if (!f) throw HairFileError("cannot write .hair file '" + path + "'");
+    f.write(reinterpret_cast<const char*>(b.data()), std::streamsize(b.size()));
+    if (!f) throw HairFileError("failed writing .hair file '" + path + "'");
+}
+
+}  // namespace render

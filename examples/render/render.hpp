@@ -1,0 +1,63 @@
+// render — the renderer as a library: render(scene, options) → image, hair mask, timings.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "scene.hpp"
+
+namespace render {
+
+enum class Integrator {
+    kSingle,  // single scattering: light sampling with shadow rays (hair shadows are opaque)
+    kDual,    // dual scattering (Zinke 2008) with the library's tables and density grid
+    kPath,    // brute-force path tracing through fibers (ChiangFiber): the ground truth
+};
+// How dual and path choose incident directions at hair (path also at surfaces: only mis
+// adds light sampling; surfaces always sample the cosine).
+enum class Sampling {
+    kUniform,     // uniform on the sphere (hairscatter::UniformSphereSampling)
+    kImportance,  // the library's samplers (DualScatteringFiber / ChiangFiber::sample)
+    kMis,         // MIS (power heuristic) of BCSDF sampling and light sampling
+};
+
+const char* to_string(Integrator);
+const char* to_string(Sampling);
+
+struct RenderOptions {
+    Integrator integrator = Integrator::kDual;
+    Sampling sampling = Sampling::kMis;
+    int width = 480, height = 360;  // the defaults render in seconds on 2 cores
+    int spp = 32;
+    int max_depth = 32;          // path: bounces before the path is cut (Russian roulette after 3)
+    std::uint64_t seed = 1;      // pixel (x, y)'s generator depends on seed, x and y only
+    float d_f = 0.7f, d_b = 0.7f;  // dual: forward and backward density factors
+    bool hair_only = false;      // render only pixels whose primary (centre) ray hits hair
+    bool progress = false;       // progress bar with ETA on stderr (for runs over a second)
+    int tile = 16;               // tile side in pixels (tiles are rendered in parallel)
+};
+
+struct RenderResult {
+    int width = 0, height = 0;
+    std::vector<float> rgb;              // linear RGB, row-major from the top, 3 floats per pixel
+    std::vector<std::uint8_t> hair_mask; // 1 where the pixel-centre primary ray hits hair
+    double seconds = 0;                  // wall-clock time of the rendering (scene build excluded)
+    std::uint64_t samples = 0;           // camera samples taken
+    std::uint64_t dropped = 0;           // samples discarded as non-finite (should be 0)
+    std::size_t hair_pixels = 0;
+};
+
+// Renders the scene. Deterministic: the same scene, options and seed give the same image
+// whatever the thread count. Throws std::invalid_argument for bad options.
+RenderResult render(const Scene& scene, const RenderOptions& options);
+
+// Peak and current resident set size of this process in bytes (VmHWM and VmRSS of
+// /proc/self/status); 0 where unavailable.
+std::size_t peak_rss_bytes();
+std::size_t current_rss_bytes();
+
+// A one-line, space-separated key=value summary of a render (for scripts).
+std::string summary_line(const Scene& scene, const RenderOptions& options, const RenderResult& result);
+
+}  // namespace render

@@ -1,0 +1,283 @@
+// render — building the Scene: Embree BVHs over the hair (round linear curves) and the
+// triangle meshes, the hair material, its dual-scattering tables and the density grid.
+#include "scene.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace render {
+namespace hs = hairscatter;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Embree's allocations, through its memory monitor: current and peak bytes.
+struct EmbreeMemory {
+    std::atomic<long long> current{0}, peak{0};
+};
+EmbreeMemory& embree_memory() {
+    static EmbreeMemory m;
+    return m;
+}
+bool monitor_memory(void*, ssize_t bytes, bool) {
+    EmbreeMemory& m = embree_memory();
+    const long long now = m.current += (long long)bytes;
+    long long p = m.peak.load();
+    while (now > p && !m.peak.compare_exchange_weak(p, now)) {
+    }
+    return true;  // never veto an allocation
+}
+
+// An intersect context that skips hits on one strand closer than max_t: a ray leaving a
+// fiber must not find that fiber again (the BCSDF already includes the passage through
+// it), nor its neighbouring segments where the strand bends.
+void ignore_strand_filter(const RTCFilterFunctionNArguments* args);
+
+struct IgnoreStrandContext {
+    RTCIntersectContext base;  // first member: Embree passes &base back to the filter
+    std::uint32_t strand;
+    float max_t;
+    unsigned hair_geom;
+    const std::uint32_t* strand_of_segment;
+
+    IgnoreStrandContext(std::uint32_t s, float t, unsigned g, const std::uint32_t* of)
+        : strand(s), max_t(t), hair_geom(g), strand_of_segment(of) {
+        rtcInitIntersectContext(&base);
+        base.filter = ignore_strand_filter;
+    }
+};
+
+void ignore_strand_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* ctx = reinterpret_cast<const IgnoreStrandContext*>(args->context);
+    if (ctx->strand == kNoStrand) return;
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        if (RTCHitN_geomID(args->hit, args->N, i) != ctx->hair_geom) continue;
+        if (ctx->strand_of_segment[RTCHitN_primID(args->hit, args->N, i)] != ctx->strand) continue;
+        if (RTCRayN_tfar(args->ray, args->N, i) < ctx->max_t) args->valid[i] = 0;
+    }
+}
+
+RTCRayHit make_ray(const glm::vec3& o, const glm::vec3& d, float tmin, float tmax) {
+    RTCRayHit rh{};
+    rh.ray.org_x = o.x, rh.ray.org_y = o.y, rh.ray.org_z = o.z;
+    rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z;
+    rh.ray.tnear = tmin;
+    rh.ray.tfar = tmax;
+    rh.ray.mask = 0xffffffffu;
+    rh.ray.flags = 0;
+    rh.ray.time = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    return rh;
+}
+
+// Self-intersection offsets: surfaces start rays a little off their plane (scaled with
+// the scene), hair relies on the strand filter above.
+constexpr float kRayEpsilon = 1e-4f;
+
+}  // namespace
+
+Scene::Scene(SceneDescription description) : d_(std::move(description)) {
+    const auto t_start = Clock::now();
+    material_ = std::make_unique<hs::ChiangMaterial<float>>(d_.hair_params);
+
+    device_ = rtcNewDevice(nullptr);
+    if (!device_) throw std::runtime_error("cannot create an Embree device (error " +
+                                           std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+    embree_memory().current = 0;
+    embree_memory().peak = 0;
+    rtcSetDeviceMemoryMonitorFunction(device_, monitor_memory, nullptr);
+
+    const auto t_bvh = Clock::now();
+    all_ = rtcNewScene(device_);
+    opaque_ = rtcNewScene(device_);
+    hair_ = rtcNewScene(device_);
+    rtcSetSceneFlags(all_, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+    rtcSetSceneFlags(hair_, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+
+    unsigned next_id = 0;
+    auto attach = [&](RTCGeometry g, bool opaque, bool hair) {
+        rtcCommitGeometry(g);
+        const unsigned id = next_id++;
+        rtcAttachGeometryByID(all_, g, id);
+        if (opaque) rtcAttachGeometryByID(opaque_, g, id);
+        if (hair) rtcAttachGeometryByID(hair_, g, id);
+        rtcReleaseGeometry(g);
+        return id;
+    };
+    auto add_triangles = [&](const std::vector<glm::vec3>& pos, const std::vector<glm::uvec3>& tri) {
+        RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* v = static_cast<float*>(
+            rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), pos.size()));
+        for (std::size_t i = 0; i < pos.size(); ++i)
+            for (int c = 0; c < 3; ++c) v[3 * i + std::size_t(c)] = pos[i][c];
+        auto* idx = static_cast<unsigned*>(
+            rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), tri.size()));
+        for (std::size_t i = 0; i < tri.size(); ++i)
+            for (int c = 0; c < 3; ++c) idx[3 * i + std::size_t(c)] = tri[i][c];
+        stats_.triangles += tri.size();
+        return g;
+    };
+
+    for (std::size_t m = 0; m < d_.meshes.size(); ++m) {
+        const Mesh& mesh = d_.meshes[m];
+        for (const glm::uvec3& t : mesh.triangles)
+            for (int c = 0; c < 3; ++c)
+                if (t[c] >= mesh.positions.size())
+                    throw std::invalid_argument("mesh '" + mesh.name + "' has a vertex index out of range");
+        if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+            throw std::invalid_argument("mesh '" + mesh.name + "' needs one normal per vertex");
+        attach(add_triangles(mesh.positions, mesh.triangles), true, false);
+        mesh_of_geom_.push_back(unsigned(m));
+    }
+    if (d_.light) {
+        const AreaLight& l = *d_.light;
+        if (!(l.area() > 0)) throw std::invalid_argument("the area light has zero area");
+        const std::vector<glm::vec3> pos = {l.corner, l.corner + l.edge_u, l.corner + l.edge_u + l.edge_v,
+                                            l.corner + l.edge_v};
+        light_geom_ = attach(add_triangles(pos, {{0, 1, 2}, {0, 2, 3}}), true, false);
+        mesh_of_geom_.push_back(~0u);
+    }
+    if (has_hair()) {
+        const Hair& hair = d_.hair;
+        if (!(hair.radius > 0) || !std::isfinite(hair.radius))
+            throw std::invalid_argument("the hair radius must be a positive number");
+        for (std::uint32_t s = 0; s < hair.strands.size(); ++s) {
+            const auto& strand = hair.strands[s];
+            const std::uint32_t first = std::uint32_t(curve_vertices_.size());
+            for (const glm::vec3& p : strand) curve_vertices_.emplace_back(p, hair.radius);
+            for (std::size_t k = 1; k < strand.size(); ++k) {
+                segment_start_.push_back(first + std::uint32_t(k - 1));
+                strand_of_segment_.push_back(s);
+            }
+        }
+        RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE);
+        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, curve_vertices_.data(), 0,
+                                   sizeof(glm::vec4), curve_vertices_.size());
+        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, segment_start_.data(), 0,
+                                   sizeof(std::uint32_t), segment_start_.size());
+        hair_geom_ = attach(g, false, true);
+        mesh_of_geom_.push_back(~0u);
+        stats_.strands = hair.strands.size();
+        stats_.hair_segments = segment_start_.size();
+    }
+    rtcCommitScene(all_);
+    rtcCommitScene(opaque_);
+    rtcCommitScene(hair_);
+    if (const RTCError e = rtcGetDeviceError(device_); e != RTC_ERROR_NONE)
+        throw std::runtime_error("Embree failed to build the scene (error " + std::to_string(int(e)) + ")");
+    stats_.bvh_seconds = seconds_since(t_bvh);
+    stats_.embree_bytes = std::size_t(std::max(0LL, embree_memory().peak.load()));
+
+    if (has_hair()) {
+        const auto t_tables = Clock::now();
+        tables_ = hs::DualScatteringTables<float>::build<hs::ChiangFiber>(*material_);
+        stats_.table_seconds = seconds_since(t_tables);
+        stats_.table_bytes = std::size_t(tables_.size()) * sizeof(hs::DualScatteringEntry<float>);
+
+        const auto t_grid = Clock::now();
+        float cell = d_.grid_cell;
+        if (!(cell > 0)) {
+            glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
+            for (const auto& s : d_.hair.strands)
+                for (const glm::vec3& p : s) lo = glm::min(lo, p), hi = glm::max(hi, p);
+            const glm::vec3 e = hi - lo;
+            cell = std::max({e.x, e.y, e.z}) / 32.0f;  // 32 cells across the hair's largest side
+            cell = std::max(cell, 4.0f * d_.hair.radius);
+        }
+        grid_ = std::make_unique<hs::DensityGrid<float>>(
+            hs::DensityGrid<float>::from_strands(d_.hair.strands, cell, d_.hair.radius));
+        stats_.grid_seconds = seconds_since(t_grid);
+        stats_.grid_bytes = grid_->cells().size() * sizeof(hs::HairLengthTensor<float>);
+        stats_.grid_resolution = grid_->resolution();
+    }
+    stats_.build_seconds = seconds_since(t_start);
+}
+
+Scene::~Scene() {
+    if (all_) rtcReleaseScene(all_);
+    if (opaque_) rtcReleaseScene(opaque_);
+    if (hair_) rtcReleaseScene(hair_);
+    if (device_) rtcReleaseDevice(device_);
+}
+
+Hit Scene::hit_from(const RTCRayHit& rh, const glm::vec3& o, const glm::vec3& d) const {
+    Hit hit;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+    hit.t = rh.ray.tfar;
+    hit.p = o + hit.t * d;
+    const unsigned g = rh.hit.geomID;
+    if (g == hair_geom_) {
+        hit.kind = Hit::kHair;
+        const std::uint32_t first = segment_start_[rh.hit.primID];
+        const glm::vec4 a = curve_vertices_[first], b = curve_vertices_[first + 1];
+        const float u = std::clamp(rh.hit.u, 0.0f, 1.0f);
+        const glm::vec3 axis = glm::mix(glm::vec3(a), glm::vec3(b), u);
+        const float radius = a.w + u * (b.w - a.w);
+        hit.tangent = glm::normalize(glm::vec3(b) - glm::vec3(a));
+        hit.strand = strand_of_segment_[rh.hit.primID];
+        // The library's convention (fiber/frame.hpp): with the frame built from the tangent
+        // and wo = -d, h = dot(hit - axis, frame.y) / radius.
+        const hs::FiberFrame<float> frame(hit.tangent, -d);
+        hit.h = std::clamp(glm::dot(hit.p - axis, frame.y) / radius, -1.0f, 1.0f);
+        return hit;
+    }
+    glm::vec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    if (g == light_geom_) {
+        hit.kind = Hit::kLight;
+        hit.front = glm::dot(d, d_.light->normal()) < 0;
+        hit.n = d_.light->normal();
+        return hit;
+    }
+    const Mesh& mesh = d_.meshes[mesh_of_geom_[g]];
+    if (!mesh.normals.empty()) {
+        const glm::uvec3 t = mesh.triangles[rh.hit.primID];
+        const float u = rh.hit.u, v = rh.hit.v;
+        n = (1 - u - v) * mesh.normals[t.x] + u * mesh.normals[t.y] + v * mesh.normals[t.z];
+    }
+    n = glm::normalize(n);
+    hit.kind = Hit::kSurface;
+    hit.n = glm::dot(n, d) > 0 ? -n : n;
+    hit.albedo = mesh.albedo;
+    return hit;
+}
+
+Hit Scene::intersect(const glm::vec3& o, const glm::vec3& d, float tmax, std::uint32_t ignore) const {
+    IgnoreStrandContext ctx(ignore, 8.0f * d_.hair.radius, hair_geom_, strand_of_segment_.data());
+    RTCRayHit rh = make_ray(o, d, ignore == kNoStrand ? kRayEpsilon : 0.0f, tmax);
+    rtcIntersect1(all_, &ctx.base, &rh);
+    return hit_from(rh, o, d);
+}
+
+Hit Scene::intersect_opaque(const glm::vec3& o, const glm::vec3& d, float tmax) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh = make_ray(o, d, kRayEpsilon, tmax);
+    rtcIntersect1(opaque_, &ctx, &rh);
+    return hit_from(rh, o, d);
+}
+
+bool Scene::occluded(const glm::vec3& o, const glm::vec3& d, float tmax, std::uint32_t ignore) const {
+    IgnoreStrandContext ctx(ignore, 8.0f * d_.hair.radius, hair_geom_, strand_of_segment_.data());
+    RTCRayHit rh = make_ray(o, d, ignore == kNoStrand ? kRayEpsilon : 0.0f, tmax);
+    rtcOccluded1(all_, &ctx.base, &rh.ray);
+    return rh.ray.tfar < 0;
+}
+
+bool Scene::hair_occluded(const glm::vec3& o, const glm::vec3& d, float tmax, std::uint32_t ignore) const {
+    if (!has_hair()) return false;
+    IgnoreStrandContext ctx(ignore, 8.0f * d_.hair.radius, hair_geom_, strand_of_segment_.data());
+    RTCRayHit rh = make_ray(o, d, ignore == kNoStrand ? kRayEpsilon : 0.0f, tmax);
+    rtcOccluded1(hair_, &ctx.base, &rh.ray);
+    return rh.ray.tfar < 0;
+}
+
+}  // namespace render

@@ -1,0 +1,145 @@
+// render — scene presets.
+#include "scenes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "hair_file.hpp"
+
+namespace render {
+
+Mesh make_quad(const std::string& name, const glm::vec3& corner, const glm::vec3& u, const glm::vec3& v,
+               const glm::vec3& albedo) {
+    Mesh m;
+    m.name = name;
+    m.positions = {corner, corner + u, corner + u + v, corner + v};
+    m.triangles = {{0, 1, 2}, {0, 2, 3}};
+    m.albedo = albedo;
+    return m;
+}
+
+Mesh make_sphere(const std::string& name, const glm::vec3& center, float radius, const glm::vec3& albedo, int rings) {
+    Mesh m;
+    m.name = name;
+    m.albedo = albedo;
+    const int segs = 2 * rings;
+    const float pi = 3.14159265358979f;
+    for (int i = 0; i <= rings; ++i) {
+        const float theta = pi * float(i) / float(rings);
+        for (int j = 0; j <= segs; ++j) {
+            const float phi = 2 * pi * float(j) / float(segs);
+            const glm::vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+            m.positions.push_back(center + radius * n);
+            m.normals.push_back(n);  // smooth shading: the exact sphere normal at each vertex
+        }
+    }
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < segs; ++j) {
+            const unsigned a = unsigned(i * (segs + 1) + j), b = a + unsigned(segs + 1);
+            m.triangles.push_back({a, b, a + 1});
+            m.triangles.push_back({a + 1, b, b + 1});
+        }
+    return m;
+}
+
+namespace {
+
+Mesh ground() { return make_quad("ground", {-40, 0, 40}, {80, 0, 0}, {0, 0, -80}, glm::vec3(0.45f)); }
+
+void add_lighting(SceneDescription& s, const LightingOptions& l, const glm::vec3& center, float radiance) {
+    if (l.light_power > 0) {
+        AreaLight a;
+        const float h = 0.5f * l.light_size;
+        a.corner = center + glm::vec3(-h, 0, -h);
+        a.edge_u = {l.light_size, 0, 0};  // cross(u, v) = -y: emits downward
+        a.edge_v = {0, 0, l.light_size};
+        // Radiance scaled so the irradiance is independent of the light's size.
+        a.radiance = glm::vec3(radiance * l.light_power * 4.0f / (l.light_size * l.light_size));
+        s.light = a;
+    }
+    s.environment = glm::vec3(l.environment);
+}
+
+}  // namespace
+
+SceneDescription make_block_scene(const BlockOptions& block, const LightingOptions& lighting) {
+    SceneDescription s;
+    s.name = "block";
+    s.hair = make_block(block);
+    s.meshes.push_back(ground());
+    s.camera.eye = {0.0f, 5.5f, 15.0f};
+    s.camera.target = {0.0f, 2.3f, 0.0f};
+    s.camera.fov_y_deg = 30.0f;
+    add_lighting(s, lighting, {-1.0f, 10.0f, 7.0f}, 80.0f);
+    return s;
+}
+
+SceneDescription make_cornell_scene(const BlockOptions& block, const LightingOptions& lighting) {
+    SceneDescription s;
+    s.name = "cornell";
+    const float w = 7.0f, H = 12.0f, back = -7.0f, front = 18.0f;
+    s.meshes.push_back(make_quad("floor", {-w, 0, front}, {2 * w, 0, 0}, {0, 0, back - front}, glm::vec3(0.7f)));
+    s.meshes.push_back(make_quad("ceiling", {-w, H, back}, {2 * w, 0, 0}, {0, 0, front - back}, glm::vec3(0.7f)));
+    s.meshes.push_back(make_quad("back", {-w, 0, back}, {2 * w, 0, 0}, {0, H, 0}, glm::vec3(0.6f)));
+    s.meshes.push_back(make_quad("front", {-w, 0, front}, {0, H, 0}, {2 * w, 0, 0}, glm::vec3(0.6f)));
+    s.meshes.push_back(make_quad("left", {-w, 0, front}, {0, 0, back - front}, {0, H, 0}, {0.63f, 0.065f, 0.05f}));
+    s.meshes.push_back(make_quad("right", {w, 0, back}, {0, 0, front - back}, {0, H, 0}, {0.14f, 0.45f, 0.091f}));
+    s.meshes.push_back(make_sphere("sphere", {3.6f, 1.6f, 1.0f}, 1.6f, {0.7f, 0.1f, 0.08f}));
+    BlockOptions b = block;
+    s.hair = make_block(b);
+    for (auto& strand : s.hair.strands)
+        for (glm::vec3& p : strand) p += glm::vec3(-1.8f, 0, -1.0f);
+    s.camera.eye = {0.0f, 6.0f, 17.0f};
+    s.camera.target = {0.0f, 4.2f, 0.0f};
+    s.camera.fov_y_deg = 42.0f;
+    LightingOptions l = lighting;
+    l.environment = 0;  // closed box
+    add_lighting(s, l, {0.0f, H - 0.01f, 2.0f}, 30.0f);
+    return s;
+}
+
+SceneDescription make_scalp_scene(const ScalpOptions& scalp, const LightingOptions& lighting) {
+    SceneDescription s;
+    s.name = "scalp";
+    ScalpOptions o = scalp;
+    o.center = {0.0f, 2.0f * o.head_radius + 0.5f, 0.0f};
+    s.hair = make_scalp(o);
+    s.meshes.push_back(ground());
+    s.meshes.push_back(make_sphere("head", o.center, o.head_radius, {0.8f, 0.6f, 0.5f}));
+    s.camera.eye = o.center + glm::vec3(2.5f, 0.8f, 6.5f) * o.head_radius;
+    s.camera.target = o.center + glm::vec3(0, -0.5f, 0) * o.head_radius;
+    s.camera.fov_y_deg = 40.0f;
+    add_lighting(s, lighting, o.center + glm::vec3(3, 5, 6) * o.head_radius, 25.0f);
+    return s;
+}
+
+SceneDescription make_file_scene(const std::string& path, float thickness_scale, const LightingOptions& lighting) {
+    const HairFile file = read_hair_file(path);
+    SceneDescription s;
+    s.name = "file";
+    s.hair.strands = file.strands();
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
+    for (const glm::vec3& p : file.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    const glm::vec3 e = hi - lo;
+    const float extent = std::max({e.x, e.y, e.z});
+    const float scale = extent > 0 ? 5.0f / extent : 1.0f;
+    const glm::vec3 shift(-0.5f * (lo.x + hi.x), -lo.y, -0.5f * (lo.z + hi.z));
+    for (auto& strand : s.hair.strands)
+        for (glm::vec3& p : strand) p = (p + shift) * scale;
+    double thickness = file.default_thickness;
+    if (!file.thickness.empty()) {
+        thickness = 0;
+        for (float t : file.thickness) thickness += t;
+        thickness /= double(file.thickness.size());
+    }
+    s.hair.radius = float(0.5 * thickness * scale * thickness_scale);
+    s.meshes.push_back(ground());
+    s.camera.eye = {0.0f, 5.0f, 14.0f};
+    s.camera.target = {0.0f, 0.5f * e.y * scale, 0.0f};
+    s.camera.fov_y_deg = 32.0f;
+    add_lighting(s, lighting, {3.0f, 10.0f, 6.0f}, 25.0f);
+    return s;
+}
+
+}  // namespace render

@@ -1,0 +1,40 @@
+// render — the seed thesis's scenes (§5: hair blocks on a ground plane, the Cornell box)
+// and a scalp, as SceneDescriptions.
+#pragma once
+
+#include <string>
+
+#include "scene.hpp"
+
+namespace render {
+
+// Lighting shared by the presets: a small area light above and in front, and a constant
+// environment (sky) radiance.
+struct LightingOptions {
+    float light_size = 2.0f;       // side of the square area light
+    float light_power = 1.0f;      // multiplies the preset's light radiance; 0 removes it
+    float environment = 0.15f;     // constant environment radiance (grey); 0 for none
+};
+
+// The 5 × 5 × 5 hair block standing on a grey ground plane.
+SceneDescription make_block_scene(const BlockOptions& block, const LightingOptions& lighting);
+
+// The Cornell box: red left wall, green right wall, grey back, front (behind the camera),
+// floor and ceiling; the hair block on the floor, a red diffuse sphere next to it, and the
+// area light under the ceiling. The environment is not visible inside the closed box.
+SceneDescription make_cornell_scene(const BlockOptions& block, const LightingOptions& lighting);
+
+// A head (a skin-coloured diffuse sphere) with scalp hair, on the ground plane.
+SceneDescription make_scalp_scene(const ScalpOptions& scalp, const LightingOptions& lighting);
+
+// Hair from a .hair file (thickness: the mean of the file's, times thickness_scale),
+// scaled uniformly to fit a 5-unit box standing on the ground plane.
+SceneDescription make_file_scene(const std::string& path, float thickness_scale, const LightingOptions& lighting);
+
+// Meshes used by the presets.
+Mesh make_quad(const std::string& name, const glm::vec3& corner, const glm::vec3& u, const glm::vec3& v,
+               const glm::vec3& albedo);
+Mesh make_sphere(const std::string& name, const glm::vec3& center, float radius, const glm::vec3& albedo,
+                 int rings = 48);
+
+}  // namespace render

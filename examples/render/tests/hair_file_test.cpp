@@ -1,0 +1,168 @@
+// Tests of the .hair loader: every malformed file is rejected with an error that names
+// what is wrong, and a written file reads back unchanged.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "hair_file.hpp"
+
+namespace {
+
+using render::HairFile;
+using render::HairFileError;
+using render::parse_hair;
+using render::serialize_hair;
+
+HairFile two_strands() {
+    HairFile h;
+    h.segments = {2, 1};
+    h.points = {{0, 0, 0}, {1, 0, 0}, {2, 0.5f, 0}, {0, 1, 0}, {0, 2, 1}};
+    h.thickness = {0.1f, 0.2f, 0.3f, 0.4f, 0.5f};
+    h.colors = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {0, 1, 1}};
+    h.default_thickness = 0.05f;
+    h.info = "hairscatter test";
+    return h;
+}
+
+// The message of the HairFileError that parse throws, or "" if it does not throw one.
+std::string error_of(const std::vector<unsigned char>& bytes) {
+    try {
+        parse_hair(bytes, "test.hair");
+    } catch (const HairFileError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+void set_u32(std::vector<unsigned char>& b, std::size_t at, std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) b[at + std::size_t(i)] = static_cast<unsigned char>(v >> (8 * i));
+}
+
+TEST(HairFile, RoundTripKeepsEveryArray) {
+    const HairFile h = two_strands();
+    const HairFile r = parse_hair(serialize_hair(h), "mem");
+    EXPECT_EQ(r.segments, h.segments);
+    ASSERT_EQ(r.points.size(), h.points.size());
+    for (std::size_t i = 0; i < h.points.size(); ++i) {
+        EXPECT_EQ(r.points[i], h.points[i]);
+        EXPECT_EQ(r.thickness[i], h.thickness[i]);
+        EXPECT_EQ(r.colors[i], h.colors[i]);
+    }
+    EXPECT_TRUE(r.transparency.empty());
+    EXPECT_EQ(r.default_thickness, h.default_thickness);
+    EXPECT_EQ(r.info, h.info);
+    const auto strands = r.strands();
+    ASSERT_EQ(strands.size(), 2u);
+    EXPECT_EQ(strands[0].size(), 3u);
+    EXPECT_EQ(strands[1].back(), glm::vec3(0, 2, 1));
+}
+
+TEST(HairFile, RoundTripThroughAFile) {
+    const std::string path = ::testing::TempDir() + "hairscatter_roundtrip.hair";
+    render::write_hair_file(path, two_strands());
+    const HairFile r = render::read_hair_file(path);
+    EXPECT_EQ(r.points.size(), 5u);
+    std::remove(path.c_str());
+}
+
+TEST(HairFile, DefaultSegmentsWithoutASegmentsArray) {
+    std::vector<unsigned char> b = serialize_hair(two_strands());
+    // Rebuild as 2 strands × 1 segment, points only.
+    HairFile h;
+    h.segments = {1, 1};
+    h.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+    b = serialize_hair(h);
+    set_u32(b, 12, 2);  // points only
+    set_u32(b, 16, 1);  // one segment per strand
+    b.erase(b.begin() + 128, b.begin() + 132);  // drop the segments array (2 × uint16)
+    const HairFile r = parse_hair(b, "mem");
+    EXPECT_EQ(r.segments, (std::vector<std::uint32_t>{1, 1}));
+    EXPECT_EQ(r.points[3], glm::vec3(1, 1, 0));
+}
+
+TEST(HairFile, WrongMagicIsNamed) {
+    std::vector<unsigned char> b = serialize_hair(two_strands());
+    std::memcpy(b.data(), "HAIX", 4);
+    EXPECT_NE(error_of(b).find("magic"), std::string::npos) << error_of(b);
+}
+
+TEST(HairFile, TruncatedHeaderIsNamed) {
+    std::vector<unsigned char> b = serialize_hair(two_strands());
+    b.resize(60);
+    EXPECT_NE(error_of(b).find("header"), std::string::npos) << error_of(b);
+    EXPECT_NE(error_of({}).find("header"), std::string::npos);
+}
+
+TEST(HairFile, TruncatedArraysAreNamed) {
+    const std::vector<unsigned char> full = serialize_hair(two_strands());
+    for (std::size_t cut = 128; cut < full.size(); cut += 7) {
+        const std::vector<unsigned char> b(full.begin(), full.begin() + std::ptrdiff_t(cut));
+        EXPECT_NE(error_of(b).find("truncated"), std::string::npos) << "cut at " << cut << ": " << error_of(b);
+    }
+}
+
+TEST(HairFile, OversizedCountsAreRejectedBeforeAllocating) {
+    std::vector<unsigned char> b = serialize_hair(two_strands());
+    set_u32(b, 4, 0xffffffffu);
+    EXPECT_NE(error_of(b).find("strand count"), std::string::npos) << error_of(b);
+    b = serialize_hair(two_strands());
+    set_u32(b, 8, 0xfffffff0u);
+    EXPECT_NE(error_of(b).find("point count"), std::string::npos) << error_of(b);
+    // Within the limits but more than the file holds.
+    b = serialize_hair(two_strands());
+    set_u32(b, 8, 1000000);
+    EXPECT_NE(error_of(b).find("truncated"), std::string::npos) << error_of(b);
+}
+
+TEST(HairFile, InconsistentCountsAreNamed) {
+    std::vector<unsigned char> b = serialize_hair(two_strands());
+    b[128] = 3;  // the first strand claims 3 segments: 6 points in all, the header says 5
+    EXPECT_NE(error_of(b).find("add up"), std::string::npos) << error_of(b);
+    b = serialize_hair(two_strands());
+    b.push_back(0);
+    EXPECT_NE(error_of(b).find("after the arrays"), std::string::npos) << error_of(b);
+}
+
+TEST(HairFile, MissingPointsArrayAndUnknownFlagsAreNamed) {
+    std::vector<unsigned char> b = serialize_hair(two_strands());
+    set_u32(b, 12, 1 | 4 | 16);
+    EXPECT_NE(error_of(b).find("no points"), std::string::npos) << error_of(b);
+    set_u32(b, 12, 2 | 64);
+    EXPECT_NE(error_of(b).find("unknown bits"), std::string::npos) << error_of(b);
+}
+
+TEST(HairFile, NonFiniteValuesAreNamed) {
+    HairFile h = two_strands();
+    h.points[2].y = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_NE(error_of(serialize_hair(h)).find("point 2"), std::string::npos);
+    h = two_strands();
+    h.thickness[1] = -1.0f;
+    EXPECT_NE(error_of(serialize_hair(h)).find("thickness of point 1"), std::string::npos);
+}
+
+TEST(HairFile, GarbageNeverCrashes) {
+    // Deterministic pseudo-random bytes, with and without the magic: always a HairFileError.
+    std::uint32_t state = 12345;
+    auto next = [&] { return state = state * 1664525u + 1013904223u; };
+    for (int trial = 0; trial < 200; ++trial) {
+        std::vector<unsigned char> b(std::size_t(next() % 400));
+        for (auto& c : b) c = static_cast<unsigned char>(next() >> 24);
+        if (trial % 2 == 0 && b.size() >= 4) std::memcpy(b.data(), "HAIR", 4);
+        EXPECT_FALSE(error_of(b).empty()) << "trial " << trial;
+    }
+}
+
+TEST(HairFile, MissingFileIsNamed) {
+    try {
+        render::read_hair_file("/nonexistent/dir/x.hair");
+        FAIL() << "no error";
+    } catch (const HairFileError& e) {
+        EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/x.hair"), std::string::npos);
+    }
+}
+
+}  // namespace
