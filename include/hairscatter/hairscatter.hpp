@@ -17,3 +17,4 @@
 #include "math/wrapped_gaussian.hpp"
 #include "models/chiang.hpp"
 #include "models/deon_farfield.hpp"
+#include "models/tabulated.hpp"

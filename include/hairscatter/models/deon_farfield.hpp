@@ -168,6 +168,22 @@ template <typename T> class DeonFarFieldFiber {
         return a;
     }
 
+    // The quadrature's terms at wo's inclination, for tabulating N_p (models/tabulated.hpp):
+    // A_p(h_j) for every lobe (even in h, so shared with the mirror node -h_j) and the exit
+    // azimuths Φ(p, h_j) of R, TT, TRT (the mirror's is -Φ(p, h_j) modulo 2π). Then
+    //   N_p(φ) A_p = Σ_j ŵ_j A_p(h_j) [D(φ - Φ(p, h_j)) + (if mirrored(j)) D(φ + Φ(p, h_j))].
+    struct NodeTerms {
+        V3 a[kLobes + 1];
+        T phi[kLobes];
+    };
+    HAIRSCATTER_HD NodeTerms node_terms(const V3& wo, int j) const {
+        const Node nd = node(outgoing(wo), j);
+        NodeTerms r;
+        for (int p = 0; p <= kLobes; ++p) r.a[p] = nd.att.a[p];
+        for (int p = 0; p < kLobes; ++p) r.phi[p] = exit_azimuth(p, mat_->node_gamma(j), nd.gamma_t);
+        return r;
+    }
+
     // u.x picks the node, its sign and the lobe (each choice rescales the leftover of u.x
     // into a fresh uniform, which then drives the Box–Muller angle), (u.y, u.z) sample θi
     // from M_p, u.w the Box–Muller radius (or φ for the residual).

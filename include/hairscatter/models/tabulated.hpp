@@ -1,0 +1,584 @@
+// hairscatter — d'Eon et al. 2011's far-field fiber with the azimuthal lobes tabulated:
+// N_p·A_p, integrated over h exactly as models/deon_farfield.hpp does, is computed once per
+// material on a grid over (|φ|, cosθo) and interpolated bilinearly; M_p is the exact
+// energy-conserving lobe (lobes/longitudinal.hpp) with the cuticle tilt on θo (theory.md
+// §3.3). For renderers that shade many fibers with shared parameters: the per-call cost no
+// longer grows with the number of h nodes.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "../config.hpp"
+#include "../fiber/frame.hpp"
+#include "../fiber/params.hpp"
+#include "../lobes/longitudinal.hpp"
+#include "../lobes/tilt.hpp"
+#include "../math/constants.hpp"
+#include "../math/elementary.hpp"
+#include "../math/functions.hpp"
+#include "../math/wrapped_gaussian.hpp"
+#include "chiang.hpp"  // HairSample, HairEvalPdf, HairLobe
+#include "deon_farfield.hpp"
+
+namespace hairscatter {
+
+// The table's resolution, fixed at construction.
+//   phi_samples:   nodes over |φ| ∈ [0, π], equispaced (N_p is even in φ: the h rule is
+//                  symmetric);
+//   theta_samples: rows over cosθo ∈ [0, 1] (N_p·A_p depends on θo through η', the
+//                  Fresnel cosine and the chord: smooth in cosθo and even in θo), placed at
+//                  cosθo = y(1 + 2y)/3 for equispaced y, five times denser at grazing, where
+//                  the curvature of Fresnel's F → 1 dominates the interpolation error, than
+//                  at normal incidence (halves the error of equispaced rows);
+//   h_nodes:       Gauss–Legendre nodes in γ of each row's h integral (DeonFarFieldMaterial).
+// The default keeps the relative L1 error against the exact far-field model (64 h nodes)
+// near 5e-4 for β_n ≥ 0.3 (tests/tabulated_test.cpp states the figures per resolution);
+// narrower azimuthal lobes need proportionally more φ samples (and h nodes, as the exact
+// model itself does).
+struct TabulatedOptions {
+    static constexpr int kMaxPhiSamples = 4096;
+    static constexpr int kMaxThetaSamples = 1024;
+
+    int phi_samples = 96;
+    int theta_samples = 28;
+    int h_nodes = 32;
+
+    // The shipped resolutions besides the default: a quarter of its memory, and four times it.
+    static constexpr TabulatedOptions coarse() { return {48, 16, 24}; }
+    static constexpr TabulatedOptions fine() { return {192, 56, 64}; }
+};
+
+// Row y ∈ [0, 1] of the table ↔ cosθo (see theta_samples above).
+HAIRSCATTER_HD inline double tabulated_row_cos(double y) { return y * (1 + 2 * y) / 3; }
+
+namespace detail {
+
+// Σ_k w_k D(φ_i - μ_k) for RGB weights w_k on the grid φ_i = iΔ, Δ = π/(n - 1), where D is
+// the wrapped Gaussian of math/wrapped_gaussian.hpp (host side, double; the table build).
+// WrappedGaussian::pdf per node and grid point costs two exponentials each; here:
+//   σ ≤ 0.75: each image μ + 2πk within 10σ of [0, π] (the rest is below e^-50 of the
+//     peak) is walked outward from its nearest grid point by the exact recurrence
+//     g(x + Δ) = g(x) r, r(x + Δ) = r(x) e^(-Δ²/σ²), r(x) = e^(-(2xΔ + Δ²)/2σ²):
+//     four exponentials per image and 32 grid points instead of one per point;
+//   σ > 0.75: D's Fourier series (1/2π)(1 + 2 Σ_n e^(-n²σ²/2) cos n(φ - μ)), summed over
+//     the nodes first (coefficients Σ_k w_k cos nμ_k, Σ_k w_k sin nμ_k), then evaluated
+//     once per grid point; terms up to e^(-n²σ²/2) < 1e-17.
+class WrappedGaussianGrid {
+  public:
+    WrappedGaussianGrid(double sigma, int n)
+        : sigma_(sigma), step_(kPi<double> / (n - 1)), half_inv_var_(0.5 / (sigma * sigma)), n_(n),
+          values_(std::size_t(n)) {
+        fourier_ = sigma > WrappedGaussian<double>::kSplit;
+        if (fourier_) {
+            terms_ = int(std::ceil(8.85 / sigma));  // e^(-n²σ²/2) < 1e-17 beyond
+            cos_.resize(std::size_t(terms_ + 1));
+            sin_.resize(std::size_t(terms_ + 1));
+            for (int k = 0; k <= terms_; ++k) rho_.push_back(std::exp(-0.5 * k * k * sigma * sigma));
+        }
+        clear();
+    }
+
+    void clear() {
+        for (auto& v : values_) v = glm::dvec3(0.0);
+        for (auto& c : cos_) c = glm::dvec3(0.0);
+        for (auto& s : sin_) s = glm::dvec3(0.0);
+    }
+
+    void add(double mu, const glm::dvec3& w) {
+        mu = wrap_pi(mu);
+        if (fourier_) {
+            const double c1 = std::cos(mu), s1 = std::sin(mu);
+            double c = 1, s = 0;
+            for (int k = 0; k <= terms_; ++k) {
+                cos_[std::size_t(k)] += c * w;
+                sin_[std::size_t(k)] += s * w;
+                const double cn = c * c1 - s * s1;  // angle addition: (k + 1)μ
+                s = s * c1 + c * s1;
+                c = cn;
+            }
+            return;
+        }
+        const double reach = 10 * sigma_, norm = kInvSqrtTwoPi<double> / sigma_;
+        const double q = std::exp(-2 * step_ * step_ * half_inv_var_);
+        for (int k = -2; k <= 2; ++k) {
+            const double c = mu + kTwoPi<double> * k;
+            const int lo = std::max(0, int(std::ceil((c - reach) / step_)));
+            const int hi = std::min(n_ - 1, int(std::floor((c + reach) / step_)));
+            if (c + reach < 0 || c - reach > kPi<double> || lo > hi) continue;
+            const int start = std::min(hi, std::max(lo, int(std::lround(c / step_))));
+            // Outward from the grid point nearest the centre, so that g only decreases and
+            // neither g nor the ratio can overflow; restarted from the exact values every
+            // kRestart steps (the recurrence's rounding grows with the square of the steps).
+            const double dir_step[2] = {step_, -step_};
+            for (int side = 0; side < 2; ++side) {
+                const double d = dir_step[side];
+                const int first = side == 0 ? start : start - 1, last = side == 0 ? hi : lo;
+                double g = 0, r = 0;
+                for (int i = first, s = 0; side == 0 ? i <= last : i >= last; i += side == 0 ? 1 : -1, ++s) {
+                    if (s % kRestart == 0) {
+                        const double x = i * step_ - c;
+                        g = norm * std::exp(-x * x * half_inv_var_);
+                        r = std::exp(-(2 * x * d + step_ * step_) * half_inv_var_);
+                    }
+                    if (!(g > 1e-300)) break;  // the rest underflows
+                    values_[std::size_t(i)] += g * w;
+                    g *= r;
+                    r *= q;
+                }
+            }
+        }
+    }
+
+    // The sums at the grid points (after the last add).
+    const std::vector<glm::dvec3>& values() {
+        if (fourier_) {
+            for (int i = 0; i < n_; ++i) {
+                const double phi = i * step_, c1 = std::cos(phi), s1 = std::sin(phi);
+                double c = 1, s = 0;
+                glm::dvec3 sum = cos_[0];
+                for (int k = 1; k <= terms_; ++k) {
+                    const double cn = c * c1 - s * s1;
+                    s = s * c1 + c * s1;
+                    c = cn;
+                    sum += (2 * rho_[std::size_t(k)]) * (c * cos_[std::size_t(k)] + s * sin_[std::size_t(k)]);
+                }
+                values_[std::size_t(i)] = glm::max(kInvTwoPi<double> * sum, glm::dvec3(0.0));  // ≥ 1e-3/2π analytically
+            }
+        }
+        return values_;
+    }
+
+  private:
+    static constexpr int kRestart = 32;
+    double sigma_, step_, half_inv_var_;
+    int n_, terms_ = 0;
+    bool fourier_ = false;
+    std::vector<glm::dvec3> values_, cos_, sin_;
+    std::vector<double> rho_;
+};
+
+}  // namespace detail
+
+template <typename T> class TabulatedMaterial;
+
+// The tables of a TabulatedMaterial over data it does not own: trivially copyable, so it can
+// be passed by value to a GPU kernel once the data are copied to device memory
+// (material.view(device_pointer)). Every query is HAIRSCATTER_HD and check-free.
+//
+// Layout of the data (all of type T), n = phi_samples, rows = theta_samples:
+//   lobes: [row][i][3p + c]   N_p(φ_i)·A_p for p = R, TT, TRT, channel c (9 per node);
+//   cdf:   [row][p][i]        ∫_0^φ_i of the channel sum of lobe p, trapezoidal (exact
+//                             for the piecewise-linear interpolant);
+//   terms: [row][16]          [3p + c] = ∫_{-π}^{π} N_p A_p dφ (p = 0…3, 3 the residual),
+//                             [12 + p] = its channel sum.
+template <typename T> class TabulatedView {
+  public:
+    static constexpr int kLobes = 3;  // R, TT, TRT tabulated; index 3 is the φ-uniform residual
+    static constexpr int kNodeStride = 3 * kLobes;
+    static constexpr int kRowTerms = 16;
+
+    // No tables: assign one from TabulatedMaterial::view() before querying.
+    TabulatedView() = default;
+
+    // The same tables over a copy of the data elsewhere (e.g. in device memory).
+    HAIRSCATTER_HD TabulatedView with_data(const T* data) const {
+        TabulatedView v = *this;
+        v.data_ = data;
+        return v;
+    }
+
+    HAIRSCATTER_HD int phi_samples() const { return n_phi_; }
+    HAIRSCATTER_HD int theta_samples() const { return n_theta_; }
+    HAIRSCATTER_HD T phi_step() const { return phi_step_; }
+    HAIRSCATTER_HD const T* data() const { return data_; }
+    HAIRSCATTER_HD const T* lobes(int row) const { return data_ + std::size_t(row) * std::size_t(n_phi_ * kNodeStride); }
+    HAIRSCATTER_HD const T* cdf(int row, int p) const {
+        return data_ + cdf_offset_ + std::size_t(row * kLobes + p) * std::size_t(n_phi_);
+    }
+    HAIRSCATTER_HD const T* row_terms(int row) const { return data_ + terms_offset_ + std::size_t(row) * kRowTerms; }
+    HAIRSCATTER_HD const DeonLongitudinal<T>& longitudinal(int p) const { return m_[p]; }
+    HAIRSCATTER_HD const CuticleTilt<T>& tilt() const { return tilt_; }
+
+    // The interpolation coordinates: |φ| ∈ [0, π] → (node i ≤ n - 2, fraction), cosθo → (row
+    // ≤ rows - 2, fraction). Clamped, so rounding never extrapolates.
+    HAIRSCATTER_HD void phi_cell(T abs_phi, int& i, T& frac) const {
+        const T x = clamp(abs_phi * phi_scale_, T(0), T(n_phi_ - 1));
+        i = int(x) < n_phi_ - 2 ? int(x) : n_phi_ - 2;
+        frac = x - T(i);
+    }
+    HAIRSCATTER_HD void theta_cell(T cos_o, int& row, T& frac) const {
+        using std::sqrt;
+        // y = the root of y(1 + 2y)/3 = cosθo in [0, 1] (tabulated_row_cos).
+        const T y = clamp((sqrt(T(1) + T(24) * cos_o) - T(1)) * T(0.25) * T(n_theta_ - 1), T(0), T(n_theta_ - 1));
+        row = int(y) < n_theta_ - 2 ? int(y) : n_theta_ - 2;
+        frac = y - T(row);
+    }
+
+  private:
+    friend class TabulatedMaterial<T>;
+    const T* data_ = nullptr;
+    int n_phi_ = 2, n_theta_ = 2;
+    std::size_t cdf_offset_ = 0, terms_offset_ = 0;
+    T phi_scale_ = T(0), phi_step_ = T(0);
+    DeonLongitudinal<T> m_[kLobes + 1];
+    CuticleTilt<T> tilt_;
+};
+
+// Host side: validates the parameters and options (std::invalid_argument naming the bad
+// one), builds the tables and owns them. The table values are the far-field model's
+// N_p(φ)·A_p (DeonFarFieldFiber<double> with h_nodes nodes, through its node_terms) at the
+// grid points, each (row, lobe, channel) rescaled so that its piecewise-linear interpolant
+// integrates to the quadrature's ½∫A_p dh exactly (a relative change of the order of the
+// interpolation error): bilinear interpolation then keeps Σ_p ∫ N_p A_p dφ = Σ_p A_p, which
+// is 1 for σa = 0, so the white furnace is 1 at every resolution.
+// Memory: (12·phi_samples + 16)·theta_samples values of T.
+template <typename T> class TabulatedMaterial {
+  public:
+    using View = TabulatedView<T>;
+    static constexpr int kLobes = View::kLobes;
+
+    explicit TabulatedMaterial(const FiberParams<T>& params, const TabulatedOptions& options = TabulatedOptions())
+        : params_(params), options_(options) {
+        require_valid(params);
+        check(options);
+        const int n = options.phi_samples, rows = options.theta_samples;
+
+        // M_p and the tilt in T, exactly as the far-field material builds them.
+        const DeonFarFieldMaterial<T> mt(params, 1);
+        for (int p = 0; p <= kLobes; ++p) view_.m_[p] = mt.longitudinal(p);
+        view_.tilt_ = mt.tilt();
+        view_.n_phi_ = n;
+        view_.n_theta_ = rows;
+        view_.phi_step_ = T(kPi<double> / (n - 1));
+        view_.phi_scale_ = T((n - 1) / kPi<double>);
+        view_.cdf_offset_ = std::size_t(rows) * std::size_t(n) * View::kNodeStride;
+        view_.terms_offset_ = view_.cdf_offset_ + std::size_t(rows) * std::size_t(n) * kLobes;
+        data_.assign(view_.terms_offset_ + std::size_t(rows) * View::kRowTerms, T(0));
+
+        // The lobes in double, from the far-field fiber's own quadrature terms.
+        FiberParams<double> pd;
+        pd.eta = double(params.eta);
+        pd.beta_m = double(params.beta_m);
+        pd.beta_n = double(params.beta_n);
+        // Clamped: a float α validated against the float π/8 can exceed the double one.
+        pd.alpha = clamp(double(params.alpha), -kMaxCuticleTilt<double>, kMaxCuticleTilt<double>);
+        pd.sigma_a = glm::dvec3(params.sigma_a);
+        const DeonFarFieldMaterial<double> md(pd, options.h_nodes);
+        const DeonFarFieldFiber<double> fd(md);
+        detail::WrappedGaussianGrid grid(md.azimuthal().sigma(), n);
+        const double step = kPi<double> / (n - 1);
+
+        using Terms = typename DeonFarFieldFiber<double>::NodeTerms;
+        std::vector<Terms> terms(std::size_t(md.half_nodes()));
+        for (int r = 0; r < rows; ++r) {
+            const double cos_o = tabulated_row_cos(double(r) / (rows - 1));
+            const double sin_o = std::sqrt((1 - cos_o) * (1 + cos_o));
+            const glm::dvec3 wo(sin_o, cos_o, 0.0);
+            glm::dvec3 mass[kLobes + 1] = {};
+            for (int j = 0; j < md.half_nodes(); ++j) {
+                terms[std::size_t(j)] = fd.node_terms(wo, j);
+                const double w = md.node_weight(j) * (md.node_mirrored(j) ? 2 : 1);
+                for (int p = 0; p <= kLobes; ++p) mass[p] += w * terms[std::size_t(j)].a[p];
+            }
+            T* lobes = data_.data() + std::size_t(r) * std::size_t(n) * View::kNodeStride;
+            T* row_terms = data_.data() + view_.terms_offset_ + std::size_t(r) * View::kRowTerms;
+            for (int p = 0; p < kLobes; ++p) {
+                grid.clear();
+                for (int j = 0; j < md.half_nodes(); ++j) {
+                    const Terms& t = terms[std::size_t(j)];
+                    const glm::dvec3 w = md.node_weight(j) * t.a[p];
+                    grid.add(t.phi[p], w);
+                    if (md.node_mirrored(j)) grid.add(-t.phi[p], w);
+                }
+                const std::vector<glm::dvec3>& v = grid.values();
+                // ∫_{-π}^{π} of the interpolant = 2 × the trapezoidal rule over [0, π].
+                glm::dvec3 trap = -0.5 * (v.front() + v.back());
+                for (const glm::dvec3& x : v) trap += x;
+                trap *= 2 * step;
+                for (int c = 0; c < 3; ++c) {
+                    // A lobe narrower than the grid can fall between every node (β_n → 0):
+                    // it is then spread uniformly, which keeps its energy.
+                    const bool resolved = trap[c] > 1e-300 && trap[c] > 1e-12 * mass[p][c];
+                    const double scale = resolved ? mass[p][c] / trap[c] : 0.0;
+                    for (int i = 0; i < n; ++i)
+                        lobes[std::size_t(i) * View::kNodeStride + std::size_t(3 * p + c)] =
+                            T(resolved ? v[std::size_t(i)][c] * scale : mass[p][c] * kInvTwoPi<double>);
+                }
+                // The sampling CDF and the lobe's mass from the stored (rounded) values, so
+                // that sample() and pdf() describe the same distribution to rounding.
+                T* cdf = data_.data() + view_.cdf_offset_ + std::size_t(r * kLobes + p) * std::size_t(n);
+                double acc = 0, prev = 0;
+                glm::dvec3 stored(0.0);
+                for (int i = 0; i < n; ++i) {
+                    const T* node = lobes + std::size_t(i) * View::kNodeStride + 3 * p;
+                    const double cur = double(node[0] + node[1] + node[2]);
+                    if (i > 0) acc += 0.5 * step * (prev + cur);
+                    cdf[i] = T(acc);
+                    prev = cur;
+                    const double wt = (i == 0 || i == n - 1) ? step : 2 * step;  // 2 × trapezoid weight
+                    stored += wt * glm::dvec3(double(node[0]), double(node[1]), double(node[2]));
+                }
+                for (int c = 0; c < 3; ++c) row_terms[3 * p + c] = T(stored[c]);
+                row_terms[12 + p] = T(2 * double(cdf[n - 1]));
+            }
+            for (int c = 0; c < 3; ++c) row_terms[3 * kLobes + c] = T(mass[kLobes][c]);
+            row_terms[12 + kLobes] = row_terms[3 * kLobes] + row_terms[3 * kLobes + 1] + row_terms[3 * kLobes + 2];
+        }
+    }
+
+    const FiberParams<T>& params() const { return params_; }
+    const TabulatedOptions& options() const { return options_; }
+
+    // The tables over this material's own data (valid while it lives), or over a copy of
+    // data() elsewhere, e.g. in device memory.
+    View view() const& { return view_.with_data(data_.data()); }
+    View view() const&& = delete;
+    View view(const T* data) const { return view_.with_data(data); }
+    const std::vector<T>& data() const { return data_; }
+    std::size_t bytes() const { return data_.size() * sizeof(T); }
+
+    // As the other materials: lobe p peaks at θi = lobe_shift(p) - θo, with variance v_p.
+    T lobe_shift(int p) const { return -view_.tilt().angle(p); }
+    T lobe_variance(int p) const { return view_.longitudinal(p).variance(); }
+
+  private:
+    static void check(const TabulatedOptions& o) {
+        auto bad = [](const char* name, int value, int lo, int hi) {
+            throw std::invalid_argument(std::string("hairscatter: TabulatedOptions::") + name + " = " +
+                                        std::to_string(value) + " is outside its range [" + std::to_string(lo) +
+                                        ", " + std::to_string(hi) + "]");
+        };
+        if (!(o.phi_samples >= 2 && o.phi_samples <= TabulatedOptions::kMaxPhiSamples))
+            bad("phi_samples", o.phi_samples, 2, TabulatedOptions::kMaxPhiSamples);
+        if (!(o.theta_samples >= 2 && o.theta_samples <= TabulatedOptions::kMaxThetaSamples))
+            bad("theta_samples", o.theta_samples, 2, TabulatedOptions::kMaxThetaSamples);
+        if (!(o.h_nodes >= 1 && o.h_nodes <= DeonFarFieldMaterial<double>::kMaxNodes))
+            bad("h_nodes", o.h_nodes, 1, DeonFarFieldMaterial<double>::kMaxNodes);
+    }
+
+    FiberParams<T> params_;
+    TabulatedOptions options_;
+    View view_;  // data pointer unset: view() points it at data_
+    std::vector<T> data_;
+};
+
+// The tabulated far-field fiber. Same frame and convention as the other models: unit
+// vectors in the fiber frame (x = tangent), wo toward the viewer, wi toward the light, eval
+// with the cosine inside (∫ eval dωi = 1 for σa = 0, exactly at every resolution).
+//
+//   f(wo, wi) = Σ_{p<3} M_p(θi | θo'_p) Ñ_p(|φ|, cosθo) + M_3(θi | θo) Ã_3(cosθo) / 2π,
+//
+// Ñ_p the bilinear interpolant of the table (RGB), Ã_3 the linear one of the residual.
+// sample picks lobe p with probability ∝ the interpolated channel sum of ∫Ñ_p (Ã_3 for the
+// residual), θi from M_p (d'Eon, Marschner & Hanika 2013), and φ by inverting Ñ_p exactly:
+// Ñ_p = (1 - t) N_p,row + t N_p,row+1 is a mixture, so a row is picked with probability ∝
+// its weighted mass and |φ| drawn from that row's piecewise-linear density by its CDF (a
+// quadratic within the cell), the sign of φ with even odds. The density of all this is
+// mean(f) / mean(albedo), computed in the same loop as f, so pdf() and sample's pdf agree
+// to rounding.
+//
+// Holds a view of the tables: built from a material (which must outlive the fiber; a
+// temporary is rejected at compile time) or, on a GPU, from material.view(device_copy).
+template <typename T> class TabulatedFiber {
+  public:
+    using V3 = glm::vec<3, T>;
+    using V4 = glm::vec<4, T>;
+    using Material = TabulatedMaterial<T>;
+    using View = TabulatedView<T>;
+    static constexpr int kLobes = View::kLobes;
+
+    explicit TabulatedFiber(const Material& material) : v_(material.view()) {}
+    TabulatedFiber(const Material&&) = delete;
+    HAIRSCATTER_HD explicit TabulatedFiber(const View& view) : v_(view) {}
+
+    HAIRSCATTER_HD const View& view() const { return v_; }
+
+  private:
+    // The terms that depend on wo only.
+    struct Outgoing {
+        const T* n0;      // the two rows' lobe tables
+        const T* n1;
+        V3 residual;      // Ã_3 / 2π
+        T t;              // weight of the second row
+        T s[kLobes + 1];  // interpolated channel sums of the lobe masses
+        T total;          // their sum: 3 × mean(albedo)
+        T sin_p[kLobes + 1], cos_p[kLobes + 1];  // tilted θo' per lobe
+        int row;
+    };
+
+  public:
+    HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi) const { return query(outgoing(wo), wo, wi).f; }
+    HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return query(outgoing(wo), wo, wi).pdf; }
+    HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const { return query(outgoing(wo), wo, wi); }
+
+    // u.x picks the lobe and then the row (its leftover rescaled), (u.y, u.z) sample θi from
+    // M_p, u.w samples φ (its sign from u.w < ½).
+    HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const { return sample_from(outgoing(wo), wo, u); }
+
+    // Σ_p Ã_p(wo): the directional albedo of the tabulated fiber (its ∫ eval dωi).
+    HAIRSCATTER_HD V3 albedo(const V3& wo) const {
+        const Outgoing o = outgoing(wo);
+        const T* a = v_.row_terms(o.row);
+        const T* b = v_.row_terms(o.row + 1);
+        V3 r(T(0));
+        for (int p = 0; p <= kLobes; ++p)
+            for (int c = 0; c < 3; ++c) r[c] += a[3 * p + c] + o.t * (b[3 * p + c] - a[3 * p + c]);
+        return r;
+    }
+
+    // The fiber at a fixed wo: the row, its weights and the tilted θo' computed once; eval,
+    // pdf and sample take only wi or u. Holds a copy of the view (not of the tables).
+    class At {
+      public:
+        HAIRSCATTER_HD V3 eval(const V3& wi) const { return fiber_.query(o_, wo_, wi).f; }
+        HAIRSCATTER_HD T pdf(const V3& wi) const { return fiber_.query(o_, wo_, wi).pdf; }
+        HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wi) const { return fiber_.query(o_, wo_, wi); }
+        HAIRSCATTER_HD HairSample<T> sample(const V4& u) const { return fiber_.sample_from(o_, wo_, u); }
+        HAIRSCATTER_HD const V3& wo() const { return wo_; }
+
+      private:
+        friend class TabulatedFiber;
+        HAIRSCATTER_HD At(const TabulatedFiber& f, const V3& wo) : fiber_(f), wo_(wo), o_(f.outgoing(wo)) {}
+        TabulatedFiber fiber_;
+        V3 wo_;
+        Outgoing o_;
+    };
+    HAIRSCATTER_HD At at(const V3& wo) const { return At(*this, wo); }
+
+  private:
+    HAIRSCATTER_HD Outgoing outgoing(const V3& wo) const {
+        Outgoing o;
+        const T sin_o = clamp(wo.x, T(-1), T(1));
+        const T cos_o = cos_from_sin(sin_o);
+        v_.theta_cell(cos_o, o.row, o.t);
+        o.n0 = v_.lobes(o.row);
+        o.n1 = v_.lobes(o.row + 1);
+        const T* a = v_.row_terms(o.row);
+        const T* b = v_.row_terms(o.row + 1);
+        o.total = T(0);
+        for (int p = 0; p <= kLobes; ++p) {
+            o.s[p] = a[12 + p] + o.t * (b[12 + p] - a[12 + p]);
+            o.total += o.s[p];
+            const typename CuticleTilt<T>::Rotated r = v_.tilt().rotate(p, sin_o, cos_o);
+            o.sin_p[p] = r.sin_theta;
+            o.cos_p[p] = r.cos_theta;
+        }
+        for (int c = 0; c < 3; ++c) o.residual[c] = kInvTwoPi<T> * (a[9 + c] + o.t * (b[9 + c] - a[9 + c]));
+        return o;
+    }
+
+    HAIRSCATTER_HD HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
+        const T sin_i = clamp(wi.x, T(-1), T(1));
+        // φ = φi - φo from one atan2 of the azimuthal cross and dot products.
+        const T phi = elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
+        return combine(o, sin_i, cos_from_sin(sin_i), phi);
+    }
+
+    // f and pdf at (θi, φ): the four M_p, then the bilinear lobes.
+    HAIRSCATTER_HD HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
+        T m[kLobes + 1];
+        for (int p = 0; p <= kLobes; ++p) m[p] = v_.longitudinal(p).eval(sin_i, cos_i, o.sin_p[p], o.cos_p[p]);
+        int i;
+        T u;
+        v_.phi_cell(phi < T(0) ? -phi : phi, i, u);
+        const T* a = o.n0 + i * View::kNodeStride;
+        const T* b = o.n1 + i * View::kNodeStride;
+        const T w00 = (T(1) - o.t) * (T(1) - u), w01 = (T(1) - o.t) * u, w10 = o.t * (T(1) - u), w11 = o.t * u;
+        V3 f = m[kLobes] * o.residual;
+        for (int p = 0; p < kLobes; ++p) {
+            V3 n;
+            for (int c = 0; c < 3; ++c) {
+                const int k = 3 * p + c;
+                n[c] = w00 * a[k] + w01 * a[View::kNodeStride + k] + w10 * b[k] + w11 * b[View::kNodeStride + k];
+            }
+            f += m[p] * n;
+        }
+        HairEvalPdf<T> r;
+        r.f = f;
+        // total ≥ the R lobe's F > 0 in every channel, so the division is safe.
+        r.pdf = (f.x + f.y + f.z) / o.total;
+        return r;
+    }
+
+    HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
+        using std::sqrt;
+        // Lobe ∝ s_p.
+        const T target = u.x * o.total;
+        int p = kLobes;
+        T acc = T(0);
+        for (int q = 0; q < kLobes; ++q) {
+            if (target < acc + o.s[q]) {
+                p = q;
+                break;
+            }
+            acc += o.s[q];
+        }
+        if (!(o.s[p] > T(0))) {  // u.x ≈ 1 must not land on an empty lobe (s_0 ∝ F > 0)
+            while (p > 0 && !(o.s[p] > T(0))) --p;
+            acc = T(0);
+            for (int q = 0; q < p; ++q) acc += o.s[q];
+        }
+        const T v = clamp((target - acc) / o.s[p], T(0), T(1));
+
+        const T sin_i = v_.longitudinal(p).sample_sin_theta(o.sin_p[p], o.cos_p[p], u.y, u.z);
+        const T cos_i = cos_from_sin(sin_i);
+        T phi;
+        if (p == kLobes) {
+            phi = kTwoPi<T> * u.w - kPi<T>;  // the residual is uniform in φ
+        } else {
+            // The row, with probability ∝ its interpolation weight × its mass of lobe p.
+            const T first = (T(1) - o.t) * v_.row_terms(o.row)[12 + p];
+            const T second_mass = o.t * v_.row_terms(o.row + 1)[12 + p];
+            const int row = o.row + ((second_mass > T(0) && !(v * o.s[p] < first)) ? 1 : 0);
+            phi = sample_phi(row, p, u.w);
+        }
+
+        HairSample<T> r;
+        r.wi = direction_from_azimuth(wo, sin_i, phi);
+        r.lobe = p;
+        const HairEvalPdf<T> e = combine(o, sin_i, cos_i, phi);
+        r.pdf = e.pdf;
+        r.weight = e.pdf > T(0) ? e.f / e.pdf : V3(T(0));
+        return r;
+    }
+
+    // φ from row's lobe p: |φ| by its CDF (binary search for the cell, then the root of the
+    // cell's quadratic CDF), the sign from which half of [0, 1) u falls in.
+    HAIRSCATTER_HD T sample_phi(int row, int p, T u) const {
+        using std::sqrt;
+        const int n = v_.phi_samples();
+        const T* cdf = v_.cdf(row, p);
+        const T w = T(2) * u - T(1);
+        const T sign = w < T(0) ? T(-1) : T(1);
+        const T target = (w < T(0) ? -w : w) * cdf[n - 1];
+        int lo = 0, hi = n - 1;  // cdf[lo] ≤ target, and target < cdf[hi] unless hi = n - 1
+        while (hi - lo > 1) {
+            const int mid = (lo + hi) / 2;
+            if (cdf[mid] <= target)
+                lo = mid;
+            else
+                hi = mid;
+        }
+        const T* node = v_.lobes(row) + lo * View::kNodeStride + 3 * p;
+        const T a = node[0] + node[1] + node[2];
+        const T b = node[View::kNodeStride] + node[View::kNodeStride + 1] + node[View::kNodeStride + 2];
+        // Density a + (b - a) x/Δ on [0, Δ]; mass d = a x + (b - a) x²/2Δ, solved in the form
+        // without cancellation: x = 2d / (a + sqrt(a² + 2(b - a) d/Δ)).
+        const T step = v_.phi_step();
+        const T d = target - cdf[lo];
+        const T disc = a * a + T(2) * (b - a) * d / step;
+        const T den = a + sqrt(disc > T(0) ? disc : T(0));
+        const T x = den > T(0) ? clamp(T(2) * d / den, T(0), step) : T(0);
+        return sign * clamp(T(lo) * step + x, T(0), kPi<T>);
+    }
+
+    View v_;
+};
+
+}  // namespace hairscatter
