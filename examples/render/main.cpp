@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 #include <common/image_io.hpp>
 
+#include "hair_file.hpp"
 #include "render.hpp"
 #include "scenes.hpp"
 
@@ -48,7 +49,7 @@ std::vector<std::uint8_t> tone_map(const render::RenderResult& r, float exposure
 int main(int argc, char** argv) {
     CLI::App app{"hairscatter example renderer: hair blocks, a Cornell box and a scalp lit by an area light and a "
                  "constant environment, shaded with single scattering, dual scattering or a path tracer"};
-    std::string scene_name = "block", hair_file, out = "out/render";
+    std::string scene_name = "block", hair_file, write_hair, out = "out/render";
     render::RenderOptions ro;
     render::BlockOptions block;
     render::ScalpOptions scalp;
@@ -63,6 +64,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"block", "cornell", "scalp", "file"}))
         ->capture_default_str();
     app.add_option("--hair-file", hair_file, "a Cem Yuksel .hair file (implies --scene file)")->check(CLI::ExistingFile);
+    app.add_option("--write-hair", write_hair, "also save the scene's strands as a .hair file");
     app.add_option("--thickness-scale", thickness_scale, "scene file: multiplies the file's fiber thickness")
         ->capture_default_str();
     app.add_option("--hairs", block.count, "block: number of strands (the thesis: 1500, 3000, 6000, 12000)")
@@ -131,6 +133,16 @@ int main(int argc, char** argv) {
             desc = render::make_file_scene(hair_file, thickness_scale, lighting);
         }
         desc.hair_params = fiber;
+        if (!write_hair.empty()) {
+            render::HairFile file;
+            for (const auto& strand : desc.hair.strands) {
+                file.segments.push_back(std::uint32_t(strand.size() - 1));
+                file.points.insert(file.points.end(), strand.begin(), strand.end());
+            }
+            file.default_thickness = 2 * desc.hair.radius;
+            file.info = "hairscatter render --scene " + desc.name;
+            render::write_hair_file(write_hair, file);
+        }
         desc.grid_cell = grid_cell;
         const render::Scene scene(std::move(desc));
         const render::SceneStats& st = scene.stats();

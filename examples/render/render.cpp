@@ -154,13 +154,19 @@ class Renderer {
     }
 
     // Lambertian surface, one light sample; everything (hair included) casts opaque shadows.
+    // The environment is sampled by the cosine here (no MIS partner in these integrators).
     vec3 surface_direct(const Hit& hit, Sampler& rng) const {
         if (!lights_.any()) return vec3(0);
         const float u0 = rng.u(), u1 = rng.u(), u2 = rng.u();
+        const vec3 x = hit.p + kSurfaceOffset * hit.n;
+        if (u0 >= lights_.p_area) {
+            const vec3 wi = cosine_hemisphere(hit.n, u1, u2);
+            if (s_.occluded(x, wi, kInf)) return vec3(0);
+            return hit.albedo * lights_.env / (1 - lights_.p_area);  // f cos / pdf = albedo
+        }
         const Lights::Sample ls = lights_.sample(hit.p, u0, u1, u2);
         const float cos_i = glm::dot(hit.n, ls.wi);
         if (!(ls.pdf > 0) || cos_i <= 0) return vec3(0);
-        const vec3 x = hit.p + kSurfaceOffset * hit.n;
         if (s_.occluded(x, ls.wi, ls.dist * (1 - 1e-4f))) return vec3(0);
         return hit.albedo * (cos_i / kPi) * ls.Le / ls.pdf;
     }
