@@ -153,22 +153,22 @@ class Renderer {
         return vec3(0);
     }
 
-    // Lambertian surface, one light sample; everything (hair included) casts opaque shadows.
-    // The environment is sampled by the cosine here (no MIS partner in these integrators).
+    // Lambertian surface: one sample of the area light and one cosine-distributed sample of
+    // the environment; everything (hair included) casts opaque shadows.
     vec3 surface_direct(const Hit& hit, Sampler& rng) const {
-        if (!lights_.any()) return vec3(0);
-        const float u0 = rng.u(), u1 = rng.u(), u2 = rng.u();
+        const float u1 = rng.u(), u2 = rng.u(), u3 = rng.u(), u4 = rng.u();
         const vec3 x = hit.p + kSurfaceOffset * hit.n;
-        if (u0 >= lights_.p_area) {
-            const vec3 wi = cosine_hemisphere(hit.n, u1, u2);
-            if (s_.occluded(x, wi, kInf)) return vec3(0);
-            return hit.albedo * lights_.env / (1 - lights_.p_area);  // f cos / pdf = albedo
+        vec3 L(0);
+        if (lights_.area) {
+            // sample() with u0 = 0 picks the area light; its pdf includes the selection p_area.
+            const Lights::Sample ls = lights_.sample(hit.p, 0.0f, u1, u2);
+            const float cos_i = glm::dot(hit.n, ls.wi);
+            if (ls.pdf > 0 && cos_i > 0 && !s_.occluded(x, ls.wi, ls.dist * (1 - 1e-4f)))
+                L += hit.albedo * (cos_i / kPi) * ls.Le * lights_.p_area / ls.pdf;
         }
-        const Lights::Sample ls = lights_.sample(hit.p, u0, u1, u2);
-        const float cos_i = glm::dot(hit.n, ls.wi);
-        if (!(ls.pdf > 0) || cos_i <= 0) return vec3(0);
-        if (s_.occluded(x, ls.wi, ls.dist * (1 - 1e-4f))) return vec3(0);
-        return hit.albedo * (cos_i / kPi) * ls.Le / ls.pdf;
+        if (max3(lights_.env) > 0 && !s_.occluded(x, cosine_hemisphere(hit.n, u3, u4), kInf))
+            L += hit.albedo * lights_.env;  // f cos / pdf = albedo
+        return L;
     }
 
     // Single scattering: one light sample through ChiangFiber, hair shadows opaque.

@@ -107,9 +107,9 @@ SceneDescription make_scalp_scene(const ScalpOptions& scalp, const LightingOptio
     s.hair = make_scalp(o);
     s.meshes.push_back(ground());
     s.meshes.push_back(make_sphere("head", o.center, o.head_radius, {0.8f, 0.6f, 0.5f}));
-    s.camera.eye = o.center + glm::vec3(3.5f, 1.5f, 9.0f) * o.head_radius;
-    s.camera.target = o.center + glm::vec3(0, -0.9f, 0) * o.head_radius;
-    s.camera.fov_y_deg = 36.0f;
+    s.camera.eye = o.center + glm::vec3(4.0f, 2.0f, 10.0f) * o.head_radius;
+    s.camera.target = o.center + glm::vec3(0, -0.4f, 0) * o.head_radius;
+    s.camera.fov_y_deg = 38.0f;
     add_lighting(s, lighting, o.center + glm::vec3(3, 5, 6) * o.head_radius, 25.0f);
     return s;
 }

@@ -14,6 +14,18 @@ namespace {
 
 using namespace render;
 
+// The mean of channel c (or of all three, c = -1) over the hair pixels; sets n to their count.
+double mean_over_hair(const RenderResult& r, int c, std::size_t& n) {
+    double sum = 0;
+    n = 0;
+    for (std::size_t i = 0; i < r.hair_mask.size(); ++i)
+        if (r.hair_mask[i]) {
+            sum += c >= 0 ? r.rgb[3 * i + std::size_t(c)] : (r.rgb[3 * i] + r.rgb[3 * i + 1] + r.rgb[3 * i + 2]) / 3.0;
+            ++n;
+        }
+    return n ? sum / double(n) : 0.0;
+}
+
 // One straight strand along +x through the origin, radius 0.1.
 SceneDescription one_strand() {
     SceneDescription d;
@@ -73,13 +85,10 @@ TEST(RenderPath, LosslessHairVanishesInAWhiteFurnace) {
         o.width = o.height = 24;
         o.spp = 64;
         o.max_depth = 1000;
-        const RenderResult r = render::render(scene, o);
-        double sum = 0;
-        std::size_t n = 0;
-        for (std::size_t i = 0; i < r.hair_mask.size(); ++i)
-            if (r.hair_mask[i]) sum += (r.rgb[3 * i] + r.rgb[3 * i + 1] + r.rgb[3 * i + 2]) / 3.0, ++n;
+        std::size_t n;
+        const double mean = mean_over_hair(render::render(scene, o), -1, n);
         ASSERT_GT(n, 100u);
-        EXPECT_NEAR(sum / double(n), 1.0, 0.03) << to_string(s);
+        EXPECT_NEAR(mean, 1.0, 0.03) << to_string(s);
     }
 }
 
@@ -99,13 +108,10 @@ TEST(RenderPath, AbsorbingHairDoesNotVanishInTheFurnace) {  // the negative cont
     o.integrator = Integrator::kPath;
     o.width = o.height = 24;
     o.spp = 16;
-    const RenderResult r = render::render(scene, o);
-    double sum = 0;
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < r.hair_mask.size(); ++i)
-        if (r.hair_mask[i]) sum += r.rgb[3 * i + 2], ++n;
+    std::size_t n;
+    const double blue = mean_over_hair(render::render(scene, o), 2, n);
     ASSERT_GT(n, 100u);
-    EXPECT_LT(sum / double(n), 0.5);
+    EXPECT_LT(blue, 0.5);
 }
 
 TEST(Render, SameSeedSameImageWhateverTheThreads) {
