@@ -297,6 +297,20 @@ template <typename T> void add_far_field(int nodes, bool quick) {
                   quick);
 }
 
+template <typename T> void add_tabulated(const std::string& knob, const hs::TabulatedOptions& o, bool quick) {
+    using Fiber = hs::TabulatedFiber<T>;
+    add<T, Fiber>("tabulated", knob, Family::kFarField,
+                  [o](const hs::FiberParams<T>& p) {
+                      const auto mat = std::make_shared<const hs::TabulatedMaterial<T>>(p, o);
+                      return std::function<Fiber(T)>([mat](T) { return Fiber(*mat); });
+                  },
+                  quick);
+}
+
+std::string table_knob(const char* name, const hs::TabulatedOptions& o) {
+    return std::string(name) + " " + std::to_string(o.phi_samples) + "x" + std::to_string(o.theta_samples);
+}
+
 void add_settings(bool quick) {
     using hs::Lobes;
     add_chiang<float, Lobes::kAll>("all lobes", quick);
@@ -307,6 +321,10 @@ void add_settings(bool quick) {
     add_pbrt<float>(quick);
     for (int n : {4, 8, 16, 32, 64}) add_far_field<float>(n, quick);
     add_far_field<double>(64, quick);
+    add_tabulated<float>(table_knob("coarse", hs::TabulatedOptions::coarse()), hs::TabulatedOptions::coarse(), quick);
+    add_tabulated<float>(table_knob("default", hs::TabulatedOptions()), hs::TabulatedOptions(), quick);
+    add_tabulated<float>(table_knob("fine", hs::TabulatedOptions::fine()), hs::TabulatedOptions::fine(), quick);
+    add_tabulated<double>(table_knob("default", hs::TabulatedOptions()), hs::TabulatedOptions(), quick);
 }
 
 // Collects the medians (CPU time, ns) of every benchmark by name.

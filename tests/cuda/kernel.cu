@@ -95,6 +95,26 @@ template __global__ void evaluate_r_only<float>(hairscatter::ChiangMaterial<floa
                                                 const glm::vec<3, float>*, const glm::vec<4, float>*,
                                                 glm::vec<3, float>*, float*, int);
 
+// The tabulated far-field fiber reads its table through a trivially copyable view of
+// device memory (material.view(device_copy_of_data)).
+template <typename T>
+__global__ void evaluate_tabulated(hairscatter::TabulatedView<T> view, const glm::vec<3, T>* wo,
+                                   const glm::vec<3, T>* wi, const glm::vec<4, T>* u, glm::vec<3, T>* f, T* pdf,
+                                   int n) {
+    const int i = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
+    if (i >= n) return;
+    const hairscatter::TabulatedFiber<T> fiber(view);
+    f[i] = fiber.eval(wo[i], wi[i]) + fiber.albedo(wo[i]);
+    const auto at = fiber.at(wo[i]);
+    pdf[i] = fiber.pdf(wo[i], wi[i]) + fiber.sample(wo[i], u[i]).pdf + at.eval_pdf(wi[i]).pdf + at.sample(u[i]).pdf;
+}
+template __global__ void evaluate_tabulated<float>(hairscatter::TabulatedView<float>, const glm::vec<3, float>*,
+                                                   const glm::vec<3, float>*, const glm::vec<4, float>*,
+                                                   glm::vec<3, float>*, float*, int);
+template __global__ void evaluate_tabulated<double>(hairscatter::TabulatedView<double>, const glm::vec<3, double>*,
+                                                    const glm::vec<3, double>*, const glm::vec<4, double>*,
+                                                    glm::vec<3, double>*, double*, int);
+
 template <typename T>
 hairscatter::ChiangMaterial<T> make_material() {
     hairscatter::FiberParams<T> p;
