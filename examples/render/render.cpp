@@ -245,7 +245,8 @@ class Renderer {
         shadowed.direct_fraction = 0;
         const vec3 toward = lights_.area ? glm::normalize(lights_.area->corner + 0.5f * (lights_.area->edge_u + lights_.area->edge_v) - hit.p)
                                          : vec3(0, 1, 0);
-        shadowed.n = s_.grid()->fibers_crossed(hit.p, toward, hs::kUnbounded<float>);
+        // (uniform sampling needs no mixture: skip the march)
+        if (o_.sampling != Sampling::kUniform) shadowed.n = s_.grid()->fibers_crossed(hit.p, toward, hs::kUnbounded<float>);
         const hs::DualScatteringFiber<float> f_lit(fiber, tables, lit), f_shadowed(fiber, tables, shadowed);
         auto bcsdf_pdf = [&](const vec3& wi_l) {
             if (o_.sampling == Sampling::kUniform) return 1.0f / (4 * kPi);
