@@ -18,3 +18,4 @@
 #include "models/chiang.hpp"
 #include "models/deon_farfield.hpp"
 #include "models/tabulated.hpp"
+#include "models/marschner.hpp"

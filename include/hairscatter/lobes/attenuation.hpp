@@ -12,6 +12,28 @@
 
 namespace hairscatter {
 
+namespace detail {
+
+// Reflectance of each polarisation at an interface into relative index n, given the
+// cosines of the incident and refracted angles (Fresnel; Marschner et al. 2003 app. B):
+// perpendicular (s) r = (cos_i - n cos_t)/(cos_i + n cos_t), parallel (p)
+// r = (n cos_i - cos_t)/(n cos_i + cos_t).
+template <typename T> HAIRSCATTER_HD T fresnel_perpendicular(T cos_i, T cos_t, T n) {
+    return sqr((cos_i - n * cos_t) / (cos_i + n * cos_t));
+}
+template <typename T> HAIRSCATTER_HD T fresnel_parallel(T cos_i, T cos_t, T n) {
+    return sqr((n * cos_i - cos_t) / (n * cos_i + cos_t));
+}
+
+// cosγt of the ray refracted into relative index n, or -1 on total internal reflection
+// (n < 1 and sin²γi ≥ n²; compared without dividing, so n = 0 is TIR, not NaN).
+template <typename T> HAIRSCATTER_HD T refracted_cos(T cos_i, T n) {
+    const T sin2_i = (T(1) - cos_i) * (T(1) + cos_i);
+    return sin2_i >= n * n ? T(-1) : safe_sqrt(T(1) - sin2_i / (n * n));
+}
+
+}  // namespace detail
+
 // Unpolarised Fresnel reflectance of a dielectric interface from index 1 to η > 1, for
 // the cosine of the incident angle. No total internal reflection on this side, and the
 // denominators stay positive for η > 1 even at grazing incidence (cos_i = 0 gives F = 1).
@@ -19,9 +41,21 @@ template <typename T> HAIRSCATTER_HD T fresnel_dielectric(T cos_i, T eta) {
     cos_i = clamp(cos_i, T(0), T(1));
     const T sin2_t = (T(1) - cos_i * cos_i) / (eta * eta);
     const T cos_t = safe_sqrt(T(1) - sin2_t);
-    const T r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    const T r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    return T(0.5) * (r_parl * r_parl + r_perp * r_perp);
+    return T(0.5) * (detail::fresnel_parallel(cos_i, cos_t, eta) + detail::fresnel_perpendicular(cos_i, cos_t, eta));
+}
+
+// Marschner et al. 2003's Fresnel factor F(η', η'', γ) (their appendix B): the
+// perpendicular polarisation sees the Bravais index η', the parallel one η'' (theory.md
+// §3.1), each refracting by its own Snell law. Either index may be below 1 (the internal
+// reflection F(1/η', 1/η'', γt), or η'' → 0 at grazing θ): total internal reflection
+// reflects that polarisation fully.
+template <typename T> HAIRSCATTER_HD T fresnel_bravais(T cos_i, T eta_perp, T eta_par) {
+    cos_i = clamp(cos_i, T(0), T(1));
+    const T ct_perp = detail::refracted_cos(cos_i, eta_perp), ct_par = detail::refracted_cos(cos_i, eta_par);
+    const T f_perp = ct_perp < T(0) ? T(1) : detail::fresnel_perpendicular(cos_i, ct_perp, eta_perp);
+    const T f_par = ct_par < T(0) ? T(1) : detail::fresnel_parallel(cos_i, ct_par, eta_par);
+    // 0/0 only at cos_i = 0 with an index of exactly 1 (grazing, no interface): reflects.
+    return T(0.5) * ((f_perp == f_perp ? f_perp : T(1)) + (f_par == f_par ? f_par : T(1)));
 }
 
 // The attenuations of the lobes p = 0 … P (P the residual), Chiang et al. 2016 eqs. 3–4:
@@ -32,28 +66,36 @@ template <typename T, int P> struct Attenuation {
     glm::vec<3, T> a[P + 1];
 };
 
+// f_internal is the reflectance at the inner surface; Chiang et al. use the entry
+// reflectance (equal for one index by reciprocity), Marschner et al. 2003 their
+// F(1/η', 1/η'', γt), which differs when η' ≠ η''.
 template <typename T, int P>
-HAIRSCATTER_HD Attenuation<T, P> attenuation(T fresnel, const glm::vec<3, T>& transmittance) {
+HAIRSCATTER_HD Attenuation<T, P> attenuation(T fresnel, T fresnel_internal, const glm::vec<3, T>& transmittance) {
     using V = glm::vec<3, T>;
     Attenuation<T, P> r;
-    const T f = fresnel;
+    const T f = fresnel, fi = fresnel_internal;
     r.a[0] = V(f);
     if (P == 1) {
         // Everything but R is one residual: (1 - F)² T / (1 - T F), summed geometric series.
-        const V tf = transmittance * f;
+        const V tf = transmittance * fi;
         const V denom = V(1) - tf;
         for (int c = 0; c < 3; ++c)
             r.a[1][c] = denom[c] > T(0) ? sqr(T(1) - f) * transmittance[c] / denom[c] : T(0);
         return r;
     }
     r.a[1] = sqr(T(1) - f) * transmittance;
-    for (int p = 2; p < P; ++p) r.a[p] = r.a[p - 1] * transmittance * f;
+    for (int p = 2; p < P; ++p) r.a[p] = r.a[p - 1] * transmittance * fi;
     // 1 - T F = 0 only when F = 1 (grazing h) and T = 1, where A_{P-1} carries (1 - F)² = 0:
     // flooring the denominator at the smallest normal number (1 - T F is otherwise at least
     // one ulp of 1) gives 0 there without a branch per channel.
-    const V tf = transmittance * f;
+    const V tf = transmittance * fi;
     r.a[P] = r.a[P - 1] * tf / glm::max(V(1) - tf, V(kMinNormal<T>));
     return r;
+}
+
+template <typename T, int P>
+HAIRSCATTER_HD Attenuation<T, P> attenuation(T fresnel, const glm::vec<3, T>& transmittance) {
+    return attenuation<T, P>(fresnel, fresnel, transmittance);
 }
 
 // The refracted path of a ray leaving toward wo from offset h (theory.md §3.1–3.2), split

@@ -5,6 +5,7 @@
 
 #include "../config.hpp"
 #include "../math/constants.hpp"
+#include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
 #include "../math/functions.hpp"
 
@@ -68,6 +69,26 @@ template <typename T> class DeonLongitudinal {
 
   private:
     T v_ = T(1), inv_v_ = T(1), exp_m2_over_v_ = T(0), norm_ = T(1);
+};
+
+// Marschner et al. 2003's longitudinal lobe with d'Eon et al. 2011's correction of the
+// half angle (theory.md §3.3): M_p(θh) = g(β_p; 2θh - α_p) = g(β_p; θi + θo - α_p), a
+// unit-area Gaussian in radians. Marschner's own shift convention: lobe p peaks at
+// θi = α_p - θo (with α_R < 0 the R highlight sits at θi + θo = α_R). Unlike
+// DeonLongitudinal it is not normalised on the sphere (it is a density in θi over the
+// whole real line, and the model divides by cos²θd): the energy it loses or gains is
+// Marschner's, reported by the furnace test, not corrected.
+template <typename T> class MarschnerLongitudinal {
+  public:
+    MarschnerLongitudinal() = default;
+    HAIRSCATTER_HD MarschnerLongitudinal(T beta, T alpha) : beta_(beta), alpha_(alpha) {}
+
+    HAIRSCATTER_HD T beta() const { return beta_; }
+    HAIRSCATTER_HD T alpha() const { return alpha_; }
+    HAIRSCATTER_HD T eval(T theta_i, T theta_o) const { return gaussian(beta_, theta_i + theta_o - alpha_); }
+
+  private:
+    T beta_ = T(1), alpha_ = T(0);
 };
 
 }  // namespace hairscatter

@@ -19,7 +19,7 @@ template <typename T> class CuticleTilt {
     static constexpr int kLobes = 4;  // R, TT, TRT, residual (and every higher order)
 
     CuticleTilt() = default;
-    HAIRSCATTER_HD explicit CuticleTilt(T alpha) : alpha_(alpha) {
+    HAIRSCATTER_HD explicit CuticleTilt(T alpha) {
         using std::sin;
         T s[3], c[3];  // sin, cos of α, 2α, 4α
         s[0] = sin(alpha);
@@ -32,14 +32,25 @@ template <typename T> class CuticleTilt {
         sin_[0] = -s[1], cos_[0] = c[1];
         sin_[1] = s[0], cos_[1] = c[0];
         sin_[2] = s[2], cos_[2] = c[2];
+        angle_[0] = T(-2) * alpha, angle_[1] = alpha, angle_[2] = T(4) * alpha;
     }
 
-    // The angle θo is rotated by for lobe p: -2α, α, 4α, 0. Lobe p's peak sits at
-    // θi = -(θo + angle(p)).
-    HAIRSCATTER_HD T angle(int p) const {
-        const T k[kLobes] = {T(-2), T(1), T(4), T(0)};
-        return k[p < kLobes ? p : kLobes - 1] * alpha_;
+    // Explicit rotations of θo for R, TT and TRT (the residual is not rotated), for models
+    // whose paper gives each lobe's shift on its own (Marschner et al. 2003: -α_p).
+    HAIRSCATTER_HD CuticleTilt(T angle_r, T angle_tt, T angle_trt) {
+        using std::cos;
+        using std::sin;
+        const T a[3] = {angle_r, angle_tt, angle_trt};
+        for (int k = 0; k < 3; ++k) {
+            angle_[k] = a[k];
+            sin_[k] = sin(a[k]);
+            cos_[k] = cos(a[k]);
+        }
     }
+
+    // The angle θo is rotated by for lobe p: -2α, α, 4α, 0 for pbrt-v4's tilt α. Lobe p's
+    // peak sits at θi = -(θo + angle(p)).
+    HAIRSCATTER_HD T angle(int p) const { return angle_[p < kLobes ? p : kLobes - 1]; }
 
     struct Rotated {
         T sin_theta, cos_theta;
@@ -55,7 +66,7 @@ template <typename T> class CuticleTilt {
     }
 
   private:
-    T alpha_ = T(0);
+    T angle_[kLobes] = {T(0), T(0), T(0), T(0)};
     T sin_[kLobes] = {T(0), T(0), T(0), T(0)}, cos_[kLobes] = {T(1), T(1), T(1), T(1)};
 };
 

@@ -10,6 +10,12 @@
 
 namespace hairscatter {
 
+// The unit-area Gaussian of standard deviation σ on the real line, g(σ; x) in Marschner
+// et al. 2003's notation (their longitudinal M_p and caustic lobes).
+template <typename T> HAIRSCATTER_HD T gaussian(T sigma, T x) {
+    return kInvSqrtTwoPi<T> / sigma * elem::exp(T(-0.5) * sqr(x / sigma));
+}
+
 // Logistic distribution with scale s, restricted and renormalised to [-π, π]
 // (Chiang et al. 2016 §4.2, the azimuthal detector of their N_p). Everything that depends
 // only on s is computed once here; with the interval symmetric the normaliser is

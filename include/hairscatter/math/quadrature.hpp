@@ -43,4 +43,67 @@ template <typename T> struct GaussLegendre {
     }
 };
 
+// n-point Gauss–Hermite rule for the standard normal density: Σ_k weights[k] f(nodes[k])
+// ≈ E[f(Z)], Z ~ N(0, 1), exact for polynomials of degree 2n - 1. The nodes are √2 times
+// the roots of the Hermite polynomial H_n, found by bisection between sign changes on a
+// grid finer than their spacing, bisected to 1e-15; the orthonormal recurrence
+// ψ_k = √(2/k) x ψ_{k-1} - √((k-1)/k) ψ_{k-2} keeps every value finite, and the weights
+// are 1/(n ψ_{n-1}(x)²)/√π. Computed in double whatever T is.
+template <typename T> struct GaussHermite {
+    std::vector<T> nodes, weights;
+
+    explicit GaussHermite(int n) {
+        if (n < 1 || n > 64) throw std::invalid_argument("hairscatter: GaussHermite needs 1 ≤ n ≤ 64");
+        const double pi = 3.14159265358979323846;
+        // ψ_n(x) and ψ_{n-1}(x), orthonormal for the weight e^(-x²).
+        auto psi = [n, pi](double x, double& prev) {
+            double p0 = std::pow(pi, -0.25), p1 = std::sqrt(2.0) * x * p0;
+            if (n == 1) {
+                prev = p0;
+                return p1;
+            }
+            for (int k = 2; k <= n; ++k) {
+                const double p2 = std::sqrt(2.0 / k) * x * p1 - std::sqrt(double(k - 1) / k) * p0;
+                p0 = p1;
+                p1 = p2;
+            }
+            prev = p0;
+            return p1;
+        };
+        // All roots lie in |x| < √(2n + 1); their spacing is at least π/√(2n + 1) · ½.
+        const double lim = std::sqrt(2.0 * n + 1), step = 0.05 / lim;
+        std::vector<double> roots;
+        double prev_dummy = 0, a = -lim, fa = psi(a, prev_dummy);
+        for (double b = a + step; a < lim && int(roots.size()) < n; b += step) {
+            const double fb = psi(b, prev_dummy);
+            if ((fa < 0) != (fb < 0) || fb == 0) {
+                double lo = a, hi = b, flo = fa;
+                for (int it = 0; it < 200 && hi - lo > 1e-15; ++it) {
+                    const double mid = 0.5 * (lo + hi), fm = psi(mid, prev_dummy);
+                    if ((fm < 0) == (flo < 0)) {
+                        lo = mid;
+                        flo = fm;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                roots.push_back(0.5 * (lo + hi));
+            }
+            a = b;
+            fa = fb;
+        }
+        if (int(roots.size()) != n) throw std::logic_error("hairscatter: GaussHermite lost a root");
+        nodes.resize(std::size_t(n));
+        weights.resize(std::size_t(n));
+        for (int i = 0; i < n; ++i) {
+            // Symmetrise: the i-th root from below mirrors the i-th from above exactly.
+            const double x = 0.5 * (roots[std::size_t(i)] - roots[std::size_t(n - 1 - i)]);
+            double pm = 0;
+            psi(x, pm);
+            nodes[std::size_t(i)] = T(std::sqrt(2.0) * x);
+            weights[std::size_t(i)] = T(1 / (n * pm * pm) / std::sqrt(pi));
+        }
+    }
+};
+
 }  // namespace hairscatter

@@ -1,0 +1,414 @@
+// hairscatter — Marschner et al. 2003's hair model: Gaussian longitudinal lobes on the half
+// angle (with d'Eon et al. 2011's 2θh correction) and the smooth fiber's azimuthal
+// function by root solving, with the TRT caustic replacement, eccentricity and a Gaussian
+// azimuthal roughness. Far field: the fiber needs no h. Not energy conserving (theory.md
+// §3.3): its furnace value is a reported figure.
+#pragma once
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "../config.hpp"
+#include "../fiber/frame.hpp"
+#include "../lobes/attenuation.hpp"
+#include "../lobes/longitudinal.hpp"
+#include "../lobes/marschner_azimuthal.hpp"
+#include "../lobes/tilt.hpp"
+#include "../math/constants.hpp"
+#include "../math/elementary.hpp"
+#include "../math/functions.hpp"
+#include "../math/quadrature.hpp"
+#include "deon_farfield.hpp"  // HairSample, HairEvalPdf, HairLobe, azimuthal_gaussian_width
+
+namespace hairscatter {
+
+// Marschner's own parameters (their Table 1), angles in radians.
+template <typename T> struct MarschnerParams {
+    T eta = T(1.55);                      // index of refraction, > 1
+    glm::vec<3, T> sigma_a{T(0)};         // absorption per unit fiber radius, RGB, ≥ 0
+    T alpha_r = radians(T(-7.5));         // α_R, the R lobe's shift (Table 1: -10° to -5°)
+    T beta_r = radians(T(7.5));           // β_R, the R lobe's width (5° to 10°), (0, π/4]
+    T beta_n = T(0.3);                    // azimuthal roughness, (0, 1], Chiang's scale
+    T eccentricity = T(1);                // a, major/minor axis ratio (0.85–1 for human hair), > 0
+    T caustic_width = radians(T(15));     // w_c (10° to 25°), (0, π/2]
+    T caustic_gain = T(0.5);              // k_G (0.5 to 5), ≥ 0
+    T caustic_fade = T(0.3);              // Δη' (0.2 to 0.4), > 0
+    T caustic_dh_max = T(0.5);            // Δh_M, the caustic's largest h extent, (0, 1]
+};
+
+// |α_R| ≤ π/6 keeps TRT's shift -3α_R/2 within 45°; β_R ≤ π/4 keeps β_TRT = 2β_R ≤ 90°.
+template <typename T> inline constexpr T kMaxMarschnerShift = kPi<T> / T(6);
+template <typename T> inline constexpr T kMaxMarschnerWidth = kPi<T> / T(4);
+
+// Empty when valid, else one message per bad field naming it, its value and its range.
+template <typename T> std::string validate(const MarschnerParams<T>& p) {
+    std::ostringstream msg;
+    auto check = [&](bool ok, const char* name, double value, const char* range) {
+        if (ok) return;
+        if (msg.tellp() > 0) msg << "; ";
+        msg << name << " = " << value << " is outside its range " << range;
+    };
+    auto finite = [](T x) { return std::isfinite(x); };
+    check(p.eta > T(1) && finite(p.eta), "eta", double(p.eta), "(1, inf) (finite)");
+    const char* channel[3] = {"sigma_a.r", "sigma_a.g", "sigma_a.b"};
+    for (int c = 0; c < 3; ++c)
+        check(p.sigma_a[c] >= T(0) && finite(p.sigma_a[c]), channel[c], double(p.sigma_a[c]), "[0, inf) (finite)");
+    check(std::abs(p.alpha_r) <= kMaxMarschnerShift<T>, "alpha_r", double(p.alpha_r), "[-pi/6, pi/6] radians");
+    check(p.beta_r > T(0) && p.beta_r <= kMaxMarschnerWidth<T>, "beta_r", double(p.beta_r), "(0, pi/4] radians");
+    check(p.beta_n > T(0) && p.beta_n <= T(1), "beta_n", double(p.beta_n), "(0, 1]");
+    check(p.eccentricity > T(0) && finite(p.eccentricity), "eccentricity", double(p.eccentricity),
+          "(0, inf) (finite)");
+    check(p.caustic_width > T(0) && p.caustic_width <= kHalfPi<T>, "caustic_width", double(p.caustic_width),
+          "(0, pi/2] radians");
+    check(p.caustic_gain >= T(0) && finite(p.caustic_gain), "caustic_gain", double(p.caustic_gain),
+          "[0, inf) (finite)");
+    check(p.caustic_fade > T(0) && finite(p.caustic_fade), "caustic_fade", double(p.caustic_fade),
+          "(0, inf) (finite)");
+    check(p.caustic_dh_max > T(0) && p.caustic_dh_max <= T(1), "caustic_dh_max", double(p.caustic_dh_max), "(0, 1]");
+    return msg.str();
+}
+
+// Everything that depends only on the parameters and the roughness node count, built on
+// the host (the constructor throws std::invalid_argument naming a bad parameter).
+// Trivially copyable (< 0.5 KB in double).
+//
+// Azimuthal roughness: N_p is convolved with a Gaussian of σ = azimuthal_gaussian_width(β_n)
+// (the σ DeonFarField uses for the same β_n) by an n-point Gauss–Hermite rule,
+//   Ñ_p(φ) = Σ_k ω_k N_p(φ - σ z_k)       (eval),
+// and the sampler smears each node over its cell: the k-th piece of the roughness kernel
+// is uniform on [σ z_k - b_k⁻, σ z_k + b_k⁺] (cell edges halfway between nodes) with mass
+// ω_k. That kernel's convolution with the pushforward of a uniform h is available in
+// closed form from the cubic's roots at the cell's two ends (MarschnerCubic::arc_mass), so
+// the pdf is exact, bounded (no caustic spikes) and agrees with sample() to rounding.
+template <typename T> class MarschnerMaterial {
+  public:
+    static constexpr int kLobes = 3;  // R, TT, TRT; Marschner has no residual
+    static constexpr int kMaxNodes = 16;
+    static constexpr int kDefaultNodes = 7;
+
+    explicit MarschnerMaterial(const MarschnerParams<T>& params, int azimuthal_nodes = kDefaultNodes)
+        : params_(params), nodes_(azimuthal_nodes) {
+        const std::string m = validate(params);
+        if (!m.empty()) throw std::invalid_argument("hairscatter: invalid Marschner parameters: " + m);
+        if (!(azimuthal_nodes >= 1 && azimuthal_nodes <= kMaxNodes))
+            throw std::invalid_argument("hairscatter: MarschnerMaterial: azimuthal_nodes = " +
+                                        std::to_string(azimuthal_nodes) + " is outside its range [1, " +
+                                        std::to_string(kMaxNodes) + "]");
+        // Table 1: α_TT = -α_R/2, α_TRT = -3α_R/2; β_TT = β_R/2, β_TRT = 2β_R.
+        const T alpha[kLobes] = {params.alpha_r, T(-0.5) * params.alpha_r, T(-1.5) * params.alpha_r};
+        const T beta[kLobes] = {params.beta_r, T(0.5) * params.beta_r, T(2) * params.beta_r};
+        for (int p = 0; p < kLobes; ++p) {
+            m_[p] = MarschnerLongitudinal<T>(beta[p], alpha[p]);
+            proposal_[p] = DeonLongitudinal<T>(beta[p] * beta[p]);
+        }
+        // The sampler's θi proposal is centred on θi = α_p - θo: θo rotated by -α_p.
+        tilt_ = CuticleTilt<T>(-alpha[0], -alpha[1], -alpha[2]);
+        eccentric_ = EccentricIndex<T>(params.eta, params.eccentricity);
+        round_ = params.eccentricity == T(1);
+        sigma_ = azimuthal_gaussian_width(params.beta_n);
+
+        const GaussHermite<double> gh(azimuthal_nodes);
+        const double sigma = double(sigma_);
+        for (int k = 0; k < nodes_; ++k) {
+            const double z = gh.nodes[std::size_t(k)];
+            // Cell edges halfway to the neighbours; the outer cells are symmetric about
+            // their node; a single node gets the box of standard deviation σ.
+            const double left = k > 0 ? 0.5 * (z - gh.nodes[std::size_t(k - 1)]) : -1.0;
+            const double right = k + 1 < nodes_ ? 0.5 * (gh.nodes[std::size_t(k + 1)] - z) : -1.0;
+            const double bl = left > 0 ? left : (right > 0 ? right : std::sqrt(3.0));
+            const double br = right > 0 ? right : bl;
+            offset_[k] = T(sigma * z);
+            weight_[k] = T(gh.weights[std::size_t(k)]);
+            cell_lo_[k] = T(sigma * (z - bl));
+            cell_len_[k] = T(sigma * (bl + br));
+        }
+    }
+
+    HAIRSCATTER_HD const MarschnerParams<T>& params() const { return params_; }
+    HAIRSCATTER_HD const MarschnerLongitudinal<T>& longitudinal(int p) const { return m_[p]; }
+    HAIRSCATTER_HD const DeonLongitudinal<T>& proposal(int p) const { return proposal_[p]; }
+    HAIRSCATTER_HD const CuticleTilt<T>& tilt() const { return tilt_; }
+    HAIRSCATTER_HD const EccentricIndex<T>& eccentric_index() const { return eccentric_; }
+    HAIRSCATTER_HD bool is_round() const { return round_; }
+    HAIRSCATTER_HD T azimuthal_sigma() const { return sigma_; }
+    HAIRSCATTER_HD int nodes() const { return nodes_; }
+    HAIRSCATTER_HD T node_offset(int k) const { return offset_[k]; }
+    HAIRSCATTER_HD T node_weight(int k) const { return weight_[k]; }
+    HAIRSCATTER_HD T cell_lo(int k) const { return cell_lo_[k]; }
+    HAIRSCATTER_HD T cell_len(int k) const { return cell_len_[k]; }
+    // Lobe p peaks at θi = lobe_shift(p) - θo (Marschner's α_p), with width β_p.
+    HAIRSCATTER_HD T lobe_shift(int p) const { return m_[p].alpha(); }
+    HAIRSCATTER_HD T lobe_width(int p) const { return m_[p].beta(); }
+
+  private:
+    MarschnerParams<T> params_;
+    int nodes_ = kDefaultNodes;
+    MarschnerLongitudinal<T> m_[kLobes];
+    DeonLongitudinal<T> proposal_[kLobes];
+    CuticleTilt<T> tilt_;
+    EccentricIndex<T> eccentric_;
+    bool round_ = true;
+    T sigma_ = T(1);
+    T offset_[kMaxNodes] = {}, weight_[kMaxNodes] = {}, cell_lo_[kMaxNodes] = {}, cell_len_[kMaxNodes] = {};
+};
+
+// The fiber. Same frame and conventions as ChiangFiber (unit vectors in the fiber frame,
+// x = tangent, wo toward the viewer, wi toward the light), and eval has the cosine inside:
+//
+//   f(wo, wi) = cosθi / cos²θd · Σ_p M_p(θh) Ñ_p(φ),      θh = (θi + θo)/2, θd = (θo - θi)/2
+//
+// (Marschner's S = Σ M_p N_p / cos²θd times the cosθi of the rendering integral). N_p uses
+// the Bravais indices at θd (η' for the geometry and the perpendicular Fresnel term, η''
+// for the parallel one) and absorption along the chord 2 cosγt / cosθt; with eccentricity
+// the index is η*(φh) at Marschner's half azimuth φh = (φi + φo)/2 (only cos 2φh enters,
+// so the π ambiguity of a half angle does not matter).
+//
+// sample (after d'Eon, Marschner & Hanika 2013 and the seed thesis §4.1): u.x picks lobe p
+// with probability w_p (the mean over channels and four fixed offsets of A_p at θd = θo)
+// and its leftover is a uniform h ∈ [-1, 1]; (u.y, u.z) draw θi from d'Eon's spherical
+// Gaussian of variance β_p² around θi = α_p - θo; u.w picks a roughness cell and a
+// uniform offset in it; φ = Φ̂(p, asin h) + offset. With eccentricity the sampler's cubic
+// reads η* at φo instead of φh (φh depends on the φ being drawn). Its density is
+//   pdf = Σ_p w_p M^d'Eon_p(θi) Σ_k ω_k P(Φ̂(p, ·) ∈ φ - cell_k) / |cell_k|,
+// summing over every root of every lobe (through the cubic's pushforward). pdf() and
+// sample() share that code, weight = f / pdf.
+//
+// Holds a pointer to the material, which must outlive the fiber.
+template <typename T> class MarschnerFiber {
+  public:
+    using V3 = glm::vec<3, T>;
+    using V4 = glm::vec<4, T>;
+    using Material = MarschnerMaterial<T>;
+    static constexpr int kLobes = Material::kLobes;
+
+    HAIRSCATTER_HD explicit MarschnerFiber(const Material& material) : mat_(&material) {}
+    MarschnerFiber(const Material&&) = delete;
+
+    HAIRSCATTER_HD const Material& material() const { return *mat_; }
+
+    HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi) const { return query<true, false>(wo, wi).f; }
+    HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return query<false, true>(wo, wi).pdf; }
+    HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const { return query<true, true>(wo, wi); }
+
+    HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const {
+        const Outgoing o = outgoing<true>(wo);
+        int p = kLobes - 1;
+        T before = T(0);
+        for (int q = 0; q < kLobes; ++q) {
+            if (u.x < before + o.w[q]) {
+                p = q;
+                break;
+            }
+            before += o.w[q];
+        }
+        if (!(o.w[p] > T(0))) {  // u.x ≈ 1 must not land on an empty lobe (w_R > 0 always)
+            while (p > 0 && !(o.w[p] > T(0))) --p;
+            before = T(0);
+            for (int q = 0; q < p; ++q) before += o.w[q];
+        }
+        const T h = T(2) * clamp((u.x - before) / o.w[p], T(0), T(1)) - T(1);
+
+        const T sin_i = mat_->proposal(p).sample_sin_theta(o.sin_p[p], o.cos_p[p], u.y, u.z);
+        const T cos_i = cos_from_sin(sin_i);
+        const Section s = section(o, elem::asin(sin_i), sample_eta(o));
+        const MarschnerCubic<T> cubic(p, s.inv_eta_perp);
+
+        const int n = mat_->nodes();
+        int k = n - 1;
+        T acc = T(0);
+        for (int q = 0; q < n; ++q) {
+            if (u.w < acc + mat_->node_weight(q)) {
+                k = q;
+                break;
+            }
+            acc += mat_->node_weight(q);
+        }
+        const T v = clamp((u.w - acc) / mat_->node_weight(k), T(0), T(1));
+        const T phi = wrap_pi(cubic.exit_azimuth(elem::asin(h)) + mat_->cell_lo(k) + mat_->cell_len(k) * v);
+
+        HairSample<T> r;
+        r.wi = direction_from_azimuth(wo, sin_i, phi);
+        r.lobe = p;
+        const HairEvalPdf<T> e = combine<true, true>(o, sin_i, cos_i, phi);
+        r.pdf = e.pdf;
+        r.weight = e.pdf > T(0) ? e.f / e.pdf : V3(T(0));
+        return r;
+    }
+
+    // Marschner's smooth-fiber N_p(φ) (no roughness, no caustic replacement) at the
+    // inclinations of (wo, wi), RGB: exposed for tests and plots of the root sum.
+    HAIRSCATTER_HD V3 smooth_azimuthal(int p, const V3& wo, const V3& wi) const {
+        const Outgoing o = outgoing<false>(wo);
+        const T sin_i = clamp(wi.x, T(-1), T(1));
+        const T phi = relative_azimuth(wo, wi);
+        const Section s = section(o, elem::asin(sin_i), eval_eta(o, phi));
+        return marschner_root_sum(MarschnerCubic<T>(p, s.inv_eta_perp), phi, LobeAttenuation{this, &s, p});
+    }
+
+  private:
+    // Terms of wo alone.
+    struct Outgoing {
+        T sin_o, cos_o, theta_o, phi_o;
+        T sin_p[kLobes], cos_p[kLobes];  // θo rotated by -α_p (the sampler's proposal)
+        T w[kLobes];                     // lobe probabilities
+    };
+    // The cross-section's optics at one θd and index η*: Bravais η', η'', the chord.
+    struct Section {
+        FiberRefraction<T> refraction;
+        T inv_eta_perp, eta_perp, eta_par, inv_eta_par, eta_star;
+    };
+    // A_p at one root (the functor marschner_root_sum calls).
+    struct LobeAttenuation {
+        const MarschnerFiber* fiber;
+        const Section* s;
+        int p;
+        HAIRSCATTER_HD V3 operator()(T h, T cos_gamma) const { return fiber->attenuations(*s, h, cos_gamma).a[p]; }
+    };
+
+    HAIRSCATTER_HD static T relative_azimuth(const V3& wo, const V3& wi) {
+        // φ = φi - φo from one atan2 of the azimuthal cross and dot products.
+        return elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
+    }
+
+    // η* for eval (Marschner's φh = φo + φ/2) and for the sampler (φo).
+    HAIRSCATTER_HD T eval_eta(const Outgoing& o, T phi) const {
+        using std::cos;
+        return mat_->is_round() ? mat_->params().eta : mat_->eccentric_index()(cos(T(2) * o.phi_o + phi));
+    }
+    HAIRSCATTER_HD T sample_eta(const Outgoing& o) const {
+        using std::cos;
+        return mat_->is_round() ? mat_->params().eta : mat_->eccentric_index()(cos(T(2) * o.phi_o));
+    }
+
+    HAIRSCATTER_HD Section section_at(T sin_d, T cos_d, T eta_star) const {
+        Section s;
+        s.eta_star = eta_star;
+        s.refraction = FiberRefraction<T>(sin_d, cos_d, eta_star);
+        // 1/η' = cosθd / √(η*² - sin²θd) → 0 as θd → ±90° (wo and wi opposite along the
+        // axis): floored at ε so that η' and the Fresnel terms stay finite.
+        s.inv_eta_perp = s.refraction.gamma_t_scale > kEpsilon<T> ? s.refraction.gamma_t_scale : kEpsilon<T>;
+        s.eta_perp = T(1) / s.inv_eta_perp;
+        s.eta_par = eta_star * eta_star * s.inv_eta_perp;  // η'' = η*² cosθd / √(η*² - sin²θd)
+        s.inv_eta_par = T(1) / s.eta_par;
+        return s;
+    }
+    HAIRSCATTER_HD Section section(const Outgoing& o, T theta_i, T eta_star) const {
+        T sin_d, cos_d;
+        elem::sincos(T(0.5) * (o.theta_o - theta_i), sin_d, cos_d);
+        return section_at(sin_d, cos_d, eta_star);
+    }
+
+    // Marschner et al. 2003 eq. 9 (with the chord of theory.md §3.2): A_0 = F(η', η'', γi),
+    // A_1 = (1 - F)² T, A_2 = (1 - F)² F(1/η', 1/η'', γt) T².
+    HAIRSCATTER_HD Attenuation<T, kLobes> attenuations(const Section& s, T h, T cos_gamma) const {
+        const auto path = s.refraction.at(h, mat_->params().sigma_a);
+        const T cos_t = cos_from_sin(h * s.inv_eta_perp);
+        return attenuation<T, kLobes>(fresnel_bravais(cos_gamma, s.eta_perp, s.eta_par),
+                                      fresnel_bravais(cos_t, s.inv_eta_perp, s.inv_eta_par), path.transmittance);
+    }
+
+    template <bool kW> HAIRSCATTER_HD Outgoing outgoing(const V3& wo) const {
+        Outgoing o;
+        o.sin_o = clamp(wo.x, T(-1), T(1));
+        o.cos_o = cos_from_sin(o.sin_o);
+        o.theta_o = elem::asin(o.sin_o);
+        o.phi_o = mat_->is_round() ? T(0) : elem::atan2(wo.z, wo.y);
+        for (int p = 0; p < kLobes; ++p) {
+            const typename CuticleTilt<T>::Rotated r = mat_->tilt().rotate(p, o.sin_o, o.cos_o);
+            o.sin_p[p] = r.sin_theta;
+            o.cos_p[p] = r.cos_theta;
+        }
+        if constexpr (kW) {
+            // Lobe probabilities ∝ the mean of A_p over h = 1/8, 3/8, 5/8, 7/8 (A_p is even
+            // in h) at θd = θo, the specular θi. Any positive choice is exact; this one
+            // follows the lobes' energies. w_R ≥ F > 0, so the total is positive.
+            const Section s = section_at(o.sin_o, o.cos_o, sample_eta(o));
+            T total = T(0);
+            for (int p = 0; p < kLobes; ++p) o.w[p] = T(0);
+            for (int j = 0; j < 4; ++j) {
+                const T h = (T(j) + T(0.5)) * T(0.25);
+                const Attenuation<T, kLobes> a = attenuations(s, h, cos_from_sin(h));
+                for (int p = 0; p < kLobes; ++p) o.w[p] += a.a[p].x + a.a[p].y + a.a[p].z;
+            }
+            for (int p = 0; p < kLobes; ++p) total += o.w[p];
+            for (int p = 0; p < kLobes; ++p) o.w[p] /= total;
+        }
+        return o;
+    }
+
+    template <bool kF, bool kPdf> HAIRSCATTER_HD HairEvalPdf<T> query(const V3& wo, const V3& wi) const {
+        const T sin_i = clamp(wi.x, T(-1), T(1));
+        return combine<kF, kPdf>(outgoing<kPdf>(wo), sin_i, cos_from_sin(sin_i), relative_azimuth(wo, wi));
+    }
+
+    // N_p with the caustic replacement (TRT) at one azimuth, before roughness.
+    HAIRSCATTER_HD V3 azimuthal(const MarschnerCubic<T>& cubic, const Section& s, const MarschnerCaustic<T>& caustic,
+                                const V3& caustic_a, T phi) const {
+        const int p = cubic.lobe();
+        const V3 n = marschner_root_sum(cubic, phi, LobeAttenuation{this, &s, p});
+        if (p != kTRT) return n;
+        const T x = wrap_pi(phi);  // TRT is centred on 2π ≡ 0
+        return n * caustic.smooth_factor(x) + caustic_a * caustic.lobes(x);
+    }
+
+    template <bool kF, bool kPdf>
+    HAIRSCATTER_HD HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
+        const T theta_i = elem::asin(sin_i);
+        HairEvalPdf<T> r;
+        const int n = mat_->nodes();
+        if constexpr (kF) {
+            const Section s = section(o, theta_i, eval_eta(o, phi));
+            const MarschnerParams<T>& prm = mat_->params();
+            V3 f(T(0));
+            for (int p = 0; p < kLobes; ++p) {
+                const T m = mat_->longitudinal(p).eval(theta_i, o.theta_o);
+                if (!(m > T(0))) continue;  // the lobe's Gaussian underflowed: skip its roots
+                const MarschnerCubic<T> cubic(p, s.inv_eta_perp);
+                MarschnerCaustic<T> caustic;
+                V3 caustic_a(T(0));
+                if (p == kTRT) {
+                    caustic = MarschnerCaustic<T>(cubic, s.eta_perp, prm.caustic_width, prm.caustic_fade,
+                                                  prm.caustic_dh_max);
+                    using std::cos;
+                    using std::sin;
+                    caustic_a = prm.caustic_gain *
+                                attenuations(s, sin(caustic.gamma_c), cos(caustic.gamma_c)).a[kTRT];
+                }
+                V3 np(T(0));
+                for (int k = 0; k < n; ++k)
+                    np += mat_->node_weight(k) * azimuthal(cubic, s, caustic, caustic_a, phi - mat_->node_offset(k));
+                f += m * np;
+            }
+            // Marschner's 1/cos²θd, with cos²θd = (1 + cos(θo - θi))/2; it vanishes only for
+            // wo and wi opposite along the axis, where the model diverges: floored at ε.
+            const T cos2_d = T(0.5) * (T(1) + o.cos_o * cos_i + o.sin_o * sin_i);
+            r.f = f * (cos_i / (cos2_d > kEpsilon<T> ? cos2_d : kEpsilon<T>));
+        }
+        if constexpr (kPdf) {
+            const Section s = section(o, theta_i, sample_eta(o));
+            T pdf = T(0);
+            for (int p = 0; p < kLobes; ++p) {
+                if (!(o.w[p] > T(0))) continue;
+                const T m = mat_->proposal(p).eval(sin_i, cos_i, o.sin_p[p], o.cos_p[p]);
+                if (!(m > T(0))) continue;
+                const MarschnerCubic<T> cubic(p, s.inv_eta_perp);
+                T np = T(0);
+                for (int k = 0; k < n; ++k) {
+                    const T len = mat_->cell_len(k);
+                    np += mat_->node_weight(k) / len * cubic.arc_mass(phi - mat_->cell_lo(k) - len, len);
+                }
+                pdf += o.w[p] * m * np;
+            }
+            r.pdf = pdf;
+        }
+        return r;
+    }
+
+    const Material* mat_;
+};
+
+}  // namespace hairscatter
