@@ -13,7 +13,8 @@
 #   asan      GCC, -O1 -g, asserts on, ASan+UBSan: build + ctest (build/test-asan)
 #   consumer  install to build/prefix; consume via find_package and add_subdirectory
 #   cuda      nvcc compile check of tests/cuda/*.cu (skipped without nvcc)
-#   example   build examples/ and bench/ with -Werror, run the lobe explorer small
+#   example   build examples/ and bench/ with -Werror, run the lobe explorer and the renderer
+#             small, and the seed study at a tiny size (scripts/study.sh --tiny)
 #
 # Options: -j N / JOBS=N parallelism (default: nproc); --no-deps (or
 # HAIRSCATTER_SKIP_DEPS=1) skips the apt package check.
@@ -219,6 +220,9 @@ step_example() {
         [[ "$line" == *" dropped=0 "* && "$line" == *" nonfinite_pixels=0 "* ]] ||
             { echo "example: render --integrator $integrator produced non-finite samples" >&2; return 1; }
     done
+    # The seed's study end to end at a tiny size: images exist and are finite, the error
+    # falls with spp for both samplers, the scale table and the plots are written.
+    bash "$ROOT/scripts/study.sh" --tiny --no-deps --build "$ROOT/build/test-example"
 }
 
 echo "hairscatter test.sh: steps=[$(for s in "${steps[@]}"; do enabled "$s" && printf '%s ' "$s"; done)] jobs=$JOBS root=$ROOT"

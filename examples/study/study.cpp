@@ -1,0 +1,305 @@
+// study — the seed thesis's measurements with the example renderer (issue 5):
+//
+//   study convergence   seed §4.3–4.4: error against spp and against seconds for uniform
+//                       and importance sampling of the dual-scattering BCSDF, inside a
+//                       hair-only region of interest, and the variance between consecutive
+//                       spp levels;
+//   study dual-vs-path  dual scattering against the brute-force path-traced multiple
+//                       scattering reference on hair blocks, blond and dark: relative error
+//                       of the mean hair radiance, per-pixel error images, times.
+//
+// Each writes CSV files and images into --out; scripts/study.sh runs both (and the scale
+// study through the render command line, one process per strand count so that peak memory
+// is per run), plots with gnuplot and writes docs/results/README.md.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <hairscatter/hairscatter.hpp>
+
+#include "common/image_io.hpp"
+#include "render.hpp"
+#include "scenes.hpp"
+
+namespace {
+
+namespace io = hairscatter_examples;
+
+struct Common {
+    bool ground = true;  // dual-vs-path: keep the ground plane (its bounce light is only in path)
+    int hairs = 1500;
+    std::string lighting = "both";  // env | area | both
+    int width = 160, height = 120;
+    std::string colour = "blond";
+    std::string out = "study-out";
+};
+
+glm::vec3 melanin_sigma_a(const std::string& colour) {
+    // Eumelanin concentrations of the presets (Chiang 2016 §4.2 ranges): blond 0.3, brown
+    // 1.3, dark 8.
+    if (colour == "blond") return hairscatter::sigma_a_from_melanin(0.3f, 0.0f);
+    if (colour == "brown") return hairscatter::sigma_a_from_melanin(1.3f, 0.0f);
+    if (colour == "dark") return hairscatter::sigma_a_from_melanin(8.0f, 0.0f);
+    throw std::invalid_argument("study: unknown colour '" + colour + "' (blond | brown | dark)");
+}
+
+// The seed's hair block (5 × 5 × 5 on the ground plane). Lighting: "env" a white
+// environment of radiance 1 only (where BCSDF sampling is the only strategy), "area" the
+// preset's small area light only, "both" the preset's area light and dim environment.
+render::SceneDescription block_scene(int hairs, const std::string& colour, const std::string& light, bool ground = true) {
+    render::BlockOptions block;
+    block.count = hairs;
+    render::LightingOptions lighting;
+    if (light == "env") {
+        lighting.light_power = 0;
+        lighting.environment = 1;
+    } else if (light == "area") {
+        lighting.environment = 0;
+    } else if (light != "both") {
+        throw std::invalid_argument("study: unknown lighting '" + light + "' (env | area | both)");
+    }
+    render::SceneDescription d = render::make_block_scene(block, lighting);
+    d.hair_params.sigma_a = melanin_sigma_a(colour);
+    if (!ground) d.meshes.clear();
+    return d;
+}
+
+// Statistics over the region of interest: pixels whose primary ray hits hair in the
+// reference's mask (seed §4: the error is measured where the hair is, not the background).
+struct Roi {
+    std::vector<std::size_t> pixels;
+    explicit Roi(const render::RenderResult& ref) {
+        for (std::size_t i = 0; i < ref.hair_mask.size(); ++i)
+            if (ref.hair_mask[i]) pixels.push_back(i);
+        if (pixels.empty()) throw std::runtime_error("study: the region of interest is empty (no hair in view)");
+    }
+    // Mean squared error and relative MSE (per channel, (x - r)² / (r² + 1e-4), the 1e-4
+    // keeping black reference pixels from dominating) against the reference.
+    std::pair<double, double> mse(const std::vector<float>& img, const std::vector<float>& ref) const {
+        double se = 0, rel = 0;
+        for (std::size_t p : pixels)
+            for (int c = 0; c < 3; ++c) {
+                const double x = img[3 * p + std::size_t(c)], r = ref[3 * p + std::size_t(c)];
+                se += (x - r) * (x - r);
+                rel += (x - r) * (x - r) / (r * r + 1e-4);
+            }
+        const double n = 3.0 * double(pixels.size());
+        return {se / n, rel / n};
+    }
+    glm::dvec3 mean(const std::vector<float>& img) const {
+        glm::dvec3 m(0.0);
+        for (std::size_t p : pixels)
+            for (int c = 0; c < 3; ++c) m[c] += img[3 * p + std::size_t(c)];
+        return m / double(pixels.size());
+    }
+    double mean_square(const std::vector<float>& img) const {
+        double s = 0;
+        for (std::size_t p : pixels)
+            for (int c = 0; c < 3; ++c) s += double(img[3 * p + std::size_t(c)]) * img[3 * p + std::size_t(c)];
+        return s / (3.0 * double(pixels.size()));
+    }
+};
+
+bool all_finite(const std::vector<float>& img) {
+    return std::all_of(img.begin(), img.end(), [](float v) { return std::isfinite(v); });
+}
+
+// PNG preview at a fixed exposure (so images of one study are comparable).
+void write_png(const std::string& path, const render::RenderResult& r, float scale) {
+    std::vector<std::uint8_t> px(r.rgb.size());
+    for (std::size_t i = 0; i < r.rgb.size(); ++i) {
+        const double v = double(r.rgb[i]) * scale;
+        px[i] = io::srgb8(v / (1 + v));  // Reinhard, then sRGB
+    }
+    io::write_png_rgb8(path, r.width, r.height, px);
+}
+
+void write_images(const std::string& base, const render::RenderResult& r, float scale) {
+    io::write_exr_rgb(base + ".exr", r.width, r.height, r.rgb, {});
+    write_png(base + ".png", r, scale);
+}
+
+// A false-colour image of |x - r| / (r + 0.01) per pixel (channel mean), 0 black → ≥ 50 %
+// white through red and yellow; outside the region of interest grey.
+void write_error_png(const std::string& path, const render::RenderResult& x, const render::RenderResult& ref) {
+    std::vector<std::uint8_t> px(ref.rgb.size(), 64);
+    for (std::size_t i = 0; i < ref.hair_mask.size(); ++i) {
+        if (!ref.hair_mask[i]) continue;
+        double e = 0;
+        for (int c = 0; c < 3; ++c) {
+            const double a = x.rgb[3 * i + std::size_t(c)], b = ref.rgb[3 * i + std::size_t(c)];
+            e += std::abs(a - b) / (std::abs(b) + 0.01) / 3;
+        }
+        const double t = std::min(1.0, e / 0.5);
+        px[3 * i + 0] = std::uint8_t(255 * std::min(1.0, 3 * t));
+        px[3 * i + 1] = std::uint8_t(255 * std::clamp(3 * t - 1, 0.0, 1.0));
+        px[3 * i + 2] = std::uint8_t(255 * std::clamp(3 * t - 2, 0.0, 1.0));
+    }
+    io::write_png_rgb8(path, ref.width, ref.height, px);
+}
+
+render::RenderOptions options(const Common& c, render::Integrator integrator, render::Sampling sampling, int spp,
+                              std::uint64_t seed) {
+    render::RenderOptions o;
+    o.integrator = integrator;
+    o.sampling = sampling;
+    o.width = c.width;
+    o.height = c.height;
+    o.spp = spp;
+    o.seed = seed;
+    return o;
+}
+
+// ---- seed §4.3–4.4 ---------------------------------------------------------------------
+
+int convergence(const Common& c, int max_spp, int reference_spp, const std::string& reference_sampling,
+                double threshold) {
+    const render::Scene scene(block_scene(c.hairs, c.colour, c.lighting));
+    const render::Sampling ref_sampling =
+        reference_sampling == "uniform" ? render::Sampling::kUniform : render::Sampling::kImportance;
+    std::fprintf(stderr, "study: reference, dual scattering, %s sampling, %d spp\n", reference_sampling.c_str(),
+                 reference_spp);
+    render::RenderOptions ro = options(c, render::Integrator::kDual, ref_sampling, reference_spp, 1000003);
+    ro.progress = true;
+    const render::RenderResult ref = render::render(scene, ro);
+    if (!all_finite(ref.rgb)) throw std::runtime_error("study: the reference image has non-finite pixels");
+    const Roi roi(ref);
+    const double ref_ms = roi.mean_square(ref.rgb);
+    write_images(c.out + "/convergence_" + c.lighting + "_reference", ref, 1.0f);
+
+    std::ofstream csv(c.out + "/convergence_" + c.lighting + ".csv");
+    csv << "sampler,spp,seconds,rmse,rel_mse,consecutive_var,consecutive_var_rel\n";
+    std::ofstream reach(c.out + "/convergence_" + c.lighting + "_threshold.csv");
+    reach << "sampler,threshold,spp_below\n";
+    for (const auto& [name, sampling] : {std::pair<const char*, render::Sampling>{"uniform", render::Sampling::kUniform},
+                                         {"importance", render::Sampling::kImportance}}) {
+        std::vector<float> previous;
+        int below = -1;
+        for (int spp = 1; spp <= max_spp; spp *= 2) {
+            const render::RenderResult r = render::render(scene, options(c, render::Integrator::kDual, sampling, spp, 17));
+            if (!all_finite(r.rgb)) throw std::runtime_error("study: non-finite pixels at " + std::to_string(spp) + " spp");
+            const auto [mse, rel] = roi.mse(r.rgb, ref.rgb);
+            // Seed §4.4: the variance between consecutive levels, mean over the ROI of
+            // (I_spp - I_spp/2)², and relative to the reference's mean square.
+            double var = -1;
+            if (!previous.empty()) var = roi.mse(r.rgb, previous).first;
+            if (var >= 0 && below < 0 && var / ref_ms < threshold) below = spp;
+            csv << name << ',' << spp << ',' << r.seconds << ',' << std::sqrt(mse) << ',' << rel << ',' << var << ','
+                << (var >= 0 ? var / ref_ms : -1) << '\n';
+            std::fprintf(stderr, "study: %-10s %5d spp  %7.2f s  RMSE %.4g  relMSE %.4g\n", name, spp, r.seconds,
+                         std::sqrt(mse), rel);
+            if (spp == 16) write_images(c.out + "/convergence_" + c.lighting + "_" + name + "_16spp", r, 1.0f);
+            previous = r.rgb;
+        }
+        reach << name << ',' << threshold << ',' << below << '\n';
+    }
+    return 0;
+}
+
+// ---- dual scattering against path tracing ------------------------------------------------
+
+int dual_vs_path(const Common& c, const std::vector<int>& hair_counts, const std::vector<std::string>& colours,
+                 int dual_spp, int path_spp) {
+    const std::string tag = c.lighting + (c.ground ? "" : "_noground");
+    std::ofstream csv(c.out + "/dual_vs_path_" + tag + ".csv");
+    csv << "colour,hairs,integrator,spp,seconds,mean_r,mean_g,mean_b,rel_error_mean,mean_abs_pixel_rel_error\n";
+    for (const std::string& colour : colours)
+        for (int hairs : hair_counts) {
+            const render::Scene scene(block_scene(hairs, colour, c.lighting, c.ground));
+            render::RenderOptions po = options(c, render::Integrator::kPath, render::Sampling::kMis, path_spp, 1);
+            po.progress = true;
+            const render::RenderResult path = render::render(scene, po);
+            render::RenderOptions dopt = options(c, render::Integrator::kDual, render::Sampling::kMis, dual_spp, 2);
+            const render::RenderResult dual = render::render(scene, dopt);
+            render::RenderOptions so = options(c, render::Integrator::kSingle, render::Sampling::kMis, dual_spp, 3);
+            const render::RenderResult single = render::render(scene, so);
+            if (!all_finite(path.rgb) || !all_finite(dual.rgb) || !all_finite(single.rgb))
+                throw std::runtime_error("study: non-finite pixels in dual-vs-path");
+            const Roi roi(path);
+            const glm::dvec3 mp = roi.mean(path.rgb);
+            const std::string base = c.out + "/dvp_" + tag + "_" + colour + "_" + std::to_string(hairs);
+            write_images(base + "_path", path, 1.0f);
+            write_images(base + "_dual", dual, 1.0f);
+            write_images(base + "_single", single, 1.0f);
+            write_error_png(base + "_dual_error.png", dual, path);
+            write_error_png(base + "_single_error.png", single, path);
+            for (const auto& [name, r, spp] : {std::tuple<const char*, const render::RenderResult&, int>{"path", path, path_spp},
+                                                {"dual", dual, dual_spp},
+                                                {"single", single, dual_spp}}) {
+                const glm::dvec3 m = roi.mean(r.rgb);
+                const double rel = (m.x + m.y + m.z - (mp.x + mp.y + mp.z)) / (mp.x + mp.y + mp.z);
+                double pix = 0;
+                for (std::size_t p : roi.pixels) {
+                    double e = 0;
+                    for (int ch = 0; ch < 3; ++ch) {
+                        const double a = r.rgb[3 * p + std::size_t(ch)], b = path.rgb[3 * p + std::size_t(ch)];
+                        e += std::abs(a - b) / (std::abs(b) + 0.01) / 3;
+                    }
+                    pix += e / double(roi.pixels.size());
+                }
+                csv << colour << ',' << hairs << ',' << name << ',' << spp << ',' << r.seconds << ',' << m.x << ','
+                    << m.y << ',' << m.z << ',' << rel << ',' << pix << '\n';
+                std::fprintf(stderr, "study: %-6s %6d hairs %-6s %5d spp %8.2f s  mean %.4f  rel. error of mean %+.3f\n",
+                             colour.c_str(), hairs, name, spp, r.seconds, (m.x + m.y + m.z) / 3, rel);
+            }
+        }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"hairscatter study: the seed thesis's convergence study and dual scattering against path tracing"};
+    app.require_subcommand(1);
+    Common c;
+    auto common = [&](CLI::App* s) {
+        s->add_option("--hairs", c.hairs, "strands in the block")->capture_default_str();
+        s->add_option("--width", c.width, "image width")->capture_default_str();
+        s->add_option("--height", c.height, "image height")->capture_default_str();
+        s->add_option("--out", c.out, "output directory (must exist)")->capture_default_str();
+        s->add_option("--lighting", c.lighting, "env | area | both")->capture_default_str();
+    };
+
+    CLI::App* conv = app.add_subcommand("convergence", "seed §4.3–4.4: error and variance against spp, uniform vs importance");
+    common(conv);
+    int max_spp = 256, reference_spp = 1024;
+    std::string reference_sampling = "importance";
+    double threshold = 1e-3;
+    conv->add_option("--colour", c.colour, "blond | brown | dark")->capture_default_str();
+    conv->add_option("--max-spp", max_spp, "largest spp level (levels 1, 2, 4, …)")->capture_default_str();
+    conv->add_option("--reference-spp", reference_spp, "spp of the reference image")->capture_default_str();
+    conv->add_option("--reference-sampling", reference_sampling, "uniform | importance")->capture_default_str();
+    conv->add_option("--threshold", threshold, "relative consecutive-level variance to reach (seed §4.4)")
+        ->capture_default_str();
+
+    CLI::App* dvp = app.add_subcommand("dual-vs-path", "dual scattering against the path-traced reference");
+    common(dvp);
+    std::vector<int> hair_counts{1500};
+    std::vector<std::string> colours{"blond", "dark"};
+    int dual_spp = 64, path_spp = 256;
+    dvp->add_option("--hair-counts", hair_counts, "block sizes")->capture_default_str();
+    bool no_ground = false;
+    dvp->add_flag("--no-ground", no_ground,
+                  "remove the ground plane: the light it bounces onto the hair reaches only the path tracer, so "
+                  "without it the difference is the hair's own multiple scattering");
+    dvp->add_option("--colours", colours, "hair colours")->capture_default_str();
+    dvp->add_option("--dual-spp", dual_spp, "spp of the dual and single scattering images")->capture_default_str();
+    dvp->add_option("--path-spp", path_spp, "spp of the path-traced reference")->capture_default_str();
+
+    CLI11_PARSE(app, argc, argv);
+    try {
+        if (conv->parsed()) return convergence(c, max_spp, reference_spp, reference_sampling, threshold);
+        c.ground = !no_ground;
+        if (dvp->parsed()) return dual_vs_path(c, hair_counts, colours, dual_spp, path_spp);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "study: %s\n", e.what());
+        return 1;
+    }
+    return 1;
+}
