@@ -74,7 +74,8 @@ template <typename T> std::string validate(const MarschnerParams<T>& p) {
 
 // Everything that depends only on the parameters and the roughness node count, built on
 // the host (the constructor throws std::invalid_argument naming a bad parameter).
-// Trivially copyable (< 0.5 KB in double).
+// Trivially copyable (888 bytes in double, 444 in float), so it can be passed to a kernel
+// by value.
 //
 // Azimuthal roughness: N_p is convolved with a Gaussian of σ = azimuthal_gaussian_width(β_n)
 // (the σ DeonFarField uses for the same β_n) by an n-point Gauss–Hermite rule,
