@@ -165,7 +165,8 @@ TEST(DeonFarFieldFurnace, LosslessFiberConservesEnergyFloat) { run_furnace<float
 // Φ(p, h_k) are closer than about σ: for βn ≥ 0.3 (σ ≥ 0.21 rad) 32 nodes are within 3e-4
 // and 64 within 1e-7 (asserted); fewer nodes leave a comb of separate spikes (8 nodes:
 // errors of order 1). Narrower detectors need proportionally more nodes: at βn = 0.1
-// (σ = 0.044) even 64 nodes are 20–30 % off between spikes (printed, not asserted).
+// (σ = 0.044) 64 nodes are 20–30 % off between spikes (printed), and the automatic node
+// count (auto_nodes: 156 there) must be within 3e-4 for βn from 0.1 to 1 (asserted).
 TEST(DeonFarField, MatchesAdaptiveIntegrationOfTheDefinition) {
     struct Case {
         Config c;
@@ -225,6 +226,18 @@ TEST(DeonFarField, MatchesAdaptiveIntegrationOfTheDefinition) {
     std::printf("[ far-field] narrow detector (βn = 0.1, σ = %.3f rad):",
                 FarFieldReference{{1.55, 0.3, 0.1, 0.0, glm::dvec3(0.0)}}.sigma());
     for (int n : node_counts) std::printf("  N_h=%d: %.2g", n, measure(narrow, narrow_pts, n));
+    std::printf("\n");
+
+    // The automatic node count over the detector widths, each case against its reference.
+    std::printf("[ far-field] automatic node count:");
+    for (double bn : {0.1, 0.15, 0.2, 0.3, 0.5, 1.0}) {
+        const std::vector<Case> one = {{{0.3, bn, 2.0, {0.2, 0.4, 0.8}}, 25}};
+        const std::vector<std::vector<Point>> one_pts = {reference_points(one[0], rng)};
+        const int n = hs::DeonFarFieldMaterial<double>::auto_nodes(bn);
+        const double e = measure(one, one_pts, hs::DeonFarFieldMaterial<double>::kAutoNodes);
+        std::printf("  βn=%g: N_h=%d %.2g", bn, n, e);
+        EXPECT_LT(e, 3e-4) << "βn = " << bn << ", " << n << " nodes";
+    }
     std::printf("\n");
 }
 
@@ -320,10 +333,10 @@ template <typename T> void run_chi2_grid() {
 TEST(DeonFarFieldChi2, SampleMatchesPdfDouble) { run_chi2_grid<double>(); }
 TEST(DeonFarFieldChi2, SampleMatchesPdfFloat) { run_chi2_grid<float>(); }
 
-// The largest rule (64 nodes, 32 stored with mirrors) at the default roughness, on a
-// coarser 12 × 24 histogram (its pdf is 8× dearer than the grid's).
+// A large rule (64 nodes, 32 stored with mirrors) at the default roughness, on a coarser
+// 12 × 24 histogram (its pdf is 8× dearer than the grid's).
 TEST(DeonFarFieldChi2, SampleMatchesPdfAtMaxNodes) {
-    const Chi2Case c{0.3, 0.3, 2, 40, 0.5, hs::DeonFarFieldMaterial<double>::kMaxNodes};
+    const Chi2Case c{0.3, 0.3, 2, 40, 0.5, 64};
     const hs::DeonFarFieldMaterial<double> mat(chi2_params<double>(c), c.nodes);
     const hs::DeonFarFieldFiber<double> fiber(mat);
     const glm::dvec3 wo = ref::dir(c.theta_o_deg * kPi / 180, 0.7);
@@ -453,12 +466,18 @@ template <typename T> void sweep_extremes() {
 TEST(DeonFarFieldExtremes, NoNaNOrInfDouble) { sweep_extremes<double>(); }
 TEST(DeonFarFieldExtremes, NoNaNOrInfFloat) { sweep_extremes<float>(); }
 
-// Bad fiber parameters and node counts outside [1, 64] throw, naming the parameter.
+// Bad fiber parameters and node counts outside [1, 256] (0 = automatic) throw, naming the
+// parameter; the automatic count follows β_n and stays in [24, 256].
 TEST(DeonFarFieldMaterial, ValidatesParametersAndNodeCount) {
     hs::FiberParams<double> p;
     EXPECT_NO_THROW(hs::DeonFarFieldMaterial<double>(p, 1));
-    EXPECT_NO_THROW(hs::DeonFarFieldMaterial<double>(p, 64));
-    for (int n : {0, -3, 65, 1000}) {
+    EXPECT_NO_THROW(hs::DeonFarFieldMaterial<double>(p, 256));
+    EXPECT_EQ(hs::DeonFarFieldMaterial<double>(p).nodes(), hs::DeonFarFieldMaterial<double>::auto_nodes(p.beta_n));
+    EXPECT_GE(hs::DeonFarFieldMaterial<double>::auto_nodes(0.3), 32);
+    EXPECT_GT(hs::DeonFarFieldMaterial<double>::auto_nodes(0.1), 128);
+    EXPECT_EQ(hs::DeonFarFieldMaterial<double>::auto_nodes(1.0), 24);
+    EXPECT_EQ(hs::DeonFarFieldMaterial<double>::auto_nodes(0.01), 256);
+    for (int n : {-1, -3, 257, 1000}) {
         try {
             hs::DeonFarFieldMaterial<double> m(p, n);
             ADD_FAILURE() << n << " nodes accepted";

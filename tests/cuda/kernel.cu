@@ -115,6 +115,26 @@ template __global__ void evaluate_tabulated<double>(hairscatter::TabulatedView<d
                                                     const glm::vec<3, double>*, const glm::vec<4, double>*,
                                                     glm::vec<3, double>*, double*, int);
 
+// Marschner 2003 (root solving, caustics): the material (≈ 0.9 KB) goes to the kernel by
+// value; the fiber needs no h.
+template <typename T>
+__global__ void evaluate_marschner(hairscatter::MarschnerMaterial<T> mat, const glm::vec<3, T>* wo,
+                                   const glm::vec<3, T>* wi, const glm::vec<4, T>* u, glm::vec<3, T>* f, T* pdf,
+                                   int n) {
+    const int i = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
+    if (i >= n) return;
+    const hairscatter::MarschnerFiber<T> fiber(mat);
+    f[i] = fiber.eval(wo[i], wi[i]) + fiber.eval_pdf(wo[i], wi[i]).f;
+    const hairscatter::HairSample<T> s = fiber.sample(wo[i], u[i]);
+    pdf[i] = fiber.pdf(wo[i], wi[i]) + s.pdf + s.weight.x;
+}
+template __global__ void evaluate_marschner<float>(hairscatter::MarschnerMaterial<float>, const glm::vec<3, float>*,
+                                                   const glm::vec<3, float>*, const glm::vec<4, float>*,
+                                                   glm::vec<3, float>*, float*, int);
+template __global__ void evaluate_marschner<double>(hairscatter::MarschnerMaterial<double>, const glm::vec<3, double>*,
+                                                    const glm::vec<3, double>*, const glm::vec<4, double>*,
+                                                    glm::vec<3, double>*, double*, int);
+
 template <typename T>
 hairscatter::ChiangMaterial<T> make_material() {
     hairscatter::FiberParams<T> p;

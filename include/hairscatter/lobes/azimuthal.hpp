@@ -15,6 +15,15 @@ template <typename T> HAIRSCATTER_HD T logistic_scale(T beta_n) {
     return kSqrtPiOver8<T> * (T(0.265) * beta_n + T(1.194) * b2 + T(5.372) * b16 * b4 * b2);
 }
 
+// Standard deviation σ of the azimuthal Gaussian from β_n: the variance of Chiang et al.
+// 2016's logistic of scale s(β_n) (eq. 8), π²s²/3, so σ = π s / √3. d'Eon et al. 2011 use
+// β_n itself as the Gaussian's width; matching Chiang's variance instead makes the same
+// FiberParams give the same azimuthal spread in both models (β_n is tuned, and perceptually
+// linearised, for Chiang's mapping), so switching model does not change a groom's look.
+template <typename T> HAIRSCATTER_HD T azimuthal_gaussian_width(T beta_n) {
+    return T(1.81379936423421785059) * logistic_scale(beta_n);  // π/√3
+}
+
 // Exit azimuth of the path that reflects p - 1 times inside the fiber, relative to the
 // incoming one: Φ(p, h) = 2p γt - 2γo + pπ (Marschner et al. 2003, eq. 3 with d'Eon's
 // sign convention as in pbrt).

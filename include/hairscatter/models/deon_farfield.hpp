@@ -26,18 +26,9 @@
 
 namespace hairscatter {
 
-// Standard deviation σ of the azimuthal Gaussian from β_n: the variance of Chiang et al.
-// 2016's logistic of scale s(β_n) (eq. 8), π²s²/3, so σ = π s / √3. d'Eon et al. 2011 use
-// β_n itself as the Gaussian's width; matching Chiang's variance instead makes the same
-// FiberParams give the same azimuthal spread in both models (β_n is tuned, and perceptually
-// linearised, for Chiang's mapping), so switching model does not change a groom's look.
-template <typename T> HAIRSCATTER_HD T azimuthal_gaussian_width(T beta_n) {
-    return T(1.81379936423421785059) * logistic_scale(beta_n);  // π/√3
-}
-
 // Everything that depends only on the fiber parameters and the number of h nodes, computed
 // once on the host (validated: the constructor throws std::invalid_argument naming the bad
-// parameter). Trivially copyable (≈ 1.3 KB in double), so it can be copied to a GPU.
+// parameter). Trivially copyable (≈ 4 KB in double), so it can be copied to a GPU.
 //
 // The h integral: nodes of an n-point Gauss–Legendre rule placed in γ = asin h rather than
 // in h, because A_p and Φ go like √(1 - h²) at the rim and are smooth in γ:
@@ -50,16 +41,38 @@ template <typename T> HAIRSCATTER_HD T azimuthal_gaussian_width(T beta_n) {
 template <typename T> class DeonFarFieldMaterial {
   public:
     static constexpr int kLobes = 3;  // R, TT, TRT explicit; index 3 is the residual
-    static constexpr int kMaxNodes = 64;
+    static constexpr int kMaxNodes = 256;
     static constexpr int kMaxHalfNodes = kMaxNodes / 2;
-    static constexpr int kDefaultNodes = 32;
+    static constexpr int kAutoNodes = 0;  // choose the node count from β_n (auto_nodes)
 
-    explicit DeonFarFieldMaterial(const FiberParams<T>& params, int nodes = kDefaultNodes)
+    // The node count that resolves the detector of width σ(β_n) to ~1e-4: the rule samples
+    // the exit azimuth Φ(p, h) at spacing |dΦ/dγ| Δγ ≤ 2 · π²/(2n) (R's |dΦ/dγ| = 2 is the
+    // largest away from the rim; Gauss–Legendre's widest gap, at the centre, is ≈ π/n in
+    // [-1, 1], π²/(2n) in γ), and a sum of Gaussians sampled at spacing Δ deviates from
+    // its integral by ≈ 2 exp(-2π²σ²/Δ²) (Poisson summation), 1e-4 at Δ = 1.45σ. So
+    // n = ⌈π²/(1.45σ)⌉, rounded up to even and kept in [24, kMaxNodes]: 34 nodes at
+    // β_n = 0.3, 156 at β_n = 0.1; below β_n ≈ 0.06 the cap leaves the comb visible (use the
+    // near-field ChiangFiber with a random h there). At least 24 nodes: wide detectors are
+    // limited instead by the smoothness of A_p and Φ in γ (8 nodes: 1e-3 at β_n = 1, 24:
+    // 1e-5). Measured in tests/deon_farfield_test.cpp.
+    static int auto_nodes(T beta_n) {
+        const double sigma = double(azimuthal_gaussian_width(beta_n));
+        const double n = std::ceil(9.8696044010893586188 / (1.45 * sigma));
+        int k = n > double(kMaxNodes) ? kMaxNodes : int(n);
+        k += k % 2;
+        return k < 24 ? 24 : (k > kMaxNodes ? kMaxNodes : k);
+    }
+
+    // nodes: the Gauss–Legendre order of the h integral, 1 … kMaxNodes, or kAutoNodes for
+    // auto_nodes(β_n) (the cost of eval, pdf and sample is linear in it).
+    explicit DeonFarFieldMaterial(const FiberParams<T>& params, int nodes = kAutoNodes)
         : params_(params), nodes_(nodes) {
         require_valid(params);
-        if (!(nodes >= 1 && nodes <= kMaxNodes))
+        if (!(nodes >= 0 && nodes <= kMaxNodes))
             throw std::invalid_argument("hairscatter: DeonFarFieldMaterial: nodes = " + std::to_string(nodes) +
-                                        " is outside its range [1, " + std::to_string(kMaxNodes) + "]");
+                                        " is outside its range [1, " + std::to_string(kMaxNodes) +
+                                        "] (or 0 for the automatic choice)");
+        if (nodes == kAutoNodes) nodes_ = nodes = auto_nodes(params.beta_n);
         const T v0 = longitudinal_variance(params.beta_m);
         const T v[kLobes + 1] = {v0, T(0.25) * v0, T(4) * v0, T(4) * v0};
         for (int p = 0; p <= kLobes; ++p) m_[p] = DeonLongitudinal<T>(v[p]);
@@ -107,7 +120,7 @@ template <typename T> class DeonFarFieldMaterial {
 
   private:
     FiberParams<T> params_;
-    int nodes_ = kDefaultNodes, half_nodes_ = 0;
+    int nodes_ = 0, half_nodes_ = 0;
     DeonLongitudinal<T> m_[kLobes + 1];
     WrappedGaussian<T> n_;
     CuticleTilt<T> tilt_;
@@ -129,11 +142,10 @@ template <typename T> class DeonFarFieldMaterial {
 //
 // Holds a pointer to the material, which must outlive the fiber (a temporary material is
 // rejected at compile time). Each call loops over the ⌈n/2⌉ stored nodes, so the cost is
-// linear in n: measured (x86-64, g++ -O3) at 32 nodes 1.6 µs per eval in float, 2.1 µs in
-// double, sample about 1.4× that — some 15× ChiangFiber's eval. Accuracy needs the nodes'
-// exit azimuths closer than the Gaussian's σ: 32 nodes give 1e-4 for β_n ≥ 0.3, while
-// β_n ≲ 0.2 leaves a visible comb even at 64 (the h integral is then better done by the
-// near-field ChiangFiber with a random h). Energy and sampling are exact at any n.
+// linear in n: at 32 nodes about 1 µs per eval in float (docs/tradeoff.md), some 12× the
+// ChiangFiber. Accuracy needs the nodes' exit azimuths closer than the Gaussian's σ; the
+// automatic node count (DeonFarFieldMaterial::auto_nodes) gives ~1e-4 down to β_n ≈ 0.06.
+// Energy and sampling are exact at any n.
 template <typename T> class DeonFarFieldFiber {
   public:
     using V3 = glm::vec<3, T>;

@@ -22,7 +22,8 @@
 #include "../math/elementary.hpp"
 #include "../math/functions.hpp"
 #include "../math/quadrature.hpp"
-#include "deon_farfield.hpp"  // HairSample, HairEvalPdf, HairLobe, azimuthal_gaussian_width
+#include "../lobes/azimuthal.hpp"  // azimuthal_gaussian_width
+#include "chiang.hpp"              // HairSample, HairEvalPdf, HairLobe
 
 namespace hairscatter {
 
