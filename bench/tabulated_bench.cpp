@@ -5,6 +5,8 @@
 // float time is the unit u of the speed goals. Inputs are cycled from bench/reference/
 // inputs.hpp as in chiang_bench.
 //
+// BM_Part splits the default eval into its table, φ and M_p parts (see there).
+//
 // Arguments: res = resolution (0 coarse, 1 default, 2 fine: TabulatedOptions), bm = β_m
 // index (0.05, 0.3, 1.0), wi = 0 for wi uniform on the sphere, 1 for wi drawn by a sampler
 // (so that the lobe peaks are hit).
@@ -174,6 +176,60 @@ template <typename T> void BM_ExactEval(benchmark::State& state) {
     state.SetLabel(state.range(0) ? "beta_m=0.30 wi=sampled" : "beta_m=0.30 wi=uniform");
 }
 
+// Where eval's time goes (default resolution, β_m = 0.3, wi sampled), each part written with
+// the view's public accessors exactly as TabulatedFiber::eval does it:
+//   part 0, table:        the row and node cells and the 36-value bilinear interpolation
+//                         of the three lobes, with φ replaced by a value that costs nothing
+//                         (|wi.y| ∈ [0, 1], so only the first third of the nodes is read);
+//   part 1, table + φ:    the same with φ from the atan2 of the azimuthal cross and dot;
+//   part 2, longitudinal: cosθi and the four exact M_p at the tilted θo' (d'Eon 2011).
+// The three do not add up to eval (they overlap in the pipeline); their differences show
+// what a faster φ or M_p can save at most.
+template <typename T> void BM_Part(benchmark::State& state) {
+    using V3 = glm::vec<3, T>;
+    const Args<T> a(state, true);
+    const hs::TabulatedView<T>& v = a.fiber.view();
+    const int part = int(state.range(3));
+    constexpr int kStride = hs::TabulatedView<T>::kNodeStride;
+    cycle(state, true, [&](std::size_t k) {
+        const V3& wo = a.in.wo[k];
+        const V3& wi = a.wi[k];
+        const T sin_o = hs::clamp(wo.x, T(-1), T(1)), cos_o = hs::cos_from_sin(sin_o);
+        const T sin_i = hs::clamp(wi.x, T(-1), T(1));
+        if (part == 2) {
+            const T cos_i = hs::cos_from_sin(sin_i);
+            T m = T(0);
+            for (int p = 0; p < 4; ++p) {
+                const auto r = v.tilt().rotate(p, sin_o, cos_o);
+                m += v.longitudinal(p).eval(sin_i, cos_i, r.sin_theta, r.cos_theta);
+            }
+            return V3(m);
+        }
+        int row, i;
+        T t, u;
+        v.theta_cell(cos_o, row, t);
+        const T phi = part == 1 ? hs::elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z) : wi.y;
+        v.phi_cell(phi < T(0) ? -phi : phi, i, u);
+        const T* n0 = v.lobes(row) + i * kStride;
+        const T* n1 = v.lobes(row + 1) + i * kStride;
+        const T w00 = (T(1) - t) * (T(1) - u), w01 = (T(1) - t) * u, w10 = t * (T(1) - u), w11 = t * u;
+        V3 f(T(0));
+        for (int p = 0; p < 3; ++p)
+            for (int c = 0; c < 3; ++c) {
+                const int j = 3 * p + c;
+                f[c] += w00 * n0[j] + w01 * n0[kStride + j] + w10 * n1[j] + w11 * n1[kStride + j];
+            }
+        return f;
+    });
+    static const char* const kPartName[3] = {" part=table", " part=table+phi", " part=longitudinal"};
+    state.SetLabel(label(state, true) + kPartName[part]);
+}
+
+void part_args(benchmark::internal::Benchmark* b) {
+    b->ArgNames({"res", "bm", "wi", "part"});
+    for (int part = 0; part < 3; ++part) b->Args({1, 1, 1, part});
+}
+
 }  // namespace
 
 BENCHMARK_TEMPLATE(BM_Calib, float);
@@ -195,6 +251,8 @@ BENCHMARK_TEMPLATE(BM_AtEval, float)->Apply(res_wi_args);
 BENCHMARK_TEMPLATE(BM_AtEval, double)->Apply(res_wi_args);
 BENCHMARK_TEMPLATE(BM_AtSample, float)->Apply(res_args);
 BENCHMARK_TEMPLATE(BM_AtSample, double)->Apply(res_args);
+BENCHMARK_TEMPLATE(BM_Part, float)->Apply(part_args);
+BENCHMARK_TEMPLATE(BM_Part, double)->Apply(part_args);
 BENCHMARK_TEMPLATE(BM_ExactEval, float)->ArgName("wi")->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(BM_ExactEval, double)->ArgName("wi")->Arg(0)->Arg(1);
 
