@@ -137,7 +137,21 @@ template <typename T, typename Fiber> struct Shader {
 };
 
 // The model's reference family.
-enum class Family { kNearField, kFarField };
+enum class Family { kNearField, kFarField, kMarschner };
+
+const char* family_name(Family f) {
+    return f == Family::kNearField ? "near field" : f == Family::kFarField ? "far field" : "Marschner 16 nodes";
+}
+
+// Marschner's model in the study: the study material's η, σa and βn with the paper's own
+// α_R = -7.5°, β_R = 7.5° (its Table 1; its lobes are not parameterised by βm).
+template <typename T> hs::MarschnerParams<T> marschner_params(const hs::FiberParams<T>& p) {
+    hs::MarschnerParams<T> m;
+    m.eta = p.eta;
+    m.sigma_a = p.sigma_a;
+    m.beta_n = p.beta_n;
+    return m;
+}
 
 struct Result {
     std::string name, model, knob, precision;
@@ -161,9 +175,15 @@ const std::vector<glm::dvec3>& reference(Family family) {
     std::vector<glm::dvec3> f;
     if (family == Family::kNearField) {
         for (std::size_t i = 0; i < kPairs; ++i) f.push_back(ref::Model{p, in.h[i]}.f(in.wo[i], in.wi[i]));
-    } else {
+    } else if (family == Family::kFarField) {
         const ref::FarFieldReference r{p};
         for (std::size_t i = 0; i < kPairs; ++i) f.push_back(r.f(in.wo[i], in.wi[i]));
+    } else {
+        // Marschner's model is its own reference: double, the most roughness nodes.
+        const hs::MarschnerMaterial<double> mat(marschner_params(study_params(false)),
+                                                hs::MarschnerMaterial<double>::kMaxNodes);
+        const hs::MarschnerFiber<double> fiber(mat);
+        for (std::size_t i = 0; i < kPairs; ++i) f.push_back(fiber.eval(in.wo[i], in.wi[i]));
     }
     return cache.emplace(family, std::move(f)).first->second;
 }
@@ -289,7 +309,11 @@ template <typename T> void add_pbrt(bool quick) {
 
 template <typename T> void add_far_field(int nodes, bool quick) {
     using Fiber = hs::DeonFarFieldFiber<T>;
-    add<T, Fiber>("deon-farfield", std::to_string(nodes) + " nodes", Family::kFarField,
+    add<T, Fiber>("deon-farfield",
+                  nodes == hs::DeonFarFieldMaterial<T>::kAutoNodes
+                      ? "auto (" + std::to_string(hs::DeonFarFieldMaterial<T>::auto_nodes(T(0.3))) + ") nodes"
+                      : std::to_string(nodes) + " nodes",
+                  Family::kFarField,
                   [nodes](const hs::FiberParams<T>& p) {
                       const auto mat = std::make_shared<const hs::DeonFarFieldMaterial<T>>(p, nodes);
                       return std::function<Fiber(T)>([mat](T) { return Fiber(*mat); });
@@ -311,6 +335,16 @@ std::string table_knob(const char* name, const hs::TabulatedOptions& o) {
     return std::string(name) + " " + std::to_string(o.phi_samples) + "x" + std::to_string(o.theta_samples);
 }
 
+template <typename T> void add_marschner(int nodes, bool quick) {
+    using Fiber = hs::MarschnerFiber<T>;
+    add<T, Fiber>("marschner", std::to_string(nodes) + " nodes", Family::kMarschner,
+                  [nodes](const hs::FiberParams<T>& p) {
+                      const auto mat = std::make_shared<const hs::MarschnerMaterial<T>>(marschner_params(p), nodes);
+                      return std::function<Fiber(T)>([mat](T) { return Fiber(*mat); });
+                  },
+                  quick);
+}
+
 void add_settings(bool quick) {
     using hs::Lobes;
     add_chiang<float, Lobes::kAll>("all lobes", quick);
@@ -321,10 +355,13 @@ void add_settings(bool quick) {
     add_pbrt<float>(quick);
     for (int n : {4, 8, 16, 32, 64}) add_far_field<float>(n, quick);
     add_far_field<double>(64, quick);
+    add_far_field<float>(hs::DeonFarFieldMaterial<float>::kAutoNodes, quick);
     add_tabulated<float>(table_knob("coarse", hs::TabulatedOptions::coarse()), hs::TabulatedOptions::coarse(), quick);
     add_tabulated<float>(table_knob("default", hs::TabulatedOptions()), hs::TabulatedOptions(), quick);
     add_tabulated<float>(table_knob("fine", hs::TabulatedOptions::fine()), hs::TabulatedOptions::fine(), quick);
     add_tabulated<double>(table_knob("default", hs::TabulatedOptions()), hs::TabulatedOptions(), quick);
+    for (int n : {1, 3, 7, 16}) add_marschner<float>(n, quick);
+    add_marschner<double>(7, quick);
 }
 
 // Collects the medians (CPU time, ns) of every benchmark by name.
@@ -390,7 +427,7 @@ int main(int argc, char** argv) {
     csv << "model,knob,precision,reference,eval_ns,pdf_ns,sample_ns,eval_u,rel_l1,furnace_dev,furnace_min,furnace_max\n";
     for (const Result& r : results())
         csv << r.model << ',' << r.knob << ',' << r.precision << ','
-            << (r.family == Family::kNearField ? "near-field" : "far-field") << ',' << r.eval_ns << ',' << r.pdf_ns
+            << family_name(r.family) << ',' << r.eval_ns << ',' << r.pdf_ns
             << ',' << r.sample_ns << ',' << r.eval_ns / unit << ',' << r.rel_l1 << ',' << r.furnace_dev << ','
             << r.furnace_min << ',' << r.furnace_max << '\n';
 
@@ -404,7 +441,7 @@ int main(int argc, char** argv) {
     for (const Result& r : results()) {
         std::snprintf(line, sizeof line, "| %s | %s | %s | %s | %.1f (%.2f) | %.1f | %.1f | %.2e | %.5f–%.5f |\n",
                       r.model.c_str(), r.knob.c_str(), r.precision.c_str(),
-                      r.family == Family::kNearField ? "near field" : "far field", r.eval_ns, r.eval_ns / unit,
+                      family_name(r.family), r.eval_ns, r.eval_ns / unit,
                       r.pdf_ns, r.sample_ns, r.rel_l1, r.furnace_min, r.furnace_max);
         md << line;
     }
