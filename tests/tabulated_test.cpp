@@ -488,7 +488,7 @@ TEST(TabulatedMaterial, ValidatesOptionsAndParameters) {
     expect_throw({96, -4, 32}, "theta_samples");
     expect_throw({96, hs::TabulatedOptions::kMaxThetaSamples + 1, 32}, "theta_samples");
     expect_throw({96, 16, 0}, "h_nodes");
-    expect_throw({96, 16, 65}, "h_nodes");
+    expect_throw({96, 16, hs::DeonFarFieldMaterial<double>::kMaxNodes + 1}, "h_nodes");
 
     auto expect_param_throw = [](hs::FiberParams<float> q, const char* name) {
         try {
