@@ -15,8 +15,13 @@ set yrange [1e-11:3]
 set xrange [0.2:400]
 # Column 8 = eval time in u, 9 = relative L1 error, 1 = model, 2 = knob, 3 = precision.
 pick(m) = (strcol(1) eq m) ? column(9) : NaN
+# Marschner in a darker yellow than gnuplot's default, which is hard to read on white.
+set linetype 5 lc rgb "#b8a000"
 err(x) = (x < 1e-11) ? 1e-11 : x
 name(m) = m
 plot for [m in "chiang pbrt-v4-style deon-farfield tabulated marschner"] csv skip 1 \
          using 8:(err(pick(m))) with points pt 7 ps 1.4 title m, \
-     csv skip 1 using 8:(err(column(9))):(strcol(2)." ".strcol(3)) with labels offset 0.8,0.6 left font "sans,8" notitle
+     csv skip 1 using 8:((strcol(3) eq "float") ? err(column(9)) : NaN):(strcol(2)." ".strcol(3)) \
+         with labels offset 0.8,0.6 left font "sans,8" notitle, \
+     csv skip 1 using 8:((strcol(3) eq "double") ? err(column(9)) : NaN):(strcol(2)." ".strcol(3)) \
+         with labels offset 0.8,-0.8 left font "sans,8" notitle

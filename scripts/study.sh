@@ -67,14 +67,14 @@ run() {
 # ---- parameters ------------------------------------------------------------------------
 if [[ $tiny == 1 ]]; then
     size=(--width 48 --height 36)
-    conv=(--max-spp 16 --reference-spp 64)
+    conv=(--max-spp 16 --reference-spp 64 --threshold 0.01)
     dvp=(--dual-spp 4 --path-spp 16 --hair-counts 1500)
     scale_blocks=(1500 3000)
     scale_scalps=()
     scale_size=(--width 64 --height 48 --spp 1)
 else
     size=(--width 160 --height 120)
-    conv=(--max-spp 512 --reference-spp 4096)
+    conv=(--max-spp 512 --reference-spp 4096 --threshold 0.01)
     dvp=(--dual-spp 256 --path-spp 512 --hair-counts 1500 6000)
     scale_blocks=(1500 3000 6000 12000)
     scale_scalps=(25000 50000 100000)
