@@ -8,8 +8,9 @@
 #   3. dual scattering (and single scattering) against the brute-force path tracer on hair
 #      blocks, blond and dark: error of the mean hair radiance, error images, times;
 #   4. scale: render time and peak memory against strand count, hair blocks of 1,500 to
-#      12,000 strands and scalps of 25,000 to 100,000, single and dual scattering (one
-#      process per run, so peak memory is per run).
+#      12,000 strands and scalps of 25,000 to 100,000, single and dual scattering and the
+#      path tracer (one process per run, so peak memory is per run);
+#   5. a gallery of the seed's scenes: the four hair blocks and the Cornell box.
 # Tables (CSV), plots (PNG, gnuplot) and docs/results/README.md with the commands, the
 # machine and the date. About 15 minutes on the 2-core machine.
 #
@@ -97,7 +98,7 @@ echo "scene,strands,segments,integrator,render_s,build_s,peak_rss_mb,embree_mb,g
 field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" <<<" $2"; }
 scale_run() {  # scene-args...
     local integrator line
-    for integrator in single dual; do
+    for integrator in single dual path; do
         line="$(run "$RENDER" "$@" --integrator "$integrator" "${scale_size[@]}" --quiet -o "$BUILD/scale-tmp")"
         echo "$line" >&2
         echo "$(field scene "$line"),$(field strands "$line"),$(field segments "$line"),$integrator,$(field time_s "$line"),$(field build_s "$line"),$(field peak_rss_mb "$line"),$(field embree_mb "$line"),$(field grid_mb "$line"),$(field tables_kb "$line")" >>"$scale_csv"
@@ -106,9 +107,25 @@ scale_run() {  # scene-args...
 for n in "${scale_blocks[@]}"; do scale_run --scene block --hairs "$n"; done
 for n in "${scale_scalps[@]+"${scale_scalps[@]}"}"; do scale_run --scene scalp --scalp-hairs "$n"; done
 
+# ---- 5: the seed's scenes ----------------------------------------------------------------
+gallery=()
+if [[ $tiny == 1 ]]; then
+    gallery_size=(--width 64 --height 48 --spp 2)
+    gallery_blocks=(1500)
+else
+    gallery_size=(--width 320 --height 240 --spp 64)
+    gallery_blocks=(1500 3000 6000 12000)
+fi
+for n in "${gallery_blocks[@]}"; do
+    run "$RENDER" --scene block --hairs "$n" "${gallery_size[@]}" --quiet -o "$out/scene_block_$n" >/dev/null
+    gallery+=("scene_block_$n")
+done
+run "$RENDER" --scene cornell "${gallery_size[@]}" --quiet -o "$out/scene_cornell" >/dev/null
+gallery+=("scene_cornell")
+
 # ---- checks (always; they are what --tiny is for) -------------------------------------
 fail=0
-for f in "$out"/convergence_env_reference.exr "$out"/convergence_both_reference.exr; do
+for f in "$out"/convergence_env_reference.exr "$out"/convergence_both_reference.exr "$out"/scene_cornell.exr; do
     [[ -s "$f" ]] || { echo "study: missing $f" >&2; fail=1; }
 done
 for lighting in env both; do
@@ -205,5 +222,15 @@ table() {  # csv → markdown table
     table "$scale_csv"
     echo
     echo "![time against strands](scale_time.png) ![memory against strands](scale_memory.png)"
+    echo
+    echo "## 5. The seed's scenes"
+    echo
+    echo "Dual scattering with MIS, ${gallery_size[*]}, blond hair: the 5 × 5 × 5 blocks of"
+    echo "${gallery_blocks[*]} hairs on the ground plane, and the Cornell box (red left wall,"
+    echo "green right wall, grey back and front walls, the hair block and a red diffuse sphere)."
+    echo
+    line=""
+    for g in "${gallery[@]}"; do line+="![$g]($g.png) "; done
+    echo "$line"
 } >"$out/README.md"
 echo "study.sh: wrote $out ($elapsed s)"

@@ -37,6 +37,7 @@ set xlabel "strands"
 set ylabel "seconds"
 plot dir."/scale.csv" skip 1 using 2:($5*isint("single")) with linespoints pt 7 title "render, single", \
      ''               skip 1 using 2:($5*isint("dual")) with linespoints pt 5 title "render, dual", \
+     ''               skip 1 using 2:($5*isint("path")) with linespoints pt 9 title "render, path tracer", \
      ''               skip 1 using 2:($6*isint("dual")) with linespoints pt 6 title "scene build (BVH, grid, tables)"
 set output dir."/scale_memory.png"
 set title "memory against strand count"

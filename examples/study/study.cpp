@@ -208,7 +208,7 @@ int dual_vs_path(const Common& c, const std::vector<int>& hair_counts, const std
                  int dual_spp, int path_spp) {
     const std::string tag = c.lighting + (c.ground ? "" : "_noground");
     std::ofstream csv(c.out + "/dual_vs_path_" + tag + ".csv");
-    csv << "colour,hairs,integrator,spp,seconds,mean_r,mean_g,mean_b,rel_error_mean,mean_abs_pixel_rel_error\n";
+    csv << "colour,hairs,integrator,spp,seconds,ms_per_spp,mean_r,mean_g,mean_b,rel_error_mean,mean_abs_pixel_rel_error\n";
     for (const std::string& colour : colours)
         for (int hairs : hair_counts) {
             const render::Scene scene(block_scene(hairs, colour, c.lighting, c.ground));
@@ -243,8 +243,9 @@ int dual_vs_path(const Common& c, const std::vector<int>& hair_counts, const std
                     }
                     pix += e / double(roi.pixels.size());
                 }
-                csv << colour << ',' << hairs << ',' << name << ',' << spp << ',' << r.seconds << ',' << m.x << ','
-                    << m.y << ',' << m.z << ',' << rel << ',' << pix << '\n';
+                csv << colour << ',' << hairs << ',' << name << ',' << spp << ',' << r.seconds << ','
+                    << 1000 * r.seconds / spp << ',' << m.x << ',' << m.y << ',' << m.z << ',' << rel << ',' << pix
+                    << '\n';
                 std::fprintf(stderr, "study: %-6s %6d hairs %-6s %5d spp %8.2f s  mean %.4f  rel. error of mean %+.3f\n",
                              colour.c_str(), hairs, name, spp, r.seconds, (m.x + m.y + m.z) / 3, rel);
             }
