@@ -42,11 +42,12 @@ struct Common {
 
 glm::vec3 melanin_sigma_a(const std::string& colour) {
     // Eumelanin concentrations of the presets (Chiang 2016 §4.2 ranges): blond 0.3, brown
-    // 1.3, dark 8.
+    // 1.3, dark 8; white is lossless (σa = 0), the limit multiple scattering matters most in.
+    if (colour == "white") return glm::vec3(0.0f);
     if (colour == "blond") return hairscatter::sigma_a_from_melanin(0.3f, 0.0f);
     if (colour == "brown") return hairscatter::sigma_a_from_melanin(1.3f, 0.0f);
     if (colour == "dark") return hairscatter::sigma_a_from_melanin(8.0f, 0.0f);
-    throw std::invalid_argument("study: unknown colour '" + colour + "' (blond | brown | dark)");
+    throw std::invalid_argument("study: unknown colour '" + colour + "' (white | blond | brown | dark)");
 }
 
 // The seed's hair block (5 × 5 × 5 on the ground plane). Lighting: "env" a white
