@@ -7,7 +7,8 @@
 //
 // BM_Part splits the default eval into its table, φ and M_p parts (see there).
 //
-// Arguments: res = resolution (0 coarse, 1 default, 2 fine: TabulatedOptions), bm = β_m
+// Arguments: res = resolution (0 coarse, 1 default, 2 fine, 3 fast: TabulatedOptions; fast
+// is the default azimuthal table with M_p tabulated, TabulatedLongitudinal::kTable), bm = β_m
 // index (0.05, 0.3, 1.0), wi = 0 for wi uniform on the sphere, 1 for wi drawn by a sampler
 // (so that the lobe peaks are hit).
 #include <cmath>
@@ -30,10 +31,13 @@ namespace hs = hairscatter;
 using bench_ref::inputs;
 using bench_ref::kMask;
 
-const char* const kResName[3] = {"coarse", "default", "fine"};
+const char* const kResName[4] = {"coarse", "default", "fine", "fast"};
 
 hs::TabulatedOptions resolution(int r) {
-    return r == 0 ? hs::TabulatedOptions::coarse() : r == 2 ? hs::TabulatedOptions::fine() : hs::TabulatedOptions();
+    return r == 0   ? hs::TabulatedOptions::coarse()
+           : r == 2 ? hs::TabulatedOptions::fine()
+           : r == 3 ? hs::TabulatedOptions::fast()
+                    : hs::TabulatedOptions();
 }
 
 std::string label(const benchmark::State& state, bool with_wi) {
@@ -43,25 +47,27 @@ std::string label(const benchmark::State& state, bool with_wi) {
     return s;
 }
 
-// Every resolution at β_m = 0.3, and the default resolution at the other two β_m.
+// Every resolution at β_m = 0.3, the default resolution at the other two β_m, and fast at β_m = 1.
 void res_args(benchmark::internal::Benchmark* b) {
     b->ArgNames({"res", "bm"});
-    for (int r = 0; r < 3; ++r) b->Args({r, 1});
+    for (int r = 0; r < 4; ++r) b->Args({r, 1});
     b->Args({1, 0});
     b->Args({1, 2});
+    b->Args({3, 2});
 }
 void res_wi_args(benchmark::internal::Benchmark* b) {
     b->ArgNames({"res", "bm", "wi"});
     for (int w = 0; w < 2; ++w) {
-        for (int r = 0; r < 3; ++r) b->Args({r, 1, w});
+        for (int r = 0; r < 4; ++r) b->Args({r, 1, w});
         b->Args({1, 0, w});
         b->Args({1, 2, w});
+        b->Args({3, 2, w});
     }
 }
 
 // One material per (resolution, β_m), built on first use.
 template <typename T> const hs::TabulatedMaterial<T>& material(int res, int bm) {
-    static std::unique_ptr<hs::TabulatedMaterial<T>> m[3][3];
+    static std::unique_ptr<hs::TabulatedMaterial<T>> m[4][3];
     if (!m[res][bm]) m[res][bm] = std::make_unique<hs::TabulatedMaterial<T>>(bench_ref::bench_params<T>(bm), resolution(res));
     return *m[res][bm];
 }
@@ -273,7 +279,7 @@ int main(int argc, char** argv) {
     // Build the inputs and tables before the first timing (they are function-local statics).
     (void)inputs<float>();
     (void)inputs<double>();
-    for (int r = 0; r < 3; ++r)
+    for (int r = 0; r < 4; ++r)
         for (int b = 0; b < 3; ++b) {
             (void)material<float>(r, b);
             (void)material<double>(r, b);

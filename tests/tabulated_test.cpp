@@ -517,3 +517,276 @@ TEST(TabulatedMaterial, ValidatesOptionsAndParameters) {
     q.sigma_a.r = std::numeric_limits<float>::quiet_NaN();
     expect_param_throw(q, "sigma_a.r");
 }
+
+// ---------------------------------------------------------------------------------------
+// TabulatedLongitudinal::kTable (TabulatedOptions::fast()): M_p from lobes/
+// longitudinal_table.hpp, renormalised per θo'.
+
+namespace {
+
+hs::TabulatedOptions with_table(hs::TabulatedOptions o) {
+    o.longitudinal = hs::TabulatedLongitudinal::kTable;
+    return o;
+}
+
+// ∫ f dωi = ∫∫ f dsinθi dφ for the tabulated M_p. f is a sum over lobes of M̂_p(sinθi) N_p(φ),
+// each piecewise linear in sinθi between lobe p's nodes (mapped to sinθi at this θo') and
+// in |φ| between the azimuthal nodes: 2-point Gauss–Legendre on every cell of the union of
+// all breakpoints is exact in both directions.
+template <typename T> double furnace_table(const hs::TabulatedMaterial<T>& mat, double theta_o_deg) {
+    const hs::TabulatedFiber<T> fiber(mat);
+    const hs::TabulatedView<T> view = mat.view();
+    const double to = theta_o_deg * kPi / 180, phi_o = 0.3;
+    const glm::vec<3, T> wo(dir(to, phi_o));
+    const double sin_o = std::clamp(double(wo.x), -1.0, 1.0), cos_o = std::sqrt(1 - sin_o * sin_o);
+    std::vector<double> cuts = {-1.0, 1.0};
+    for (int p = 0; p < 4; ++p) {
+        const auto& tab = view.longitudinal_table(p);
+        double th = std::asin(sin_o) + double(view.tilt().angle(p));
+        th = th > kPi / 2 ? kPi - th : (th < -kPi / 2 ? -kPi - th : th);
+        const auto r = view.tilt().rotate(p, T(sin_o), T(cos_o));
+        const auto cond = tab.condition(view.data(), T(th), r.sin_theta, r.cos_theta);
+        // Node j at ξ = a s + b = j.
+        for (int j = 0; j < tab.nodes(); ++j) {
+            const double s = (j - double(cond.b)) / double(cond.a);
+            if (s > -1 && s < 1) cuts.push_back(s);
+        }
+    }
+    std::sort(cuts.begin(), cuts.end());
+    cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+    const int n = mat.options().phi_samples;
+    const double step = kPi / (n - 1), g = 0.5 / std::sqrt(3.0);
+    double total = 0;
+    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+        const double mid = 0.5 * (cuts[k] + cuts[k + 1]), half = 0.5 * (cuts[k + 1] - cuts[k]);
+        for (double si : {mid - 2 * g * half, mid + 2 * g * half}) {
+            const double ti = std::asin(si);
+            double s = 0;
+            for (int i = 0; i + 1 < n; ++i)
+                for (double x : {(i + 0.5 - g) * step, (i + 0.5 + g) * step})
+                    for (double sign : {-1.0, 1.0})
+                        s += double(fiber.eval(wo, glm::vec<3, T>(dir(ti, phi_o + sign * x))).g);
+            total += s * 0.5 * step * half;
+        }
+    }
+    return total;
+}
+
+template <typename T> void run_furnace_table(double tol) {
+    double worst = 1;
+    int count = 0;
+    auto check = [&](const Config& c, const hs::TabulatedOptions& o, double theta_o) {
+        const hs::TabulatedMaterial<T> mat(params<T>(c), o);
+        const double e = furnace_table(mat, theta_o);
+        ++count;
+        EXPECT_NEAR(e, 1.0, tol) << "βm " << c.beta_m << " βn " << c.beta_n << " α " << c.alpha_deg << "° θo " << theta_o
+                                 << "° M table " << o.m_rows << "×" << o.m_nodes;
+        if (std::abs(e - 1) > std::abs(worst - 1)) worst = e;
+    };
+    for (double bm : {0.05, 0.2, 0.5, 1.0})
+        for (double bn : {0.3, 1.0})
+            for (double al : {-10.0, 22.0})
+                for (double to : {0.0, -35.0, 80.0, 89.0, -90.0})
+                    if (bn < 1 || to > 50) check({bm, bn, al}, hs::TabulatedOptions::fast(), to);
+    for (const hs::TabulatedOptions& o : {with_table({2, 2, 1}), with_table({5, 3, 7}),
+                                          hs::TabulatedOptions{96, 28, 32, hs::TabulatedLongitudinal::kTable, 2, 2},
+                                          hs::TabulatedOptions{33, 5, 8, hs::TabulatedLongitudinal::kTable, 7, 19}})
+        for (double to : {-60.0, 80.0, 89.0}) check({0.3, 0.3, 2.0}, o, to);
+    std::printf("[ furnace  ] M table: %d configurations (%s), worst ∫f dω = %.10f\n", count, type_name(sizeof(T) == 4),
+                worst);
+}
+
+}  // namespace
+
+// σa = 0: ∫ f dωi = 1 with M_p tabulated, over βm, βn, α, θo up to ±90° and any resolution
+// of either table (the window mass Z is recomputed per θo').
+TEST(TabulatedTableFurnace, LosslessFiberConservesEnergyDouble) { run_furnace_table<double>(1e-9); }
+TEST(TabulatedTableFurnace, LosslessFiberConservesEnergyFloat) { run_furnace_table<float>(2e-5); }
+
+namespace {
+
+// β_m ∈ [0.2, 1], β_n ≥ 0.3, σa from 0 to 4: the range fast() is stated for.
+const std::vector<Config>& table_error_configs() {
+    static const std::vector<Config> c = {
+        {0.3, 0.3, 2.0, {0.0, 0.0, 0.0}},  {0.2, 0.5, 0.0, {0.5, 1.0, 2.0}}, {0.6, 0.3, -5.0, {0.2, 0.0, 4.0}},
+        {0.2, 1.0, 2.0, {1.0, 0.3, 0.0}},  {0.4, 0.4, 10.0, {0.0, 0.7, 0.1}}, {1.0, 0.3, 2.0, {0.3, 0.6, 1.2}},
+        {0.25, 0.3, -2.0, {0.0, 0.0, 0.0}}, {0.8, 0.6, 5.0, {0.1, 0.2, 0.4}},
+    };
+    return c;
+}
+
+}  // namespace
+
+TEST(TabulatedTableAccuracy, MatchesTheExactFarFieldModel) {
+    const ErrorFigures d = table_error<double>(hs::TabulatedOptions::fast(), table_error_configs());
+    const ErrorFigures f = table_error<float>(hs::TabulatedOptions::fast(), table_error_configs());
+    const ErrorFigures exact_m = table_error<double>(hs::TabulatedOptions(), table_error_configs());
+    std::printf("[ accuracy ] fast(), β_m ∈ [0.2, 1]: relative L1 %.3g (double), %.3g (float), max abs / peak %.3g;"
+                " the same azimuthal table with exact M_p: %.3g\n",
+                d.rel_l1, f.rel_l1, d.max_abs_rel, exact_m.rel_l1);
+    EXPECT_LT(d.rel_l1, 1e-3);
+    EXPECT_LT(f.rel_l1, 1e-3);
+    const ErrorFigures narrow = table_error<double>(hs::TabulatedOptions::fast(), error_configs());
+    std::printf("[ accuracy ] fast() on the β_m ≥ 0.05 set: relative L1 %.3g, max abs / peak %.3g\n", narrow.rel_l1,
+                narrow.max_abs_rel);
+}
+
+// The chi-square grid with M_p tabulated (the same cases and significance as the exact M_p),
+// and negative controls: pdf × 1.05, and a sampler whose M_p CDF rows (the two rows θo'
+// interpolates, every lobe) are another row's while the values and the pdf are right.
+template <typename T> void run_chi2_grid_table() {
+    using V3 = glm::vec<3, T>;
+    const int n = int(chi2_grid().size());
+    double min_p = 1;
+    int ran = 0;
+    for (int k = 0; k < n; k += 3) {  // a third of the grid: the kinks of M̂ make the cubature slow
+        ++ran;
+        const Chi2Case& c = chi2_grid()[k];
+        hs::TabulatedOptions o = with_table(c.o);
+        if (k % 6 == 3) o.m_rows = 5, o.m_nodes = 11;  // coarse M tables are inverted exactly too
+        const hs::TabulatedMaterial<T> mat(chi2_params<T>(c), o);
+        const hs::TabulatedFiber<T> fiber(mat);
+        const V3 wo(dir(c.theta_o_deg * kPi / 180, 0.7));
+        const auto r = chi2::test(
+            [&](const glm::dvec4& u) { return glm::dvec3(fiber.sample(wo, glm::vec<4, T>(u)).wi); },
+            [&](const glm::dvec3& wi) { return double(fiber.pdf(wo, V3(wi))); }, chi2_options(2 * n));
+        min_p = std::min(min_p, r.p_value);
+        EXPECT_TRUE(r.passed) << "case " << k << " θo " << c.theta_o_deg << "\n" << r.report;
+        EXPECT_NEAR(r.expected_total, 1.0, 1e-3) << "case " << k << ": ∫ pdf dω";
+    }
+    std::printf("[ chi2     ] M table: %d cases (%s), smallest p-value %.3g\n", ran, type_name(sizeof(T) == 4), min_p);
+}
+
+TEST(TabulatedTableChi2, SampleMatchesPdfDouble) { run_chi2_grid_table<double>(); }
+TEST(TabulatedTableChi2, SampleMatchesPdfFloat) { run_chi2_grid_table<float>(); }
+
+TEST(TabulatedTableChi2, NegativeControlsAreRejected) {
+    const int num_tests = 2 * int(chi2_grid().size());
+    const Chi2Case c{0.3, 0.3, 2, 30, 0.5, {}};
+    const hs::TabulatedMaterial<double> mat(chi2_params<double>(c), hs::TabulatedOptions::fast());
+    const hs::TabulatedFiber<double> fiber(mat);
+    const glm::dvec3 wo = dir(c.theta_o_deg * kPi / 180, 0.7);
+    auto pdf = [&](const glm::dvec3& wi) { return fiber.pdf(wo, wi); };
+    auto sample = [&](const glm::dvec4& u) { return fiber.sample(wo, u).wi; };
+    const auto good = chi2::test(sample, pdf, chi2_options(num_tests));
+    EXPECT_TRUE(good.passed) << good.report;
+    const auto scaled = chi2::test(sample, [&](const glm::dvec3& wi) { return 1.05 * pdf(wi); }, chi2_options(num_tests));
+    EXPECT_FALSE(scaled.passed) << "pdf × 1.05 was accepted (p = " << scaled.p_value << ")";
+
+    // Every row's CDF replaced by that of the row 8 further on (θ 15–25° larger).
+    const hs::TabulatedView<double> view = mat.view();
+    std::vector<double> data = mat.data();
+    for (int p = 0; p < 3; ++p) {
+        const auto& tab = view.longitudinal_table(p);
+        const int k2 = tab.nodes();
+        for (int r = 0; r + 8 < tab.rows(); ++r)
+            std::copy(mat.data().begin() + std::ptrdiff_t(tab.offset() + std::size_t((r + 8) * 2 * k2 + k2)),
+                      mat.data().begin() + std::ptrdiff_t(tab.offset() + std::size_t((r + 8) * 2 * k2 + 2 * k2)),
+                      data.begin() + std::ptrdiff_t(tab.offset() + std::size_t(r * 2 * k2 + k2)));
+    }
+    const hs::TabulatedFiber<double> wrong(mat.view(data.data()));
+    const auto other = chi2::test([&](const glm::dvec4& u) { return wrong.sample(wo, u).wi; }, pdf,
+                                  chi2_options(num_tests));
+    EXPECT_FALSE(other.passed) << "another row's M CDF was accepted (p = " << other.p_value << ")";
+    std::printf("[ chi2     ] M table negative controls: p = %.3g (pdf × 1.05), %.3g (another row's CDF);"
+                " the unmodified sampler p = %.3g\n",
+                scaled.p_value, other.p_value, good.p_value);
+}
+
+namespace {
+
+template <typename T> void check_sample_consistency_table(double tol) {
+    std::mt19937_64 rng(31);
+    std::uniform_real_distribution<double> uni(0, 1);
+    double worst_pdf = 0, worst_w = 0;
+    for (int k = 0; k < 20; ++k) {
+        const double sa = (k % 2) * 2 * uni(rng);
+        const Config c{0.05 + 0.95 * uni(rng), 0.1 + 0.9 * uni(rng), -5 + 10 * uni(rng), glm::dvec3(sa, 0.5 * sa, 2 * sa)};
+        const hs::TabulatedMaterial<T> mat(params<T>(c), k % 2 ? hs::TabulatedOptions::fast() : with_table({9, 4, 3}));
+        const hs::TabulatedFiber<T> fiber(mat);
+        for (int j = 0; j < 200; ++j) {
+            const glm::vec<3, T> wo(dir(std::asin(-1 + 2 * uni(rng)), 2 * kPi * uni(rng)));
+            const auto s = fiber.sample(wo, glm::vec<4, T>(T(uni(rng)), T(uni(rng)), T(uni(rng)), T(uni(rng))));
+            ASSERT_GT(s.pdf, T(0));
+            const auto e = fiber.eval_pdf(wo, s.wi);
+            const auto at = fiber.at(wo);
+            EXPECT_EQ(at.eval(s.wi), e.f);
+            EXPECT_EQ(at.pdf(s.wi), e.pdf);
+            worst_pdf = std::max(worst_pdf, std::abs(double(e.pdf / s.pdf) - 1));
+            for (int ch = 0; ch < 3; ++ch)
+                if (e.f[ch] > T(1e-20)) worst_w = std::max(worst_w, std::abs(double(s.weight[ch] * e.pdf / e.f[ch]) - 1));
+        }
+    }
+    std::printf("[ worst    ] M table: sample pdf vs pdf(): %.3g, weight vs eval/pdf: %.3g (%s)\n", worst_pdf, worst_w,
+                type_name(sizeof(T) == 4));
+    EXPECT_LT(worst_pdf, tol);
+    EXPECT_LT(worst_w, tol);
+}
+
+template <typename T> void sweep_extremes_table() {
+    using V3 = glm::vec<3, T>;
+    const T one_minus = std::nextafter(T(1), T(0));
+    const std::vector<V3> dirs = {V3(1, 0, 0), V3(-1, 0, 0), V3(0, 1, 0), V3(0, 0, -1),
+                                  V3(one_minus, 0, std::sqrt(1 - one_minus * one_minus)), V3(dir(0.3, 1.0))};
+    const std::vector<T> us = {T(0), T(1e-30), T(0.5), one_minus, T(1)};
+    long checked = 0;
+    for (double bm : {0.01, 0.3, 1.0})
+        for (double bn : {0.001, 1.0})
+            for (double al : {-22.5, 22.5})
+                for (const hs::TabulatedOptions& o : {with_table({2, 2, 1}), hs::TabulatedOptions::fast()}) {
+                    auto p = params<T>({bm, bn, 0, glm::dvec3(bm > 0.5 ? 50.0 : 0.0)});
+                    p.alpha = T(al * kPi / 180) * T(0.9999);
+                    const hs::TabulatedMaterial<T> mat(p, o);
+                    const hs::TabulatedFiber<T> fiber(mat);
+                    for (const V3& wo : dirs) {
+                        for (const V3& wi : {wo, -wo, dirs[0], dirs[1], dirs[3]}) {
+                            const auto e = fiber.eval_pdf(wo, wi);
+                            for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(e.f[c]) && e.f[c] >= T(0)) << bm;
+                            ASSERT_TRUE(std::isfinite(e.pdf) && e.pdf >= T(0));
+                            ++checked;
+                        }
+                        for (T u0 : us)
+                            for (T u1 : us) {
+                                const auto s = fiber.sample(wo, glm::vec<4, T>(u0, u1, us[std::size_t(checked % 5)], u1));
+                                ++checked;
+                                ASSERT_TRUE(valid_sample(s)) << bm << " " << bn;
+                            }
+                    }
+                }
+    std::printf("[ sweep    ] M table: %ld edge-case calls without NaN/Inf (%s)\n", checked, type_name(sizeof(T) == 4));
+}
+
+}  // namespace
+
+TEST(TabulatedTableSample, PdfAndWeightAgreeWithQueriesDouble) { check_sample_consistency_table<double>(1e-9); }
+TEST(TabulatedTableSample, PdfAndWeightAgreeWithQueriesFloat) { check_sample_consistency_table<float>(1e-4); }
+TEST(TabulatedTableExtremes, NoNaNOrInfDouble) { sweep_extremes_table<double>(); }
+TEST(TabulatedTableExtremes, NoNaNOrInfFloat) { sweep_extremes_table<float>(); }
+
+TEST(TabulatedTableMaterial, ValidatesOptions) {
+    const hs::FiberParams<double> p;
+    EXPECT_NO_THROW(hs::TabulatedMaterial<double>(p, with_table({2, 2, 1})));
+    auto expect_throw = [&](hs::TabulatedOptions o, const char* name) {
+        try {
+            hs::TabulatedMaterial<double> m(p, o);
+            ADD_FAILURE() << name << " accepted";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+        }
+    };
+    hs::TabulatedOptions o = hs::TabulatedOptions::fast();
+    o.m_rows = 1;
+    expect_throw(o, "m_rows");
+    o = hs::TabulatedOptions::fast();
+    o.m_rows = hs::TabulatedOptions::kMaxLongitudinalRows + 1;
+    expect_throw(o, "m_rows");
+    o = hs::TabulatedOptions::fast();
+    o.m_nodes = 1;
+    expect_throw(o, "m_nodes");
+    o = hs::TabulatedOptions::fast();
+    o.m_nodes = hs::TabulatedOptions::kMaxLongitudinalNodes + 1;
+    expect_throw(o, "m_nodes");
+    o = hs::TabulatedOptions::fast();
+    o.longitudinal = static_cast<hs::TabulatedLongitudinal>(7);
+    expect_throw(o, "longitudinal");
+}

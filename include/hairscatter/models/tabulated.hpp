@@ -18,6 +18,7 @@
 #include "../fiber/frame.hpp"
 #include "../fiber/params.hpp"
 #include "../lobes/longitudinal.hpp"
+#include "../lobes/longitudinal_table.hpp"
 #include "../lobes/tilt.hpp"
 #include "../math/constants.hpp"
 #include "../math/elementary.hpp"
@@ -41,17 +42,31 @@ namespace hairscatter {
 // near 5e-4 for β_n ≥ 0.3 (tests/tabulated_test.cpp states the figures per resolution);
 // narrower azimuthal lobes need proportionally more φ samples (and h nodes, as the exact
 // model itself does).
+// How M_p is evaluated: kExact, d'Eon's formula per call (lobes/longitudinal.hpp); kTable,
+// lobes/longitudinal_table.hpp's table of m_rows rows over |θo'| ∈ [0, π/2] and m_nodes
+// nodes per row, renormalised per θo' so that the furnace stays exactly 1 and sampled by
+// inverting the same piecewise-linear density (faster: no exponential or Bessel function
+// per call; see TabulatedFiber for the cost and the accuracy).
+enum class TabulatedLongitudinal { kExact, kTable };
+
 struct TabulatedOptions {
     static constexpr int kMaxPhiSamples = 4096;
     static constexpr int kMaxThetaSamples = 1024;
+    static constexpr int kMaxLongitudinalRows = 1024;
+    static constexpr int kMaxLongitudinalNodes = 8192;
 
     int phi_samples = 96;
     int theta_samples = 28;
     int h_nodes = 32;
+    TabulatedLongitudinal longitudinal = TabulatedLongitudinal::kExact;
+    int m_rows = 48;
+    int m_nodes = 192;
 
     // The shipped resolutions besides the default: a quarter of its memory, and four times it.
     static constexpr TabulatedOptions coarse() { return {48, 16, 24}; }
     static constexpr TabulatedOptions fine() { return {192, 56, 64}; }
+    // The speed preset: the default azimuthal table with M_p tabulated.
+    static constexpr TabulatedOptions fast() { return {96, 28, 32, TabulatedLongitudinal::kTable, 48, 192}; }
 };
 
 // Row y ∈ [0, 1] of the table ↔ cosθo (see theta_samples above).
@@ -204,6 +219,9 @@ template <typename T> class TabulatedView {
     HAIRSCATTER_HD const T* row_terms(int row) const { return data_ + terms_offset_ + std::size_t(row) * kRowTerms; }
     HAIRSCATTER_HD const DeonLongitudinal<T>& longitudinal(int p) const { return m_[p]; }
     HAIRSCATTER_HD const CuticleTilt<T>& tilt() const { return tilt_; }
+    // TabulatedLongitudinal::kTable: lobe p's M_p table (the residual shares TRT's: same v).
+    HAIRSCATTER_HD bool longitudinal_tabulated() const { return m_tabulated_; }
+    HAIRSCATTER_HD const DeonLongitudinalTable<T>& longitudinal_table(int p) const { return mt_[p < kLobes ? p : kLobes - 1]; }
 
     // The interpolation coordinates: |φ| ∈ [0, π] → (node i ≤ n - 2, fraction), cosθo → (row
     // ≤ rows - 2, fraction). Clamped, so rounding never extrapolates.
@@ -228,6 +246,8 @@ template <typename T> class TabulatedView {
     T phi_scale_ = T(0), phi_step_ = T(0);
     DeonLongitudinal<T> m_[kLobes + 1];
     CuticleTilt<T> tilt_;
+    bool m_tabulated_ = false;
+    DeonLongitudinalTable<T> mt_[kLobes];
 };
 
 // Host side: validates the parameters and options (std::invalid_argument naming the bad
@@ -237,7 +257,9 @@ template <typename T> class TabulatedView {
 // integrates to the quadrature's ½∫A_p dh exactly (a relative change of the order of the
 // interpolation error): bilinear interpolation then keeps Σ_p ∫ N_p A_p dφ = Σ_p A_p, which
 // is 1 for σa = 0, so the white furnace is 1 at every resolution.
-// Memory: (12·phi_samples + 16)·theta_samples values of T.
+// Memory: (12·phi_samples + 16)·theta_samples values of T, plus with
+// TabulatedLongitudinal::kTable 3·m_rows·2(m_nodes + 2) (R, TT, TRT; the residual shares TRT's
+// variance): 354 kB in float for fast().
 template <typename T> class TabulatedMaterial {
   public:
     using View = TabulatedView<T>;
@@ -260,6 +282,12 @@ template <typename T> class TabulatedMaterial {
         view_.cdf_offset_ = std::size_t(rows) * std::size_t(n) * View::kNodeStride;
         view_.terms_offset_ = view_.cdf_offset_ + std::size_t(rows) * std::size_t(n) * kLobes;
         data_.assign(view_.terms_offset_ + std::size_t(rows) * View::kRowTerms, T(0));
+        if (options.longitudinal == TabulatedLongitudinal::kTable) {
+            view_.m_tabulated_ = true;
+            for (int p = 0; p < kLobes; ++p)
+                view_.mt_[p] = DeonLongitudinalTable<T>::build(double(view_.m_[p].variance()), options.m_rows,
+                                                               options.m_nodes, data_);
+        }
 
         // The lobes in double, from the far-field fiber's own quadrature terms.
         FiberParams<double> pd;
@@ -360,6 +388,14 @@ template <typename T> class TabulatedMaterial {
             bad("theta_samples", o.theta_samples, 2, TabulatedOptions::kMaxThetaSamples);
         if (!(o.h_nodes >= 1 && o.h_nodes <= DeonFarFieldMaterial<double>::kMaxNodes))
             bad("h_nodes", o.h_nodes, 1, DeonFarFieldMaterial<double>::kMaxNodes);
+        if (o.longitudinal != TabulatedLongitudinal::kExact && o.longitudinal != TabulatedLongitudinal::kTable)
+            bad("longitudinal", int(o.longitudinal), 0, 1);
+        if (o.longitudinal == TabulatedLongitudinal::kTable) {
+            if (!(o.m_rows >= 2 && o.m_rows <= TabulatedOptions::kMaxLongitudinalRows))
+                bad("m_rows", o.m_rows, 2, TabulatedOptions::kMaxLongitudinalRows);
+            if (!(o.m_nodes >= 2 && o.m_nodes <= TabulatedOptions::kMaxLongitudinalNodes))
+                bad("m_nodes", o.m_nodes, 2, TabulatedOptions::kMaxLongitudinalNodes);
+        }
     }
 
     FiberParams<T> params_;
@@ -382,6 +418,17 @@ template <typename T> class TabulatedMaterial {
 // quadratic within the cell), the sign of φ with even odds. The density of all this is
 // mean(f) / mean(albedo), computed in the same loop as f, so pdf() and sample's pdf agree
 // to rounding.
+//
+// TabulatedLongitudinal::kTable replaces each M_p by lobes/longitudinal_table.hpp's M̂_p,
+// conditioned once per wo (θo = asin(wo.x), θo' = θo + angle_p, the row pair and the window
+// mass Z: a few table reads per lobe) and read with one bilinear lookup per lobe per wi; the
+// furnace stays exactly 1 and sample inverts M̂_p exactly (it uses u.y, not u.z). It pays off
+// on a fiber bound by at(wo) (eval ≈ 1.1 u against 1.4 u with exact M_p, bench/
+// tabulated_bench.cpp); the stateless eval recomputes the conditioning per call and is slower
+// than the exact M_p. Accuracy (fast(), tests/tabulated_test.cpp): relative L1 7.6e-4 against
+// the exact far-field model for β_m ∈ [0.2, 1], β_n ≥ 0.3 (4.5e-4 of it is the azimuthal
+// table's); the M̂ error concentrates at grazing θo' (> 70°), where rows interpolate lobes
+// clipped at |sinθi| = 1 at different places; narrower lobes (β_m < 0.2) need more rows.
 //
 // Holds a view of the tables: built from a material (which must outlive the fiber; a
 // temporary is rejected at compile time) or, on a GPU, from material.view(device_copy).
@@ -410,6 +457,7 @@ template <typename T> class TabulatedFiber {
         T total;          // their sum: 3 × mean(albedo)
         T sin_p[kLobes + 1], cos_p[kLobes + 1];  // tilted θo' per lobe
         int row;
+        typename DeonLongitudinalTable<T>::Conditioned mc[kLobes + 1];  // kTable: M̂_p at θo'
     };
 
   public:
@@ -469,6 +517,16 @@ template <typename T> class TabulatedFiber {
             o.sin_p[p] = r.sin_theta;
             o.cos_p[p] = r.cos_theta;
         }
+        if (v_.longitudinal_tabulated()) {
+            // The rows are over the angle θo' = θo + angle_p, folded past the poles as
+            // rotate() folds cosθo' ≥ 0: one asin per wo.
+            const T theta_o = elem::asin(sin_o);
+            for (int p = 0; p <= kLobes; ++p) {
+                T th = theta_o + v_.tilt().angle(p);
+                th = th > kHalfPi<T> ? kPi<T> - th : (th < -kHalfPi<T> ? -kPi<T> - th : th);
+                o.mc[p] = v_.longitudinal_table(p).condition(v_.data(), th, o.sin_p[p], o.cos_p[p]);
+            }
+        }
         for (int c = 0; c < 3; ++c) o.residual[c] = kInvTwoPi<T> * (a[9 + c] + o.t * (b[9 + c] - a[9 + c]));
         return o;
     }
@@ -483,7 +541,10 @@ template <typename T> class TabulatedFiber {
     // f and pdf at (θi, φ): the four M_p, then the bilinear lobes.
     HAIRSCATTER_HD HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
         T m[kLobes + 1];
-        for (int p = 0; p <= kLobes; ++p) m[p] = v_.longitudinal(p).eval(sin_i, cos_i, o.sin_p[p], o.cos_p[p]);
+        if (v_.longitudinal_tabulated())
+            for (int p = 0; p <= kLobes; ++p) m[p] = v_.longitudinal_table(p).eval(o.mc[p], sin_i);
+        else
+            for (int p = 0; p <= kLobes; ++p) m[p] = v_.longitudinal(p).eval(sin_i, cos_i, o.sin_p[p], o.cos_p[p]);
         int i;
         T u;
         v_.phi_cell(phi < T(0) ? -phi : phi, i, u);
@@ -526,7 +587,9 @@ template <typename T> class TabulatedFiber {
         }
         const T v = clamp((target - acc) / o.s[p], T(0), T(1));
 
-        const T sin_i = v_.longitudinal(p).sample_sin_theta(o.sin_p[p], o.cos_p[p], u.y, u.z);
+        const T sin_i = v_.longitudinal_tabulated()
+                            ? v_.longitudinal_table(p).sample_sin_theta(o.mc[p], u.y)
+                            : v_.longitudinal(p).sample_sin_theta(o.sin_p[p], o.cos_p[p], u.y, u.z);
         const T cos_i = cos_from_sin(sin_i);
         T phi;
         if (p == kLobes) {
