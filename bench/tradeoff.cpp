@@ -117,22 +117,22 @@ const Inputs& inputs() {
 template <typename T, typename Fiber> struct Shader {
     using V3 = glm::vec<3, T>;
     using V4 = glm::vec<4, T>;
-    std::function<Fiber(T)> make;
+    std::function<Fiber(T, const V3&)> make;
     std::vector<Fiber> fibers;
     std::vector<V3> wo, wi;
     std::vector<V4> u;
 
-    explicit Shader(std::function<Fiber(T)> m) : make(std::move(m)) {
+    explicit Shader(std::function<Fiber(T, const V3&)> m) : make(std::move(m)) {
         const Inputs& in = inputs();
         for (std::size_t i = 0; i < kPairs; ++i) {
-            fibers.push_back(make(T(in.h[i])));
+            fibers.push_back(make(T(in.h[i]), V3(in.wo[i])));
             wo.push_back(V3(in.wo[i]));
             wi.push_back(V3(in.wi[i]));
             u.push_back(V4(in.u[i]));
         }
     }
     glm::dvec3 f(double h, const glm::dvec3& o, const glm::dvec3& i) const {
-        return glm::dvec3(make(T(h)).eval(V3(o), V3(i)));
+        return glm::dvec3(make(T(h), V3(o)).eval(V3(o), V3(i)));
     }
 };
 
@@ -245,7 +245,8 @@ template <typename S> void register_timings(const std::string& name, std::shared
 // lossless twin (furnace).
 template <typename T, typename Fiber>
 void add(const std::string& model, const std::string& knob, Family family,
-         const std::function<std::function<Fiber(T)>(const hs::FiberParams<T>&)>& factory, bool quick) {
+         const std::function<std::function<Fiber(T, const glm::vec<3, T>&)>(const hs::FiberParams<T>&)>& factory,
+         bool quick) {
     Result r;
     r.model = model;
     r.knob = knob;
@@ -284,7 +285,7 @@ template <typename T, unsigned kSet> void add_chiang(const std::string& knob, bo
     add<T, Fiber>("chiang", knob, Family::kNearField,
                   [](const hs::FiberParams<T>& p) {
                       const hs::ChiangMaterial<T> mat(p);
-                      return std::function<Fiber(T)>([mat](T h) { return Fiber(mat, h); });
+                      return std::function<Fiber(T, const glm::vec<3, T>&)>([mat](T h, const glm::vec<3, T>&) { return Fiber(mat, h); });
                   },
                   quick);
 }
@@ -300,7 +301,7 @@ template <typename T> struct PbrtStyle {
 template <typename T> void add_pbrt(bool quick) {
     add<T, PbrtStyle<T>>("pbrt-v4-style", "all lobes", Family::kNearField,
                          [](const hs::FiberParams<T>& p) {
-                             return std::function<PbrtStyle<T>(T)>([p](T h) {
+                             return std::function<PbrtStyle<T>(T, const glm::vec<3, T>&)>([p](T h, const glm::vec<3, T>&) {
                                  return PbrtStyle<T>{bench_ref::HairBxDF<T>(h, p.eta, p.sigma_a, p.beta_m, p.beta_n, p.alpha)};
                              });
                          },
@@ -316,7 +317,7 @@ template <typename T> void add_far_field(int nodes, bool quick) {
                   Family::kFarField,
                   [nodes](const hs::FiberParams<T>& p) {
                       const auto mat = std::make_shared<const hs::DeonFarFieldMaterial<T>>(p, nodes);
-                      return std::function<Fiber(T)>([mat](T) { return Fiber(*mat); });
+                      return std::function<Fiber(T, const glm::vec<3, T>&)>([mat](T, const glm::vec<3, T>&) { return Fiber(*mat); });
                   },
                   quick);
 }
@@ -326,7 +327,38 @@ template <typename T> void add_tabulated(const std::string& knob, const hs::Tabu
     add<T, Fiber>("tabulated", knob, Family::kFarField,
                   [o](const hs::FiberParams<T>& p) {
                       const auto mat = std::make_shared<const hs::TabulatedMaterial<T>>(p, o);
-                      return std::function<Fiber(T)>([mat](T) { return Fiber(*mat); });
+                      return std::function<Fiber(T, const glm::vec<3, T>&)>([mat](T, const glm::vec<3, T>&) { return Fiber(*mat); });
+                  },
+                  quick);
+}
+
+// A fiber bound to its wo with at(wo) (what a renderer that evaluates a light sample and
+// draws a continuation at the same hit uses): eval / pdf / sample take wi or u only.
+template <typename At> struct BoundAt {
+    At at;
+    template <typename V3> auto eval(const V3&, const V3& wi) const { return at.eval(wi); }
+    template <typename V3> auto pdf(const V3&, const V3& wi) const { return at.pdf(wi); }
+    template <typename V3, typename V4> auto sample(const V3&, const V4& u) const { return at.sample(u); }
+};
+
+template <typename T> void add_tabulated_bound(const std::string& knob, const hs::TabulatedOptions& o, bool quick) {
+    using Fiber = BoundAt<typename hs::TabulatedFiber<T>::At>;
+    add<T, Fiber>("tabulated", knob + ", at(wo)", Family::kFarField,
+                  [o](const hs::FiberParams<T>& p) {
+                      const auto mat = std::make_shared<const hs::TabulatedMaterial<T>>(p, o);
+                      return std::function<Fiber(T, const glm::vec<3, T>&)>(
+                          [mat](T, const glm::vec<3, T>& wo) { return Fiber{hs::TabulatedFiber<T>(*mat).at(wo)}; });
+                  },
+                  quick);
+}
+
+template <typename T> void add_chiang_bound(bool quick) {
+    using Fiber = BoundAt<typename hs::ChiangFiber<T>::At>;
+    add<T, Fiber>("chiang", "all lobes, at(wo)", Family::kNearField,
+                  [](const hs::FiberParams<T>& p) {
+                      const hs::ChiangMaterial<T> mat(p);
+                      return std::function<Fiber(T, const glm::vec<3, T>&)>(
+                          [mat](T h, const glm::vec<3, T>& wo) { return Fiber{hs::ChiangFiber<T>(mat, h).at(wo)}; });
                   },
                   quick);
 }
@@ -340,7 +372,7 @@ template <typename T> void add_marschner(int nodes, bool quick) {
     add<T, Fiber>("marschner", std::to_string(nodes) + " nodes", Family::kMarschner,
                   [nodes](const hs::FiberParams<T>& p) {
                       const auto mat = std::make_shared<const hs::MarschnerMaterial<T>>(marschner_params(p), nodes);
-                      return std::function<Fiber(T)>([mat](T) { return Fiber(*mat); });
+                      return std::function<Fiber(T, const glm::vec<3, T>&)>([mat](T, const glm::vec<3, T>&) { return Fiber(*mat); });
                   },
                   quick);
 }
@@ -352,6 +384,7 @@ void add_settings(bool quick) {
     add_chiang<float, Lobes::kPrimary>("R+TT+TRT", quick);
     add_chiang<float, Lobes::kR | Lobes::kTT>("R+TT", quick);
     add_chiang<float, Lobes::kR>("R only", quick);
+    add_chiang_bound<float>(quick);
     add_pbrt<float>(quick);
     for (int n : {4, 8, 16, 32, 64}) add_far_field<float>(n, quick);
     add_far_field<double>(64, quick);
@@ -360,6 +393,9 @@ void add_settings(bool quick) {
     add_tabulated<float>(table_knob("default", hs::TabulatedOptions()), hs::TabulatedOptions(), quick);
     add_tabulated<float>(table_knob("fine", hs::TabulatedOptions::fine()), hs::TabulatedOptions::fine(), quick);
     add_tabulated<double>(table_knob("default", hs::TabulatedOptions()), hs::TabulatedOptions(), quick);
+    add_tabulated<float>("fast (M table)", hs::TabulatedOptions::fast(), quick);
+    add_tabulated_bound<float>(table_knob("default", hs::TabulatedOptions()), hs::TabulatedOptions(), quick);
+    add_tabulated_bound<float>("fast (M table)", hs::TabulatedOptions::fast(), quick);
     for (int n : {1, 3, 7, 16}) add_marschner<float>(n, quick);
     add_marschner<double>(7, quick);
 }
