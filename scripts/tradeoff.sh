@@ -37,7 +37,7 @@ cmake --build "$BUILD" --target tradeoff -j "$(nproc 2>/dev/null || echo 2)"
 
 work="$BUILD/tradeoff-out"
 mkdir -p "$work" "$out"
-cmd=("$BUILD/bench/tradeoff" --out "$work" "${quick_flag[@]}" --benchmark_repetitions="$reps"
+cmd=("$BUILD/bench/tradeoff" --out "$work" ${quick_flag[@]+"${quick_flag[@]}"} --benchmark_repetitions="$reps"
      --benchmark_min_time="$min_time" --benchmark_report_aggregates_only=true)
 "${cmd[@]}" | tee "$work/console.txt"
 

@@ -65,12 +65,12 @@ template <typename T> class DualScatteringFiber {
 
     const DualScatteringLight<T>& light() const { return light_; }
 
-    V3 eval(const V3& wo, const V3& wi) const { return value(wo, wi, azimuth(wo, wi), fiber_.eval(wo, wi)); }
+    V3 eval(const V3& wo, const V3& wi) const { return value(wo, wi, relative_azimuth(wo, wi), fiber_.eval(wo, wi)); }
     T pdf(const V3& wo, const V3& wi) const {
-        return density(mixture(wo), wi, azimuth(wo, wi), fiber_.pdf(wo, wi));
+        return density(mixture(wo), wi, relative_azimuth(wo, wi), fiber_.pdf(wo, wi));
     }
     HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const {
-        const T phi = azimuth(wo, wi);
+        const T phi = relative_azimuth(wo, wi);
         const HairEvalPdf<T> single = fiber_.eval_pdf(wo, wi);
         HairEvalPdf<T> r;
         r.f = value(wo, wi, phi, single.f);
@@ -121,7 +121,7 @@ template <typename T> class DualScatteringFiber {
             const T phi = forward ? (half >= T(0) ? kPi<T> - half : -kPi<T> - half) : half;
             wi = direction_from_azimuth(wo, sin_i, phi);
         }
-        const T phi = azimuth(wo, wi);
+        const T phi = relative_azimuth(wo, wi);
         const HairEvalPdf<T> single = fiber_.eval_pdf(wo, wi);
         r.wi = wi;
         r.pdf = density(mix, wi, phi, single.pdf);
@@ -146,9 +146,6 @@ template <typename T> class DualScatteringFiber {
     };
 
     static T mean(const V3& v) { return (v.x + v.y + v.z) * T(1.0 / 3.0); }
-    static T azimuth(const V3& wo, const V3& wi) {
-        return elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
-    }
 
 
     // T_f and σ̄²_f for light arriving with the table entry e of its inclination.

@@ -50,4 +50,10 @@ HAIRSCATTER_HD glm::vec<3, T> direction_from_azimuth(const glm::vec<3, T>& wo, T
     return glm::vec<3, T>(sin_theta, cos_theta * (ay * c - az * s), cos_theta * (ay * s + az * c));
 }
 
+// The relative azimuth φ = φi - φo ∈ [-π, π] of two fiber-frame directions, from one atan2
+// of the azimuthal cross and dot products (no wrap needed; atan2(0, 0) = 0 along the fiber).
+template <typename T> HAIRSCATTER_HD T relative_azimuth(const glm::vec<3, T>& wo, const glm::vec<3, T>& wi) {
+    return elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
+}
+
 }  // namespace hairscatter

@@ -76,7 +76,9 @@ template <typename T> struct GaussHermite {
         double prev_dummy = 0, a = -lim, fa = psi(a, prev_dummy);
         for (double b = a + step; a < lim && int(roots.size()) < n; b += step) {
             const double fb = psi(b, prev_dummy);
-            if ((fa < 0) != (fb < 0) || fb == 0) {
+            // A root exactly on a grid point (fb == 0) is taken there; the next interval,
+            // starting at that zero, must not count it again.
+            if (fa != 0 && ((fa < 0) != (fb < 0) || fb == 0)) {
                 double lo = a, hi = b, flo = fa;
                 for (int it = 0; it < 200 && hi - lo > 1e-15; ++it) {
                     const double mid = 0.5 * (lo + hi), fm = psi(mid, prev_dummy);

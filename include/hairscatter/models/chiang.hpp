@@ -198,8 +198,7 @@ template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
     template <bool kF, bool kPdf>
     HAIRSCATTER_HD HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
         const T sin_i = clamp(wi.x, T(-1), T(1));
-        // φ = φi - φo from one atan2 of the azimuthal cross and dot products.
-        const T phi = elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
+        const T phi = relative_azimuth(wo, wi);
         return combine<kF, kPdf>(o, sin_i, cos_from_sin(sin_i), phi);
     }
 

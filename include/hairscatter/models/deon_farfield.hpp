@@ -28,7 +28,8 @@ namespace hairscatter {
 
 // Everything that depends only on the fiber parameters and the number of h nodes, computed
 // once on the host (validated: the constructor throws std::invalid_argument naming the bad
-// parameter). Trivially copyable (≈ 4 KB in double), so it can be copied to a GPU.
+// parameter). Trivially copyable (≈ 4.4 KB in double, over the 4 KB kernel-parameter
+// limit of CUDA < 12.1): copy it to device memory once and pass the fiber a pointer.
 //
 // The h integral: nodes of an n-point Gauss–Legendre rule placed in γ = asin h rather than
 // in h, because A_p and Φ go like √(1 - h²) at the rim and are smooth in γ:
@@ -162,8 +163,7 @@ template <typename T> class DeonFarFieldFiber {
     HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return eval_pdf(wo, wi).pdf; }
     HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const {
         const T sin_i = clamp(wi.x, T(-1), T(1));
-        // φ = φi - φo from one atan2 of the azimuthal cross and dot products.
-        const T phi = elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
+        const T phi = relative_azimuth(wo, wi);
         return combine(outgoing(wo), sin_i, cos_from_sin(sin_i), phi);
     }
 

@@ -271,10 +271,6 @@ template <typename T> class MarschnerFiber {
         HAIRSCATTER_HD V3 operator()(T h, T cos_gamma) const { return fiber->attenuations(*s, h, cos_gamma).a[p]; }
     };
 
-    HAIRSCATTER_HD static T relative_azimuth(const V3& wo, const V3& wi) {
-        // φ = φi - φo from one atan2 of the azimuthal cross and dot products.
-        return elem::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
-    }
 
     // η* for eval (Marschner's φh = φo + φ/2) and for the sampler (φo).
     HAIRSCATTER_HD T eval_eta(const Outgoing& o, T phi) const {
