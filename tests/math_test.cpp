@@ -1,7 +1,9 @@
 // Special functions, distributions and the single lobes against Boost.Math references.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <boost/math/special_functions/bessel.hpp>
@@ -305,4 +307,118 @@ TEST(Elementary, DoubleExpFlushesSubnormalsToZero) {
     EXPECT_EQ(hs::elem::exp(-1e300), 0.0);
     EXPECT_EQ(hs::elem::exp(-700.0), std::exp(-700.0));
     EXPECT_EQ(hs::elem::exp(1.5), std::exp(1.5));
+}
+
+namespace {
+
+// Stratified u over [0, 1): the frequency of each entry, the leftover's worst distance
+// from uniform per entry (Kolmogorov–Smirnov) and its reconstruction of u.
+template <typename T> void check_discrete(const std::vector<T>& w) {
+    const int n = int(w.size()), m = 200000;
+    T total = T(0);
+    for (T x : w) total += x;
+    std::vector<std::vector<double>> left(w.size());
+    for (int k = 0; k < m; ++k) {
+        const T u = T((k + 0.5) / m);
+        const hs::DiscreteChoice<T> c = hs::sample_discrete(w.data(), n, u);
+        ASSERT_GE(c.index, 0);
+        ASSERT_LT(c.index, n);
+        ASSERT_GT(w[std::size_t(c.index)], T(0)) << "u = " << u;
+        ASSERT_GE(c.rescaled, T(0));
+        ASSERT_LE(c.rescaled, T(1));
+        double before = 0;
+        for (int i = 0; i < c.index; ++i) before += double(w[std::size_t(i)]);
+        EXPECT_NEAR((before + double(c.rescaled) * double(w[std::size_t(c.index)])) / double(total), double(u),
+                    8 * std::numeric_limits<T>::epsilon());
+        left[std::size_t(c.index)].push_back(double(c.rescaled));
+    }
+    for (int i = 0; i < n; ++i) {
+        std::vector<double>& v = left[std::size_t(i)];
+        EXPECT_NEAR(double(v.size()) / m, double(w[std::size_t(i)] / total), 2.0 / m) << "entry " << i;
+        if (v.empty()) continue;
+        std::sort(v.begin(), v.end());
+        double ks = 0;
+        for (std::size_t k = 0; k < v.size(); ++k)
+            ks = std::max({ks, std::abs(v[k] - double(k) / v.size()), std::abs(v[k] - double(k + 1) / v.size())});
+        EXPECT_LT(ks, 2.0 / v.size() + 1e-5) << "entry " << i;
+    }
+}
+
+}  // namespace
+
+// Entry i with probability w_i / Σw, and the leftover of u a fresh uniform number.
+TEST(SampleDiscrete, ProbabilitiesAndUniformLeftover) {
+    check_discrete<double>({0.0, 0.5, 0.0, 1.5, 2.0, 0.0});
+    check_discrete<float>({0.0f, 0.5f, 0.0f, 1.5f, 2.0f, 0.0f});
+    check_discrete<float>({0.3f, 1e-3f, 0.1f});
+    check_discrete<double>({1.0});
+}
+
+// u ≈ 1 past the rounded sum (with the sum or with 1 as the total) never lands on an
+// empty entry; all-zero weights pick entry 0 and keep u.
+TEST(SampleDiscrete, NeverPicksAnEmptyEntry) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> uni(0, 1);
+    const float us[] = {0.0f, 0.5f, std::nextafter(1.0f, 0.0f), 1.0f};
+    for (int k = 0; k < 2000; ++k) {
+        float w[5], total = 0;
+        for (float& x : w) {
+            x = uni(rng) < 0.4f ? 0.0f : uni(rng);
+            total += x;
+        }
+        float normalised[5];
+        for (int i = 0; i < 5; ++i) normalised[i] = total > 0 ? w[i] / total : 0.0f;
+        for (float u : us) {
+            for (const hs::DiscreteChoice<float>& c :
+                 {hs::sample_discrete(w, 5, u), hs::sample_discrete(normalised, 5, u, 1.0f)}) {
+                if (total > 0) {
+                    EXPECT_GT(w[c.index], 0.0f) << "u = " << u;
+                    EXPECT_GE(c.rescaled, 0.0f);
+                    EXPECT_LE(c.rescaled, 1.0f);
+                } else {
+                    EXPECT_EQ(c.index, 0);
+                    EXPECT_EQ(c.rescaled, u);
+                }
+            }
+        }
+    }
+    // A last entry of weight 0 after weights whose sum rounds below 1.
+    const double w[] = {0.1, 0.2, 0.7 - 1e-16, 0.0};
+    for (double u : {std::nextafter(1.0, 0.0), 1.0}) {
+        const hs::DiscreteChoice<double> c = hs::sample_discrete(w, 4, u, 1.0);
+        EXPECT_EQ(c.index, 2);
+        EXPECT_LE(c.rescaled, 1.0);
+    }
+    const double zero[] = {0.0, 0.0, 0.0};
+    for (double u : {0.0, 0.3, 1.0}) {
+        EXPECT_EQ(hs::sample_discrete(zero, 3, u).index, 0);
+        EXPECT_EQ(hs::sample_discrete(zero, 3, u).rescaled, u);
+    }
+}
+
+// The piecewise-linear CDF's inverse: C(x) = target to rounding, including flat (zero
+// density) cells and both ends.
+TEST(InvertPiecewiseLinear, InvertsTheCdf) {
+    const double g[] = {0.0, 1.0, 3.0, 0.0, 0.0, 2.0, 2.0};
+    const int n = 7;
+    const double h = 0.25;
+    double c[n] = {0.0};
+    for (int k = 1; k < n; ++k) c[k] = c[k - 1] + 0.5 * h * (g[k - 1] + g[k]);
+    auto cdf_at = [&](double x) {
+        const int k = std::min(int(x / h), n - 2);
+        const double d = x - k * h;
+        return c[k] + d * (g[k] + 0.5 * d * (g[k + 1] - g[k]) / h);
+    };
+    for (int k = 0; k <= 1000; ++k) {
+        const double target = c[n - 1] * k / 1000;
+        const hs::PiecewiseLinearPoint<double> p = hs::invert_piecewise_linear(
+            [&](int i) { return c[i]; }, [&](int i) { return g[i]; }, n, h, 1 / h, target);
+        ASSERT_GE(p.cell, 0);
+        ASSERT_LE(p.cell, n - 2);
+        ASSERT_GE(p.offset, 0.0);
+        ASSERT_LE(p.offset, h);
+        EXPECT_NEAR(cdf_at(p.cell * h + p.offset), target, 1e-14) << "target " << target;
+        // Never inside a cell without mass.
+        EXPECT_FALSE(p.cell == 3 && p.offset > 0 && p.offset < h) << "target " << target;
+    }
 }

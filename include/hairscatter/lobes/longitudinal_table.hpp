@@ -41,6 +41,7 @@
 
 #include "../config.hpp"
 #include "../math/constants.hpp"
+#include "../math/distributions.hpp"
 #include "../math/functions.hpp"
 #include "longitudinal.hpp"
 
@@ -146,31 +147,17 @@ template <typename T> class DeonLongitudinalTable {
         return c.scale * (g0 + f * (g1 - g0));
     }
 
-    // sinθi distributed as M̂(· | θo') from one uniform number.
+    // sinθi distributed as M̂(· | θo') from one uniform number: the interpolated row's
+    // piecewise-linear density inverted exactly.
     HAIRSCATTER_HD T sample_sin_theta(const Conditioned& c, T u) const {
-        using std::sqrt;
-        const T target = c.c_lo + u * c.z;
         const T* c0 = c.row + nodes_;
         const T* c1 = c0 + 2 * nodes_;
-        int lo = 0, hi = nodes_ - 1;  // C̃[lo] ≤ target, and target < C̃[hi] unless hi = nodes - 1
-        while (hi - lo > 1) {
-            const int mid = (lo + hi) / 2;
-            if (c0[mid] + c.t * (c1[mid] - c0[mid]) <= target)
-                lo = mid;
-            else
-                hi = mid;
-        }
-        const T* r0 = c.row + lo;
-        const T* r1 = r0 + 2 * nodes_;
-        const T ga = r0[0] + c.t * (r1[0] - r0[0]), gb = r0[1] + c.t * (r1[1] - r0[1]);
-        // Density ga + (gb - ga) δ/h on [0, h]; mass d = ga δ + (gb - ga) δ²/2h, solved
-        // without cancellation: δ = 2d / (ga + sqrt(ga² + 2(gb - ga) d/h)).
-        const T d = target - (c0[lo] + c.t * (c1[lo] - c0[lo]));
-        const T disc = ga * ga + T(2) * (gb - ga) * (d > T(0) ? d : T(0)) * inv_h_;
-        const T den = ga + sqrt(disc > T(0) ? disc : T(0));
-        const T delta = den > T(0) ? clamp(T(2) * (d > T(0) ? d : T(0)) / den, T(0), h_) : T(0);
-        const T x = xs_ + T(lo) * h_ + delta;
-        return clamp(c.sign * (x * c.w - c.sin_abs), T(-1), T(1));
+        const T* g0 = c.row;
+        const T* g1 = g0 + 2 * nodes_;
+        const PiecewiseLinearPoint<T> x = invert_piecewise_linear(
+            [&](int k) { return c0[k] + c.t * (c1[k] - c0[k]); }, [&](int k) { return g0[k] + c.t * (g1[k] - g0[k]); },
+            nodes_, h_, inv_h_, c.c_lo + u * c.z);
+        return clamp(c.sign * ((xs_ + T(x.cell) * h_ + x.offset) * c.w - c.sin_abs), T(-1), T(1));
     }
 
     HAIRSCATTER_HD T variance() const { return v_; }

@@ -70,4 +70,70 @@ template <typename T> class TrimmedLogistic {
     T s_ = T(1), inv_s_ = T(1), norm_ = T(1), pdf_scale_ = T(1);
 };
 
+// A discrete choice: the entry picked and the leftover of u within its interval,
+// rescaled to a fresh uniform number in [0, 1].
+template <typename T> struct DiscreteChoice {
+    int index;
+    T rescaled;
+};
+
+// Picks entry i of w[0, n) (weights ≥ 0) with probability w_i / Σw by inverting the
+// cumulative sum at u·total, u ∈ [0, 1]. total is Σw summed in index order (the overload
+// below) or 1 for weights the caller normalised (u is then compared as is). Entries of
+// weight 0 are never picked: u ≈ 1 past the rounded sum falls back to the last entry with
+// weight, leftover 1. All weights 0: entry 0, leftover u.
+template <typename T>
+HAIRSCATTER_HD DiscreteChoice<T> sample_discrete(const T* w, int n, T u, T total) {
+    const T target = u * total;
+    T before = T(0), last_before = T(0);
+    int last = -1;
+    for (int i = 0; i < n; ++i) {
+        if (!(w[i] > T(0))) continue;
+        if (target < before + w[i]) return {i, clamp((target - before) / w[i], T(0), T(1))};
+        last = i;
+        last_before = before;
+        before += w[i];
+    }
+    if (last < 0) return {0, u};
+    return {last, clamp((target - last_before) / w[last], T(0), T(1))};
+}
+
+template <typename T> HAIRSCATTER_HD DiscreteChoice<T> sample_discrete(const T* w, int n, T u) {
+    T total = T(0);
+    for (int i = 0; i < n; ++i) total += w[i];
+    return sample_discrete(w, n, u, total);
+}
+
+// The inverse of the CDF C of a piecewise-linear density on the n ≥ 2 equispaced nodes
+// x_k = k h: cdf(k) = C(x_k) (non-decreasing), density(k) = the density at x_k, both
+// callables. Returns x = cell·h + offset with C(x) = target: the cell by binary search
+// (the last k ≤ n - 2 with C(x_k) ≤ target, or 0), the offset δ ∈ [0, h] as the root of
+// the cell's quadratic mass d = a δ + (b - a) δ²/2h in the form without cancellation,
+// δ = 2d / (a + sqrt(a² + 2(b - a) d/h)).
+template <typename T> struct PiecewiseLinearPoint {
+    int cell;
+    T offset;
+};
+
+template <typename T, typename Cdf, typename Density>
+HAIRSCATTER_HD PiecewiseLinearPoint<T> invert_piecewise_linear(const Cdf& cdf, const Density& density, int n,
+                                                              T h, T inv_h, T target) {
+    using std::sqrt;
+    int lo = 0, hi = n - 1;  // C[lo] ≤ target, and target < C[hi] unless hi = n - 1
+    while (hi - lo > 1) {
+        const int mid = (lo + hi) / 2;
+        if (cdf(mid) <= target)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    const T a = density(lo), b = density(lo + 1);
+    // d < 0 only for a target below C[0] (rounding): the cell's start.
+    const T d0 = target - cdf(lo);
+    const T d = d0 > T(0) ? d0 : T(0);
+    const T disc = a * a + T(2) * (b - a) * d * inv_h;
+    const T den = a + sqrt(disc > T(0) ? disc : T(0));
+    return {lo, den > T(0) ? clamp(T(2) * d / den, T(0), h) : T(0)};
+}
+
 }  // namespace hairscatter

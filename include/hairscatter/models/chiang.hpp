@@ -204,16 +204,9 @@ template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
 
     HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
         using std::sqrt;
-        // The lobe: the first kept p whose cumulative weight exceeds u.x; u.x ≈ 1 must not
-        // land on an empty lobe, so fall back to the last kept lobe with weight.
-        int p = kFirstKept;
-        T acc = T(0);
-        for (int q = 0; q <= kLobes; ++q) {
-            if (!keeps(q) || !(o.w[q] > T(0))) continue;
-            p = q;
-            acc += o.w[q];
-            if (u.x < acc) break;
-        }
+        // The lobe ∝ w_p (normalised; 0 for dropped lobes). Counted from the first kept
+        // lobe, so that all-zero weights (an opaque fiber without R) pick a kept lobe.
+        const int p = kFirstKept + sample_discrete(o.w + kFirstKept, kLobes + 1 - kFirstKept, u.x, T(1)).index;
 
         const T sin_i = mat_.longitudinal(p).sample_sin_theta(o.sin_o[p], o.cos_o[p], u.y, u.z);
         const T cos_i = cos_from_sin(sin_i);

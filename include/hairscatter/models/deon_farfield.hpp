@@ -18,6 +18,7 @@
 #include "../lobes/longitudinal.hpp"
 #include "../lobes/tilt.hpp"
 #include "../math/constants.hpp"
+#include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
 #include "../math/functions.hpp"
 #include "../math/quadrature.hpp"
@@ -215,45 +216,25 @@ template <typename T> class DeonFarFieldFiber {
             t[j] = s * mat_->node_weight(j) * (mat_->node_mirrored(j) ? T(2) : T(1));
             total += t[j];
         }
-        const T target = u.x * total;
-        int j = n - 1;
-        T before = T(0);
-        for (int q = 0; q < n; ++q) {
-            if (target < before + t[q] || q == n - 1) {
-                j = q;
-                break;
-            }
-            before += t[q];
-        }
-        T v = clamp((target - before) / t[j], T(0), T(1));
+        const DiscreteChoice<T> node_choice = sample_discrete(t, n, u.x, total);
+        const int j = node_choice.index;
+        T v = node_choice.rescaled;
         T sign = T(1);
         if (mat_->node_mirrored(j)) {
             sign = v < T(0.5) ? T(1) : T(-1);
             v = v < T(0.5) ? T(2) * v : T(2) * v - T(1);
         }
 
+        // The lobe ∝ mean(A_p(h_j)) (w[0] ∝ F > 0).
         const Node nd = node(o, j);
         T w[kLobes + 1], wsum = T(0);
         for (int p = 0; p <= kLobes; ++p) {
             w[p] = nd.att.a[p].x + nd.att.a[p].y + nd.att.a[p].z;
             wsum += w[p];
         }
-        const T target_p = v * wsum;
-        int p = kLobes;
-        T acc = T(0);
-        for (int q = 0; q < kLobes; ++q) {
-            if (target_p < acc + w[q]) {
-                p = q;
-                break;
-            }
-            acc += w[q];
-        }
-        if (!(w[p] > T(0))) {  // v ≈ 1 must not land on an empty lobe (w[0] ∝ F > 0)
-            while (p > 0 && !(w[p] > T(0))) --p;
-            acc = T(0);
-            for (int q = 0; q < p; ++q) acc += w[q];
-        }
-        v = clamp((target_p - acc) / w[p], T(0), T(1));
+        const DiscreteChoice<T> lobe = sample_discrete(w, kLobes + 1, v, wsum);
+        const int p = lobe.index;
+        v = lobe.rescaled;
 
         const T sin_i = mat_->longitudinal(p).sample_sin_theta(o.sin_p[p], o.cos_p[p], u.y, u.z);
         const T cos_i = cos_from_sin(sin_i);

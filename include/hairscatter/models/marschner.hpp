@@ -19,6 +19,7 @@
 #include "../lobes/marschner_azimuthal.hpp"
 #include "../lobes/tilt.hpp"
 #include "../math/constants.hpp"
+#include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
 #include "../math/functions.hpp"
 #include "../math/quadrature.hpp"
@@ -140,6 +141,7 @@ template <typename T> class MarschnerMaterial {
     HAIRSCATTER_HD int nodes() const { return nodes_; }
     HAIRSCATTER_HD T node_offset(int k) const { return offset_[k]; }
     HAIRSCATTER_HD T node_weight(int k) const { return weight_[k]; }
+    HAIRSCATTER_HD const T* node_weights() const { return weight_; }
     HAIRSCATTER_HD T cell_lo(int k) const { return cell_lo_[k]; }
     HAIRSCATTER_HD T cell_len(int k) const { return cell_len_[k]; }
     // Lobe p peaks at θi = lobe_shift(p) - θo (Marschner's α_p), with width β_p.
@@ -198,38 +200,21 @@ template <typename T> class MarschnerFiber {
 
     HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const {
         const Outgoing o = outgoing<true>(wo);
-        int p = kLobes - 1;
-        T before = T(0);
-        for (int q = 0; q < kLobes; ++q) {
-            if (u.x < before + o.w[q]) {
-                p = q;
-                break;
-            }
-            before += o.w[q];
-        }
-        if (!(o.w[p] > T(0))) {  // u.x ≈ 1 must not land on an empty lobe (w_R > 0 always)
-            while (p > 0 && !(o.w[p] > T(0))) --p;
-            before = T(0);
-            for (int q = 0; q < p; ++q) before += o.w[q];
-        }
-        const T h = T(2) * clamp((u.x - before) / o.w[p], T(0), T(1)) - T(1);
+        // The lobe ∝ w_p (normalised, w_R > 0); the leftover of u.x is h.
+        const DiscreteChoice<T> lobe = sample_discrete(o.w, kLobes, u.x, T(1));
+        const int p = lobe.index;
+        const T h = T(2) * lobe.rescaled - T(1);
 
         const T sin_i = mat_->proposal(p).sample_sin_theta(o.sin_p[p], o.cos_p[p], u.y, u.z);
         const T cos_i = cos_from_sin(sin_i);
         const Section s = section(o, elem::asin(sin_i), sample_eta(o));
         const MarschnerCubic<T> cubic(p, s.inv_eta_perp);
 
-        const int n = mat_->nodes();
-        int k = n - 1;
-        T acc = T(0);
-        for (int q = 0; q < n; ++q) {
-            if (u.w < acc + mat_->node_weight(q)) {
-                k = q;
-                break;
-            }
-            acc += mat_->node_weight(q);
-        }
-        const T v = clamp((u.w - acc) / mat_->node_weight(k), T(0), T(1));
+        // The roughness cell ∝ its Gauss–Hermite weight ω_k (Σ ω_k = 1); the leftover of u.w
+        // is the offset in it.
+        const DiscreteChoice<T> cell = sample_discrete(mat_->node_weights(), mat_->nodes(), u.w, T(1));
+        const int k = cell.index;
+        const T v = cell.rescaled;
         const T phi = wrap_pi(cubic.exit_azimuth(elem::asin(h)) + mat_->cell_lo(k) + mat_->cell_len(k) * v);
 
         HairSample<T> r;

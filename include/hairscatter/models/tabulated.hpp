@@ -21,6 +21,7 @@
 #include "../lobes/longitudinal_table.hpp"
 #include "../lobes/tilt.hpp"
 #include "../math/constants.hpp"
+#include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
 #include "../math/functions.hpp"
 #include "../math/wrapped_gaussian.hpp"
@@ -211,6 +212,7 @@ template <typename T> class TabulatedView {
     HAIRSCATTER_HD int phi_samples() const { return n_phi_; }
     HAIRSCATTER_HD int theta_samples() const { return n_theta_; }
     HAIRSCATTER_HD T phi_step() const { return phi_step_; }
+    HAIRSCATTER_HD T phi_scale() const { return phi_scale_; }  // 1 / phi_step()
     HAIRSCATTER_HD const T* data() const { return data_; }
     HAIRSCATTER_HD const T* lobes(int row) const { return data_ + std::size_t(row) * std::size_t(n_phi_ * kNodeStride); }
     HAIRSCATTER_HD const T* cdf(int row, int p) const {
@@ -568,23 +570,10 @@ template <typename T> class TabulatedFiber {
 
     HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
         using std::sqrt;
-        // Lobe ∝ s_p.
-        const T target = u.x * o.total;
-        int p = kLobes;
-        T acc = T(0);
-        for (int q = 0; q < kLobes; ++q) {
-            if (target < acc + o.s[q]) {
-                p = q;
-                break;
-            }
-            acc += o.s[q];
-        }
-        if (!(o.s[p] > T(0))) {  // u.x ≈ 1 must not land on an empty lobe (s_0 ∝ F > 0)
-            while (p > 0 && !(o.s[p] > T(0))) --p;
-            acc = T(0);
-            for (int q = 0; q < p; ++q) acc += o.s[q];
-        }
-        const T v = clamp((target - acc) / o.s[p], T(0), T(1));
+        // Lobe ∝ s_p; the leftover of u.x picks the row below.
+        const DiscreteChoice<T> lobe = sample_discrete(o.s, kLobes + 1, u.x, o.total);
+        const int p = lobe.index;
+        const T v = lobe.rescaled;
 
         const T sin_i = v_.longitudinal_tabulated()
                             ? v_.longitudinal_table(p).sample_sin_theta(o.mc[p], u.y)
@@ -610,34 +599,23 @@ template <typename T> class TabulatedFiber {
         return r;
     }
 
-    // φ from row's lobe p: |φ| by its CDF (binary search for the cell, then the root of the
-    // cell's quadratic CDF), the sign from which half of [0, 1) u falls in.
+    // φ from row's lobe p: |φ| by inverting its piecewise-linear CDF, the sign from which
+    // half of [0, 1) u falls in.
     HAIRSCATTER_HD T sample_phi(int row, int p, T u) const {
-        using std::sqrt;
         const int n = v_.phi_samples();
         const T* cdf = v_.cdf(row, p);
+        const T* node = v_.lobes(row) + 3 * p;
         const T w = T(2) * u - T(1);
         const T sign = w < T(0) ? T(-1) : T(1);
-        const T target = (w < T(0) ? -w : w) * cdf[n - 1];
-        int lo = 0, hi = n - 1;  // cdf[lo] ≤ target, and target < cdf[hi] unless hi = n - 1
-        while (hi - lo > 1) {
-            const int mid = (lo + hi) / 2;
-            if (cdf[mid] <= target)
-                lo = mid;
-            else
-                hi = mid;
-        }
-        const T* node = v_.lobes(row) + lo * View::kNodeStride + 3 * p;
-        const T a = node[0] + node[1] + node[2];
-        const T b = node[View::kNodeStride] + node[View::kNodeStride + 1] + node[View::kNodeStride + 2];
-        // Density a + (b - a) x/Δ on [0, Δ]; mass d = a x + (b - a) x²/2Δ, solved in the form
-        // without cancellation: x = 2d / (a + sqrt(a² + 2(b - a) d/Δ)).
         const T step = v_.phi_step();
-        const T d = target - cdf[lo];
-        const T disc = a * a + T(2) * (b - a) * d / step;
-        const T den = a + sqrt(disc > T(0) ? disc : T(0));
-        const T x = den > T(0) ? clamp(T(2) * d / den, T(0), step) : T(0);
-        return sign * clamp(T(lo) * step + x, T(0), kPi<T>);
+        const PiecewiseLinearPoint<T> x = invert_piecewise_linear(
+            [&](int k) { return cdf[k]; },
+            [&](int k) {
+                const T* c = node + k * View::kNodeStride;
+                return c[0] + c[1] + c[2];
+            },
+            n, step, v_.phi_scale(), (w < T(0) ? -w : w) * cdf[n - 1]);
+        return sign * clamp(T(x.cell) * step + x.offset, T(0), kPi<T>);
     }
 
     View v_;
