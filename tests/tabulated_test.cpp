@@ -204,8 +204,8 @@ TEST(TabulatedAccuracy, MatchesTheExactFarFieldModelPerResolution) {
                                      {"fine", hs::TabulatedOptions::fine(), 2e-4, 5e-5}};
     for (const Case& c : cases) {
         const ErrorFigures e = table_error<double>(c.o, error_configs());
-        std::printf("[ accuracy ] %-7s %4d×%-3d h %2d (%6zu B float): relative L1 %.3g, max abs / peak %.3g\n", c.name,
-                    c.o.phi_samples, c.o.theta_samples, c.o.h_nodes,
+        std::printf("[ accuracy ] %-7s %4d×%-3d h %-4s (%6zu B float): relative L1 %.3g, max abs / peak %.3g\n", c.name,
+                    c.o.phi_samples, c.o.theta_samples, c.o.h_nodes ? std::to_string(c.o.h_nodes).c_str() : "auto",
                     hs::TabulatedMaterial<float>(hs::FiberParams<float>(), c.o).bytes(), e.rel_l1, e.max_abs_rel);
         EXPECT_LT(e.rel_l1, c.l1) << c.name;
         EXPECT_LT(e.max_abs_rel, c.max_abs) << c.name;
@@ -473,6 +473,10 @@ TEST(TabulatedMaterial, ValidatesOptionsAndParameters) {
     const hs::FiberParams<double> p;
     EXPECT_NO_THROW(hs::TabulatedMaterial<double>(p, {2, 2, 1}));
     EXPECT_NO_THROW(hs::TabulatedMaterial<double>(p, {2, 2, 64}));
+    // h_nodes = 0 (the default) is DeonFarFieldMaterial's automatic count, reported by options().
+    EXPECT_EQ(hs::TabulatedOptions().h_nodes, hs::DeonFarFieldMaterial<double>::kAutoNodes);
+    EXPECT_EQ(hs::TabulatedMaterial<double>(p, {2, 2, 0}).options().h_nodes,
+              hs::DeonFarFieldMaterial<double>::auto_nodes(p.beta_n));
     auto expect_throw = [&](const hs::TabulatedOptions& o, const char* name) {
         try {
             hs::TabulatedMaterial<double> m(p, o);
@@ -487,7 +491,7 @@ TEST(TabulatedMaterial, ValidatesOptionsAndParameters) {
     expect_throw({96, 1, 32}, "theta_samples");
     expect_throw({96, -4, 32}, "theta_samples");
     expect_throw({96, hs::TabulatedOptions::kMaxThetaSamples + 1, 32}, "theta_samples");
-    expect_throw({96, 16, 0}, "h_nodes");
+    expect_throw({96, 16, -1}, "h_nodes");
     expect_throw({96, 16, hs::DeonFarFieldMaterial<double>::kMaxNodes + 1}, "h_nodes");
 
     auto expect_param_throw = [](hs::FiberParams<float> q, const char* name) {

@@ -38,11 +38,14 @@ namespace hairscatter {
 //                  cosθo = y(1 + 2y)/3 for equispaced y, five times denser at grazing, where
 //                  the curvature of Fresnel's F → 1 dominates the interpolation error, than
 //                  at normal incidence (halves the error of equispaced rows);
-//   h_nodes:       Gauss–Legendre nodes in γ of each row's h integral (DeonFarFieldMaterial).
+//   h_nodes:       Gauss–Legendre nodes in γ of each row's h integral (DeonFarFieldMaterial),
+//                  or kAutoNodes (0, the default) for DeonFarFieldMaterial::auto_nodes(β_n):
+//                  34 at β_n = 0.3 (the default table builds in 0.47 ms in float), 24 for
+//                  β_n ≥ 0.4, more for narrower detectors; options() reports the count used.
 // The default keeps the relative L1 error against the exact far-field model (64 h nodes)
 // near 5e-4 for β_n ≥ 0.3 (tests/tabulated_test.cpp states the figures per resolution);
-// narrower azimuthal lobes need proportionally more φ samples (and h nodes, as the exact
-// model itself does).
+// narrower azimuthal lobes need proportionally more φ samples (the automatic h node count
+// grows with them, as the exact model's does).
 // How M_p is evaluated: kExact, d'Eon's formula per call (lobes/longitudinal.hpp); kTable,
 // lobes/longitudinal_table.hpp's table of m_rows rows over |θo'| ∈ [0, π/2] and m_nodes
 // nodes per row, renormalised per θo' so that the furnace stays exactly 1 and sampled by
@@ -56,18 +59,22 @@ struct TabulatedOptions {
     static constexpr int kMaxLongitudinalRows = 1024;
     static constexpr int kMaxLongitudinalNodes = 8192;
 
+    static constexpr int kAutoNodes = DeonFarFieldMaterial<double>::kAutoNodes;
+
     int phi_samples = 96;
     int theta_samples = 28;
-    int h_nodes = 32;
+    int h_nodes = kAutoNodes;
     TabulatedLongitudinal longitudinal = TabulatedLongitudinal::kExact;
     int m_rows = 48;
     int m_nodes = 192;
 
-    // The shipped resolutions besides the default: a quarter of its memory, and four times it.
+    // The shipped resolutions besides the default: a quarter of its memory (and the fewest
+    // h nodes auto_nodes ever picks, for the cheapest build), and four times it (h nodes
+    // fixed at the accuracy tests' reference count).
     static constexpr TabulatedOptions coarse() { return {48, 16, 24}; }
     static constexpr TabulatedOptions fine() { return {192, 56, 64}; }
     // The speed preset: the default azimuthal table with M_p tabulated.
-    static constexpr TabulatedOptions fast() { return {96, 28, 32, TabulatedLongitudinal::kTable, 48, 192}; }
+    static constexpr TabulatedOptions fast() { return {96, 28, kAutoNodes, TabulatedLongitudinal::kTable, 48, 192}; }
 };
 
 // Row y ∈ [0, 1] of the table ↔ cosθo (see theta_samples above).
@@ -300,6 +307,7 @@ template <typename T> class TabulatedMaterial {
         pd.alpha = clamp(double(params.alpha), -kMaxCuticleTilt<double>, kMaxCuticleTilt<double>);
         pd.sigma_a = glm::dvec3(params.sigma_a);
         const DeonFarFieldMaterial<double> md(pd, options.h_nodes);
+        options_.h_nodes = md.nodes();
         const DeonFarFieldFiber<double> fd(md);
         detail::WrappedGaussianGrid grid(md.azimuthal().sigma(), n);
         const double step = kPi<double> / (n - 1);
@@ -388,8 +396,9 @@ template <typename T> class TabulatedMaterial {
             bad("phi_samples", o.phi_samples, 2, TabulatedOptions::kMaxPhiSamples);
         if (!(o.theta_samples >= 2 && o.theta_samples <= TabulatedOptions::kMaxThetaSamples))
             bad("theta_samples", o.theta_samples, 2, TabulatedOptions::kMaxThetaSamples);
-        if (!(o.h_nodes >= 1 && o.h_nodes <= DeonFarFieldMaterial<double>::kMaxNodes))
-            bad("h_nodes", o.h_nodes, 1, DeonFarFieldMaterial<double>::kMaxNodes);
+        // 0 = kAutoNodes.
+        if (!(o.h_nodes >= 0 && o.h_nodes <= DeonFarFieldMaterial<double>::kMaxNodes))
+            bad("h_nodes", o.h_nodes, 0, DeonFarFieldMaterial<double>::kMaxNodes);
         if (o.longitudinal != TabulatedLongitudinal::kExact && o.longitudinal != TabulatedLongitudinal::kTable)
             bad("longitudinal", int(o.longitudinal), 0, 1);
         if (o.longitudinal == TabulatedLongitudinal::kTable) {
