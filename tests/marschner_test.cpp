@@ -438,7 +438,7 @@ TEST(MarschnerChi2, NegativeControlsAreRejected) {
 
 namespace {
 
-// sample's pdf equals pdf(wo, wi) and its weight eval/pdf: 1e-9 relative in double, 2e-3 in
+// sample's pdf equals pdf(wo, wi) and its weight eval/pdf: 1e-9 relative in double, 1e-4 in
 // float (pdf() recomputes φ by atan2 from the rounded wi, and the pdf is a difference of
 // pushforward CDFs over a roughness cell, which loses digits in float for narrow cells).
 template <typename T> void check_sample_consistency(double tol) {
@@ -475,7 +475,7 @@ template <typename T> void check_sample_consistency(double tol) {
 }  // namespace
 
 TEST(MarschnerSample, PdfAndWeightAgreeWithQueriesDouble) { check_sample_consistency<double>(1e-9); }
-TEST(MarschnerSample, PdfAndWeightAgreeWithQueriesFloat) { check_sample_consistency<float>(2e-3); }
+TEST(MarschnerSample, PdfAndWeightAgreeWithQueriesFloat) { check_sample_consistency<float>(1e-4); }  // measured 1.5e-5
 
 namespace {
 
