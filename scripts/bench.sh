@@ -66,7 +66,7 @@ if [[ -n "$headers_rev" ]]; then
 fi
 cmake -S "$SRC" -B "$BUILD" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF \
     -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$BUILD" --target chiang_bench bench_crosscheck dual_bench -j "$(nproc 2>/dev/null || echo 2)"
+cmake --build "$BUILD" --target chiang_bench bench_crosscheck dual_bench tabulated_bench -j "$(nproc 2>/dev/null || echo 2)"
 
 BENCH="$BUILD/bench/chiang_bench"
 CROSS="$BUILD/bench/bench_crosscheck"
@@ -239,20 +239,22 @@ EOF
 
 echo "bench.sh: wrote ${out#"$ROOT"/}"
 
-# --- dual scattering: table build, density march, the dual BCSDF --------------------------
-if [[ -z "$filter" && -x "$BUILD/bench/dual_bench" ]]; then
-    dual_out="$ROOT/bench/results/dual_$(date +%Y-%m-%d)${headers_rev:+_$rev_name}.txt"
+# --- the other programs: dual scattering (table build, density march, the dual BCSDF) and
+# the tabulated fiber (build, eval/pdf/sample, the cost split of eval) ---------------------
+for prog in dual tabulated; do
+    [[ -z "$filter" && -x "$BUILD/bench/${prog}_bench" ]] || continue
+    prog_out="$ROOT/bench/results/${prog}_$(date +%Y-%m-%d)${headers_rev:+_$rev_name}.txt"
     {
-        echo "hairscatter benchmark: dual scattering (bench/dual_bench.cpp, scripts/bench.sh)"
+        echo "hairscatter benchmark: bench/${prog}_bench.cpp (scripts/bench.sh)"
         echo
         echo "date:      $(date -u '+%Y-%m-%d %H:%M:%S UTC')"
         echo "commit:    $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')"
         echo "cpu:       $(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -1), $(nproc) cores"
         echo "compiler:  $("$cxx" --version | head -1); flags as in the chiang file (-O2 -march=native -DNDEBUG)"
-        echo "run:       dual_bench --benchmark_repetitions=$reps (medians of the CPU time)"
+        echo "run:       ${prog}_bench --benchmark_repetitions=$reps (medians of the CPU time)"
         echo
-        "$BUILD/bench/dual_bench" --benchmark_repetitions="$reps" --benchmark_report_aggregates_only=true 2>&1 |
+        "$BUILD/bench/${prog}_bench" --benchmark_repetitions="$reps" --benchmark_report_aggregates_only=true 2>&1 |
             grep -v -E '_(mean|stddev) '
-    } >"$dual_out"
-    echo "bench.sh: wrote ${dual_out#"$ROOT"/}"
-fi
+    } >"$prog_out"
+    echo "bench.sh: wrote ${prog_out#"$ROOT"/}"
+done

@@ -70,7 +70,7 @@ template <typename T, int P> struct Attenuation {
 // reflectance (equal for one index by reciprocity), Marschner et al. 2003 their
 // F(1/η', 1/η'', γt), which differs when η' ≠ η''.
 template <typename T, int P>
-HAIRSCATTER_HD Attenuation<T, P> attenuation(T fresnel, T fresnel_internal, const glm::vec<3, T>& transmittance) {
+HAIRSCATTER_HD HAIRSCATTER_INLINE Attenuation<T, P> attenuation(T fresnel, T fresnel_internal, const glm::vec<3, T>& transmittance) {
     using V = glm::vec<3, T>;
     Attenuation<T, P> r;
     const T f = fresnel, fi = fresnel_internal;
@@ -94,7 +94,7 @@ HAIRSCATTER_HD Attenuation<T, P> attenuation(T fresnel, T fresnel_internal, cons
 }
 
 template <typename T, int P>
-HAIRSCATTER_HD Attenuation<T, P> attenuation(T fresnel, const glm::vec<3, T>& transmittance) {
+HAIRSCATTER_HD HAIRSCATTER_INLINE Attenuation<T, P> attenuation(T fresnel, const glm::vec<3, T>& transmittance) {
     return attenuation<T, P>(fresnel, fresnel, transmittance);
 }
 
@@ -117,7 +117,7 @@ template <typename T> struct FiberRefraction {
         T gamma_t;
         glm::vec<3, T> transmittance;
     };
-    HAIRSCATTER_HD AtOffset at(T h, const glm::vec<3, T>& sigma_a) const {
+    HAIRSCATTER_HD HAIRSCATTER_INLINE AtOffset at(T h, const glm::vec<3, T>& sigma_a) const {
         const T sin_gamma_t = h * gamma_t_scale;
         const T chord = chord_scale * cos_from_sin(sin_gamma_t);
         return {elem::asin(sin_gamma_t), glm::vec<3, T>(elem::exp(-sigma_a.x * chord), elem::exp(-sigma_a.y * chord),

@@ -39,7 +39,7 @@ template <typename T> class DeonLongitudinal {
 
     HAIRSCATTER_HD T variance() const { return v_; }
 
-    HAIRSCATTER_HD T eval(T sin_i, T cos_i, T sin_o, T cos_o) const {
+    HAIRSCATTER_HD HAIRSCATTER_INLINE T eval(T sin_i, T cos_i, T sin_o, T cos_o) const {
         using elem::exp;
         using std::sqrt;
         const T d2 = sqr(cos_i - cos_o) + sqr(sin_i + sin_o);
@@ -57,7 +57,7 @@ template <typename T> class DeonLongitudinal {
     // as 1 - c so that sharp lobes keep their precision, and an azimuth 2π u2 around it.
     // The log argument is floored at the smallest normal number instead of clamping u1,
     // so the distribution is exact wherever e^(-2/v) does not underflow.
-    HAIRSCATTER_HD T sample_sin_theta(T sin_o, T cos_o, T u1, T u2) const {
+    HAIRSCATTER_HD HAIRSCATTER_INLINE T sample_sin_theta(T sin_o, T cos_o, T u1, T u2) const {
         const T arg = u1 + (T(1) - u1) * exp_m2_over_v_;
         const T one_minus_c = clamp(-v_ * elem::log(arg > kMinNormal<T> ? arg : kMinNormal<T>), T(0), T(2));
         const T c = T(1) - one_minus_c;

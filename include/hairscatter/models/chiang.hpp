@@ -196,7 +196,7 @@ template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
 
     // eval, pdf and eval_pdf: f and/or pdf at (wo, wi).
     template <bool kF, bool kPdf>
-    HAIRSCATTER_HD HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
+    HAIRSCATTER_HD HAIRSCATTER_INLINE HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
         const T sin_i = clamp(wi.x, T(-1), T(1));
         const T phi = relative_azimuth(wo, wi);
         return combine<kF, kPdf>(o, sin_i, cos_from_sin(sin_i), phi);
@@ -223,7 +223,7 @@ template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
     }
 
     // kW: also the lobe selection probabilities w (pdf and sample need them, eval not).
-    template <bool kW> HAIRSCATTER_HD Outgoing outgoing(const V3& wo) const {
+    template <bool kW> HAIRSCATTER_HD HAIRSCATTER_INLINE Outgoing outgoing(const V3& wo) const {
         const FiberParams<T>& prm = mat_.params();
         Outgoing o;
         const T sin_o = clamp(wo.x, T(-1), T(1));
@@ -263,7 +263,7 @@ template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
     // f = Σ_p M_p A_p N_p and pdf = Σ_p M_p w_p N_p over the same lobe terms (kF, kPdf
     // select which).
     template <bool kF, bool kPdf>
-    HAIRSCATTER_HD HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
+    HAIRSCATTER_HD HAIRSCATTER_INLINE HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
         T mn[kLobes + 1];
         for (int p = 0; p < kLobes; ++p)
             if (keeps(p))
