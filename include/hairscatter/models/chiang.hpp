@@ -42,6 +42,18 @@ template <typename T> struct HairEvalPdf {
     T pdf = T(0);
 };
 
+// The sample of direction wi drawn from lobe `lobe`, given its f and pdf: weight = f / pdf,
+// 0 where the pdf underflowed. Every model's sample() ends here.
+template <typename T>
+HAIRSCATTER_HD HAIRSCATTER_INLINE HairSample<T> make_sample(const glm::vec<3, T>& wi, int lobe, const HairEvalPdf<T>& e) {
+    HairSample<T> r;
+    r.wi = wi;
+    r.lobe = lobe;
+    r.pdf = e.pdf;
+    r.weight = e.pdf > T(0) ? e.f / e.pdf : glm::vec<3, T>(T(0));
+    return r;
+}
+
 // Everything that depends only on the fiber parameters, computed once per material on
 // the host (validated: the constructor throws std::invalid_argument with a message that
 // names the bad parameter). Trivially copyable, so it can be passed to a GPU kernel.
@@ -213,13 +225,7 @@ template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
         const T phi = wrap_pi(p < kLobes ? o.phi_p[p] + mat_.azimuthal().sample(u.w)
                                          : kTwoPi<T> * u.w - kPi<T>);
 
-        HairSample<T> r;
-        r.wi = direction_from_azimuth(wo, sin_i, phi);
-        r.lobe = p;
-        const HairEvalPdf<T> e = combine<true, true>(o, sin_i, cos_i, phi);
-        r.pdf = e.pdf;
-        r.weight = e.pdf > T(0) ? e.f / e.pdf : V3(T(0));
-        return r;
+        return make_sample(direction_from_azimuth(wo, sin_i, phi), p, combine<true, true>(o, sin_i, cos_i, phi));
     }
 
     // kW: also the lobe selection probabilities w (pdf and sample need them, eval not).

@@ -242,13 +242,7 @@ template <typename T> class DeonFarFieldFiber {
                                            mat_->azimuthal().sample(u.w, v))
                                  : wrap_pi(kTwoPi<T> * u.w - kPi<T>);
 
-        HairSample<T> r;
-        r.wi = direction_from_azimuth(wo, sin_i, phi);
-        r.lobe = p;
-        const HairEvalPdf<T> e = combine(o, sin_i, cos_i, phi);
-        r.pdf = e.pdf;
-        r.weight = e.pdf > T(0) ? e.f / e.pdf : V3(T(0));
-        return r;
+        return make_sample(direction_from_azimuth(wo, sin_i, phi), p, combine(o, sin_i, cos_i, phi));
     }
 
   private:

@@ -217,13 +217,7 @@ template <typename T> class MarschnerFiber {
         const T v = cell.rescaled;
         const T phi = wrap_pi(cubic.exit_azimuth(elem::asin(h)) + mat_->cell_lo(k) + mat_->cell_len(k) * v);
 
-        HairSample<T> r;
-        r.wi = direction_from_azimuth(wo, sin_i, phi);
-        r.lobe = p;
-        const HairEvalPdf<T> e = combine<true, true>(o, sin_i, cos_i, phi);
-        r.pdf = e.pdf;
-        r.weight = e.pdf > T(0) ? e.f / e.pdf : V3(T(0));
-        return r;
+        return make_sample(direction_from_azimuth(wo, sin_i, phi), p, combine<true, true>(o, sin_i, cos_i, phi));
     }
 
     // Marschner's smooth-fiber N_p(φ) (no roughness, no caustic replacement) at the

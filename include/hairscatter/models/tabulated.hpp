@@ -599,13 +599,7 @@ template <typename T> class TabulatedFiber {
             phi = sample_phi(row, p, u.w);
         }
 
-        HairSample<T> r;
-        r.wi = direction_from_azimuth(wo, sin_i, phi);
-        r.lobe = p;
-        const HairEvalPdf<T> e = combine(o, sin_i, cos_i, phi);
-        r.pdf = e.pdf;
-        r.weight = e.pdf > T(0) ? e.f / e.pdf : V3(T(0));
-        return r;
+        return make_sample(direction_from_azimuth(wo, sin_i, phi), p, combine(o, sin_i, cos_i, phi));
     }
 
     // φ from row's lobe p: |φ| by inverting its piecewise-linear CDF, the sign from which
