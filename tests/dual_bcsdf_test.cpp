@@ -1,9 +1,11 @@
-// The dual-scattering BCSDF (dual/bcsdf.hpp): its importance sampler against its pdf
-// (chi-square, with negative controls), sample/pdf/eval agreement, the n = 0 identity,
-// extremes, and the seed thesis's claim in miniature — the importance sampler's variance
-// against the uniform sampler's.
+// The dual-scattering BCSDF: its terms and their limits, the 1D adding model, the mixture
+// sampler against its pdf (chi-square with negative controls, float and double), extremes,
+// any model behind the contract, the variance gain over uniform sampling, and agreement
+// with a path-traced slab of explicit fibers.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -12,329 +14,397 @@
 #include <hairscatter/dual.hpp>
 
 #include "support/chi2.hpp"
+#include "support/fiber_slab.hpp"
 
 namespace hs = hairscatter;
+using glm::dvec3;
+using glm::dvec4;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using Dual = hs::DualScatteringBcsdf<hs::ChiangFiber<double>>;
 
 struct Hair {
     const char* name;
-    double eumelanin, pheomelanin;
+    double eumelanin;  // < 0: lossless
 };
-const Hair kHairs[] = {{"blond", 0.15, 0.05}, {"brown", 1.3, 0.0}, {"red", 0.3, 1.2}};
+const Hair kHairs[] = {{"white", -1}, {"blond", 0.3}, {"dark", 8.0}};
+
+hs::FiberParams<double> params_of(const Hair& h) {
+    hs::FiberParams<double> p;
+    p.sigma_a = h.eumelanin < 0 ? dvec3(0) : hs::sigma_a_from_melanin(h.eumelanin, 0.0);
+    return p;
+}
 
 struct HairSetup {
     hs::ChiangMaterial<double> material;
     hs::DualScatteringTables<double> tables;
-    explicit HairSetup(const Hair& hair, double beta_m = 0.3, double beta_n = 0.3)
-        : material(params(hair, beta_m, beta_n)),
-          tables(hs::DualScatteringTables<double>::build<hs::ChiangFiber>(material)) {}
-    static hs::FiberParams<double> params(const Hair& hair, double beta_m, double beta_n) {
-        hs::FiberParams<double> p;
-        p.beta_m = beta_m;
-        p.beta_n = beta_n;
-        p.sigma_a = hs::sigma_a_from_melanin(hair.eumelanin, hair.pheomelanin);
-        return p;
-    }
-    hs::DualScatteringFiber<double> at(double h, double n, double direct) const {
-        hs::DualScatteringLight<double> light;
-        light.n = n;
-        light.direct_fraction = direct;
-        return hs::DualScatteringFiber<double>(hs::ChiangFiber<double>(material, h), tables, light);
+    explicit HairSetup(const Hair& h, hs::DualScatteringSettings<double> s = {})
+        : material(params_of(h)), tables(build(material, s)) {}
+    static hs::DualScatteringTables<double> build(const hs::ChiangMaterial<double>& m, hs::DualScatteringSettings<double> s) {
+        hs::DualTableOptions<double> o;
+        o.settings = s;
+        return hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(m, o);
     }
 };
 
-glm::dvec3 direction(double theta_deg, double phi) {
-    const double t = theta_deg * kPi / 180;
-    return {std::sin(t), std::cos(t) * std::cos(phi), std::cos(t) * std::sin(phi)};
+dvec3 direction(double theta_deg, double phi) {
+    const double t = theta_deg * hs::kPi<double> / 180;
+    return dvec3(std::sin(t), std::cos(t) * std::cos(phi), std::cos(t) * std::sin(phi));
 }
+
+hs::DualScatteringLight<double> shadowed(double n, double beyond = hs::kUnbounded<double>) {
+    hs::DualScatteringLight<double> l;
+    l.direct_fraction = 0;
+    l.n = n;
+    l.beyond = beyond;
+    return l;
+}
+
+double mean(const dvec3& v) { return (v.x + v.y + v.z) / 3; }
 
 }  // namespace
 
-// n = 0 and a lit point: no scattered term at all, F = f_s + d_b f_back (theory.md §5.2).
-TEST(DualBcsdf, DirectlyLitPointHasNoScatteredTerm) {
-    const HairSetup s(kHairs[0]);
-    const auto lit = s.at(0.3, 0.0, 1.0);
-    hs::DualScatteringLight<double> no_back;
-    no_back.d_b = 0;
-    const hs::DualScatteringFiber<double> single(hs::ChiangFiber<double>(s.material, 0.3), s.tables, no_back);
+TEST(DualLayers, AddingFormulaMatchesIterationAndClosedForms) {
+    for (double af : {0.0, 0.3, 0.7, 0.9}) {
+        for (double ab : {0.0, 0.05, 0.1}) {
+            if (af + ab > 1) continue;
+            double R = 0, T = 1;
+            for (int N = 1; N <= 40; ++N) {
+                const double den = 1 - ab * R;
+                T = af * T / den;
+                R = ab + af * af * R / den;
+                const auto s = hs::layered_stack(af, ab, double(N));
+                EXPECT_NEAR(s.R, R, 1e-12) << af << " " << ab << " " << N;
+                EXPECT_NEAR(s.T_, T, 1e-12 + 1e-9 * T) << af << " " << ab << " " << N;
+            }
+        }
+    }
+    // Lossless: R_N = N b / (1 + (N - 1) b) and R + T = 1, even a million layers deep (the
+    // 20 squarings of a nearly singular matrix leave ~1e-7 of rounding there).
+    const double b = 0.1;
+    for (double N : {1.0, 7.0, 1000.0, 1e6}) {
+        const auto s = hs::layered_stack(1 - b, b, N);
+        const double tol = N > 1e5 ? 1e-6 : 1e-9;
+        EXPECT_NEAR(s.R, N * b / (1 + (N - 1) * b), tol);
+        EXPECT_NEAR(s.R + s.T_, 1.0, tol);
+    }
+    // Fractional depth interpolates between whole layers.
+    const auto a = hs::layered_stack(0.8, 0.1, 3.0), c = hs::layered_stack(0.8, 0.1, 4.0), m = hs::layered_stack(0.8, 0.1, 3.25);
+    EXPECT_NEAR(m.R, a.R + 0.25 * (c.R - a.R), 1e-12);
+}
+
+TEST(DualBcsdf, DirectlyLitPointIgnoresTheCountTowardTheLight) {
+    const HairSetup s(kHairs[1]);
     const hs::ChiangFiber<double> fiber(s.material, 0.3);
-    std::mt19937_64 rng(3);
-    std::uniform_real_distribution<double> uni(0, 1);
-    for (int k = 0; k < 200; ++k) {
-        const glm::dvec3 wo = direction(-80 + 160 * uni(rng), 2 * kPi * uni(rng));
-        const glm::dvec3 wi = direction(-80 + 160 * uni(rng), 2 * kPi * uni(rng));
-        // With d_b = 0 only f_s is left: exactly the single-fiber model.
-        const glm::dvec3 a = single.eval(wo, wi), b = fiber.eval(wo, wi);
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 1e-12 * (1 + b[c]));
-        // With d_b = 0.7 the difference is d_b f_back: backward azimuths only.
-        const glm::dvec3 d = lit.eval(wo, wi) - b;
-        const double phi = std::atan2(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
-        if (std::abs(phi) > kPi / 2 + 1e-9) {
-            for (int c = 0; c < 3; ++c) EXPECT_NEAR(d[c], 0.0, 1e-12);
-        } else {
-            for (int c = 0; c < 3; ++c) EXPECT_GE(d[c], 0.0);
-        }
+    const Dual d(fiber, s.tables);
+    const dvec3 wo = direction(20, 0.3);
+    hs::DualScatteringLight<double> lit, lit_n = lit;
+    lit_n.n = 12;
+    for (double phi : {0.1, 1.0, 2.5, -3.0}) {
+        const dvec3 wi = direction(-10, phi);
+        const dvec3 a = d.eval(wo, wi, lit), b = d.eval(wo, wi, lit_n);
+        EXPECT_EQ(a, b);
+        // and it is the single fiber plus a backward-only local term
+        const dvec3 single = fiber.eval(wo, wi);
+        if (std::abs(hs::relative_azimuth(wo, wi)) > hs::kHalfPi<double>) EXPECT_NEAR(mean(a), mean(single), 1e-15);
+        else EXPECT_GT(mean(a), mean(single));
     }
 }
 
-// A deep-opacity-map renderer passes T_f and σ̄²_f instead of n: with T_f = a_f(θi)^n
-// and σ̄²_f = n β̄²_f(θi) supplied by hand at a fixed light direction the result is the same.
-TEST(DualBcsdf, TransmittanceInputMatchesFiberCount) {
-    const HairSetup s(kHairs[2]);
-    const glm::dvec3 wo = direction(35, 0.2), wi = direction(-40, 2.9);
-    const auto e = s.tables.lookup(std::asin(wi.x));
-    const double n = 4;
-    hs::DualScatteringLight<double> light;
-    light.direct_fraction = 0;
-    light.use_transmittance = true;
-    light.T_f = glm::dvec3(std::pow(e.a_f.r, n), std::pow(e.a_f.g, n), std::pow(e.a_f.b, n));
-    light.sigma2_f = n * (e.beta2_f.r + e.beta2_f.g + e.beta2_f.b) / 3;
-    const hs::DualScatteringFiber<double> by_transmittance(hs::ChiangFiber<double>(s.material, 0.1), s.tables, light);
-    const glm::dvec3 a = by_transmittance.eval(wo, wi), b = s.at(0.1, n, 0.0).eval(wo, wi);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 1e-12 * (1 + b[c]));
-    EXPECT_GT(b.r, 0.0);
+TEST(DualBcsdf, GlobalTermReachesEveryAzimuth) {
+    // Zinke's forward-only f_s^G vanishes at backward azimuths; the window does not.
+    // d_b = 0 in both: only the global single-scattering term is left.
+    hs::DualScatteringSettings<double> a, b = hs::DualScatteringSettings<double>::zinke2008();
+    a.d_b = b.d_b = 0;
+    const HairSetup improved(kHairs[1], a), zinke(kHairs[1], b);
+    const hs::ChiangFiber<double> fiber(improved.material, 0.0);
+    const dvec3 wo = direction(10, 0), wi = direction(-5, 0.6);  // 0.6 rad: same side as the viewer
+    const hs::DualScatteringLight<double> sh = shadowed(3);
+    EXPECT_GT(mean(Dual(fiber, improved.tables).eval(wo, wi, sh)), 0.0);
+    EXPECT_EQ(mean(Dual(fiber, zinke.tables).eval(wo, wi, sh)), 0.0);
 }
 
-// Shadowed with n fibers in the way: the scattered term falls with T_f = a_f^n.
-TEST(DualBcsdf, ScatteredLightFallsWithDensity) {
-    const HairSetup s(kHairs[0]);
-    const glm::dvec3 wo = direction(20, 0.3);
-    double prev = 1e30;
-    for (double n : {0.0, 1.0, 3.0, 10.0, 30.0}) {
-        const auto d = s.at(0.0, n, 0.0);
-        double total = 0;
-        std::mt19937_64 rng(5);
-        std::uniform_real_distribution<double> uni(0, 1);
-        for (int k = 0; k < 20000; ++k) total += d.sample(wo, glm::dvec4(uni(rng), uni(rng), uni(rng), uni(rng))).weight.g;
-        total /= 20000;
-        EXPECT_LT(total, prev) << "n = " << n;
-        prev = total;
+TEST(DualBcsdf, TransmittanceIsConditionedOnTheShadowRay) {
+    const HairSetup s(kHairs[1]);
+    const auto e = s.tables.lookup(0.2);
+    // n → 0 with a blocked shadow ray: one fiber, not none.
+    const auto f0 = hs::dual_forward(shadowed(1e-9), e, hs::DualFormulation::kImproved);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(f0.transmittance[c], e.a_f[c], 1e-6);
+    // n = 2: a_f^(2 / (1 - e^-2)); Zinke: a_f^2.
+    const double nc = 2 / (1 - std::exp(-2.0));
+    const auto f2 = hs::dual_forward(shadowed(2), e, hs::DualFormulation::kImproved);
+    const auto z2 = hs::dual_forward(shadowed(2), e, hs::DualFormulation::kZinke2008);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(f2.transmittance[c], std::pow(e.a_f[c], nc), 1e-12);
+        EXPECT_NEAR(z2.transmittance[c], std::pow(e.a_f[c], 2.0), 1e-12);
+    }
+    // Lossless hair over a deep volume: the downward flux stays 1 at any depth.
+    const HairSetup w(kHairs[0]);
+    const auto ew = w.tables.lookup(0.2);
+    for (double n : {1.0, 10.0, 100.0}) {
+        const auto f = hs::dual_forward(shadowed(n), ew, hs::DualFormulation::kImproved);
+        EXPECT_NEAR(f.flux.x, 1.0, 1e-4) << n;
     }
 }
 
-// The energy of each term for a lossless fiber (σa = 0, so a_f + a_b = 1), by the
-// mixture sampler's own estimate E[weight] = ∫ F dωi. Lit, n = 0, d_b = 0: F = f_s, whose
-// albedo is exactly 1. Shadowed with given T_f and d_b = 0: only d_f T_f f_s^G is left, and
-// f_s^G (forward azimuths only) carries the forward albedo a_f(θo), not the whole albedo:
-// the backward half a_b of the single scattering of the globally scattered light is not in
-// the model (a_b = 0.10–0.23 of this fiber's albedo 1 for |θ| ≤ 60°; 0.05–0.17 of 0.5–0.8
-// per channel for the study's blond hair, eumelanin 0.3). The energy budget in which the
-// dual-vs-path study's gap is read.
-TEST(DualBcsdf, EnergyOfTheDirectAndGlobalTermsOfALosslessFiber) {
-    hs::FiberParams<double> p;
-    p.sigma_a = glm::dvec3(0.0);
-    const hs::ChiangMaterial<double> material(p);
-    const auto tables = hs::DualScatteringTables<double>::build<hs::ChiangFiber>(material);
-    auto energy = [&](const hs::DualScatteringFiber<double>& f, const glm::dvec3& wo) {
-        std::mt19937_64 rng(11);
-        std::uniform_real_distribution<double> uni(0, 1);
-        glm::dvec3 sum(0.0);
-        const int n = 100000;
-        for (int k = 0; k < n; ++k) sum += f.sample(wo, glm::dvec4(uni(rng), uni(rng), uni(rng), uni(rng))).weight;
-        return sum / double(n);
-    };
-    for (double theta_o : {0.0, 35.0, -60.0}) {
-        const glm::dvec3 wo = direction(theta_o, 0.4);
-        hs::DualScatteringLight<double> lit;
-        lit.d_b = 0;
-        const glm::dvec3 e_lit = energy(hs::DualScatteringFiber<double>(hs::ChiangFiber<double>(material, 0.2), tables, lit), wo);
-        hs::DualScatteringLight<double> shadowed;
-        shadowed.direct_fraction = 0;
-        shadowed.d_b = 0;
-        shadowed.d_f = 0.7;
-        shadowed.use_transmittance = true;
-        shadowed.T_f = glm::dvec3(0.5);
-        shadowed.sigma2_f = 0.04;
-        const glm::dvec3 e_sh =
-            energy(hs::DualScatteringFiber<double>(hs::ChiangFiber<double>(material, 0.2), tables, shadowed), wo);
-        const auto e = tables.lookup(theta_o * kPi / 180);
-        for (int c = 0; c < 3; ++c) {
-            EXPECT_NEAR(e_lit[c], 1.0, 0.01) << "θo " << theta_o;
-            EXPECT_NEAR(e_sh[c], 0.5 * 0.7 * e.a_f[c], 0.01 * 0.35 * e.a_f[c]) << "θo " << theta_o;
-            EXPECT_GT(e.a_b[c], 0.05);  // what the global term leaves out
-        }
+TEST(DualBcsdf, BackscatterGrowsWithTheHairBeyond) {
+    const HairSetup s(kHairs[1]);
+    const auto e = s.tables.lookup(0.1);
+    double prev = -1;
+    for (double m : {0.0, 1.0, 3.0, 10.0, 100.0}) {
+        const double a = mean(hs::dual_backscatter(e, m, hs::DualFormulation::kImproved));
+        EXPECT_GT(a, prev);
+        prev = a;
     }
+    const double deep = mean(hs::dual_backscatter(e, hs::kUnbounded<double>, hs::DualFormulation::kImproved));
+    EXPECT_NEAR(prev, deep, 1e-6);
+    // All orders of the adding formula ≥ Zinke's A_1 + A_3.
+    EXPECT_GE(deep, mean(e.A_b) - 1e-12);
+    EXPECT_EQ(mean(hs::dual_backscatter(e, 0.0, hs::DualFormulation::kZinke2008)), mean(e.A_b));
 }
 
 namespace {
-struct DualCase {
+struct SamplerCase {
     int hair;
-    double n, direct, h, theta_o;
+    double theta_o, h, spread;
+    bool zinke;
 };
-const std::vector<DualCase>& dual_grid() {
-    static const std::vector<DualCase> g = [] {
-        std::vector<DualCase> v;
-        int k = 0;
-        for (double n : {0.0, 1.0, 10.0, 100.0})
-            for (int hair = 0; hair < 3; ++hair) {
-                const double direct = (n == 0.0 || k % 3 == 0) ? 1.0 : 0.0;
-                v.push_back({hair, n, direct, -0.9 + 0.3 * (k % 7), -70.0 + 23.0 * (k % 7)});
-                ++k;
-            }
-        return v;
-    }();
-    return g;
+std::vector<SamplerCase> sampler_cases() {
+    return {{0, 30, 0.2, 0.0, false}, {1, -60, -0.5, 0.05, false}, {2, 80, 0.9, 0.2, false},
+            {1, 0, 0.0, 0.0, true},   {1, 45, 0.3, 0.1, true}};
 }
 }  // namespace
 
-// Chi-square of the mixture sampler against its pdf over n ∈ {0, 1, 10, 100} × three hair
-// colours, lit and shadowed, at Bonferroni-corrected 1 %.
 TEST(DualBcsdf, SampleMatchesPdfChi2) {
-    const int n_tests = int(dual_grid().size()) + 2;
-    std::vector<HairSetup> setups;
-    for (const Hair& h : kHairs) setups.emplace_back(h);
+    const auto cases = sampler_cases();
+    const int n_tests = int(cases.size()) + 2;
     double min_p = 1;
-    for (const DualCase& c : dual_grid()) {
-        const auto d = setups[std::size_t(c.hair)].at(c.h, c.n, c.direct);
-        const glm::dvec3 wo = direction(c.theta_o, 0.4);
+    for (const SamplerCase& c : cases) {
+        const HairSetup s(kHairs[c.hair], c.zinke ? hs::DualScatteringSettings<double>::zinke2008()
+                                               : hs::DualScatteringSettings<double>{});
+        const hs::ChiangFiber<double> fiber(s.material, c.h);
+        const auto at = Dual(fiber, s.tables).at(direction(c.theta_o, 0.4), c.spread);
         chi2::Options opt;
         opt.num_tests = n_tests;
-        opt.samples = 300000;
-        const auto r = chi2::test([&](const glm::dvec4& u) { return d.sample(wo, u).wi; },
-                                  [&](const glm::dvec3& wi) { return d.pdf(wo, wi); }, opt);
+        opt.samples = 200000;
+        opt.max_depth = 5;
+        const auto r = chi2::test([&](const dvec4& u) { return at.sample(u).wi; },
+                                  [&](const dvec3& wi) { return at.pdf(wi); }, opt);
         min_p = std::min(min_p, r.p_value);
-        EXPECT_TRUE(r.passed) << kHairs[c.hair].name << " n " << c.n << " direct " << c.direct << "\n" << r.report;
+        EXPECT_TRUE(r.passed) << kHairs[c.hair].name << " θo " << c.theta_o << "\n" << r.report;
         EXPECT_NEAR(r.expected_total, 1.0, 1e-3);
     }
-    std::printf("[ chi2     ] %zu dual-scattering cases, smallest p-value %.3g\n", dual_grid().size(), min_p);
+    std::printf("[ chi2     ] %zu dual-scattering cases, smallest p-value %.3g\n", cases.size(), min_p);
 
-    // Negative controls: a pdf 5 % too large, and the f_back component's azimuth drawn over
-    // the whole circle instead of the backward half.
-    const auto d = setups[0].at(0.2, 10.0, 0.0);
-    const glm::dvec3 wo = direction(30, 0.4);
+    // Negative controls: a pdf 5 % too large, and the global component's azimuths flipped
+    // to the other side of the light.
+    const HairSetup s(kHairs[1]);
+    const hs::ChiangFiber<double> fiber(s.material, 0.2);
+    const auto at = Dual(fiber, s.tables).at(direction(30, 0.4));
     chi2::Options opt;
     opt.num_tests = n_tests;
-    opt.samples = 300000;
-    const auto scaled = chi2::test([&](const glm::dvec4& u) { return d.sample(wo, u).wi; },
-                                   [&](const glm::dvec3& wi) { return 1.05 * d.pdf(wo, wi); }, opt);
+    opt.samples = 200000;
+        opt.max_depth = 5;
+    const auto scaled = chi2::test([&](const dvec4& u) { return at.sample(u).wi; },
+                                   [&](const dvec3& wi) { return 1.05 * at.pdf(wi); }, opt);
     EXPECT_FALSE(scaled.passed) << "pdf × 1.05 accepted, p = " << scaled.p_value;
-    const auto smeared = chi2::test(
-        [&](const glm::dvec4& u) {
-            const auto s = d.sample(wo, u);
-            if (s.lobe != hs::DualScatteringFiber<double>::kDualGlobalBack && s.lobe != hs::DualScatteringFiber<double>::kDualBack)
-                return s.wi;
-            const double rot = 0.7;  // push backward samples part-way round the fiber
-            return glm::dvec3(s.wi.x, s.wi.y * std::cos(rot) - s.wi.z * std::sin(rot), s.wi.y * std::sin(rot) + s.wi.z * std::cos(rot));
+    const dvec3 wo = at.wo();
+    const auto moved = chi2::test(
+        [&](const dvec4& u) {
+            const auto r = at.sample(u);
+            if (r.component != hs::DualComponent::kGlobal) return r.wi;
+            const double phi = hs::relative_azimuth(wo, r.wi);
+            return hs::direction_from_azimuth(wo, r.wi.x, hs::wrap_pi(phi + 0.5));
         },
-        [&](const glm::dvec3& wi) { return d.pdf(wo, wi); }, opt);
-    EXPECT_FALSE(smeared.passed) << "rotated f_back samples accepted, p = " << smeared.p_value;
-    std::printf("[ chi2     ] negative controls: p = %.3g (pdf × 1.05), %.3g (f_back rotated 0.7 rad)\n", scaled.p_value,
-                smeared.p_value);
+        [&](const dvec3& wi) { return at.pdf(wi); }, opt);
+    EXPECT_FALSE(moved.passed) << "rotated global samples accepted, p = " << moved.p_value;
+    std::printf("[ chi2     ] negative controls: p = %.3g (pdf × 1.05), %.3g (global lobe rotated 0.5 rad)\n",
+                scaled.p_value, moved.p_value);
 }
 
-// float builds too: the mixture sampler against its pdf, and sample/pdf agreement to float
-// rounding (1e-4: pdf() recomputes φ with atan2 from the rounded wi).
-TEST(DualBcsdf, FloatSamplerMatchesPdf) {
+TEST(DualBcsdf, FloatSamplerMatchesPdfAndAgreesWithQuery) {
     hs::FiberParams<float> p;
-    p.sigma_a = hs::sigma_a_from_melanin(0.3f, 0.2f);
+    p.sigma_a = hs::sigma_a_from_melanin(0.3f, 0.0f);
     const hs::ChiangMaterial<float> mat(p);
-    const auto tables = hs::DualScatteringTables<float>::build<hs::ChiangFiber>(mat);
-    for (float n : {0.0f, 8.0f}) {
-        hs::DualScatteringLight<float> light;
-        light.n = n;
-        light.direct_fraction = n == 0.0f ? 1.0f : 0.0f;
-        const hs::DualScatteringFiber<float> d(hs::ChiangFiber<float>(mat, 0.4f), tables, light);
-        const glm::vec3 wo(direction(40, 0.3));
-        chi2::Options opt;
-        opt.num_tests = 2;
-        opt.samples = 200000;
-        const auto r = chi2::test([&](const glm::dvec4& u) { return glm::dvec3(d.sample(wo, glm::vec4(u)).wi); },
-                                  [&](const glm::dvec3& wi) { return double(d.pdf(wo, glm::vec3(wi))); }, opt);
-        EXPECT_TRUE(r.passed) << "n " << n << "\n" << r.report;
-        std::mt19937 rng(2);
-        std::uniform_real_distribution<float> uni(0, 1);
-        for (int k = 0; k < 2000; ++k) {
-            const auto s = d.sample(wo, glm::vec4(uni(rng), uni(rng), uni(rng), uni(rng)));
-            ASSERT_GT(s.pdf, 0.0f);
-            EXPECT_NEAR(d.pdf(wo, s.wi) / s.pdf, 1.0f, 1e-4f);
-        }
+    const auto tables = hs::DualScatteringTables<float>::build<hs::ChiangFiber<float>>(mat);
+    const hs::ChiangFiber<float> fiber(mat, 0.4f);
+    const auto at = hs::DualScatteringBcsdf<hs::ChiangFiber<float>>(fiber, tables).at(glm::vec3(0.5f, 0.6f, 0.62449f), 0.05f);
+    chi2::Options opt;
+    opt.samples = 200000;
+        opt.max_depth = 5;
+    const auto r = chi2::test(
+        [&](const dvec4& u) { return dvec3(at.sample(glm::vec4(u)).wi); },
+        [&](const dvec3& wi) { return double(at.pdf(glm::vec3(wi))); }, opt);
+    EXPECT_TRUE(r.passed) << r.report;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> U(0, 1);
+    double worst = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const auto s = at.sample(glm::vec4(U(rng), U(rng), U(rng), U(rng)));
+        ASSERT_GT(s.pdf, 0.0f);
+        worst = std::max(worst, double(std::abs(at.pdf(s.wi) - s.pdf) / s.pdf));
     }
+    EXPECT_LT(worst, 1e-4);
 }
 
-TEST(DualBcsdf, SamplePdfAndWeightAgree) {
-    const HairSetup s(kHairs[2]);
-    std::mt19937_64 rng(9);
-    std::uniform_real_distribution<double> uni(0, 1);
-    double worst = 0;
-    for (double n : {0.0, 2.0, 50.0})
-        for (double direct : {0.0, 1.0}) {
-            const auto d = s.at(-1 + 2 * uni(rng), n, direct);
-            for (int k = 0; k < 2000; ++k) {
-                const glm::dvec3 wo = direction(-89 + 178 * uni(rng), 2 * kPi * uni(rng));
-                const auto r = d.sample(wo, glm::dvec4(uni(rng), uni(rng), uni(rng), uni(rng)));
-                ASSERT_GT(r.pdf, 0.0);
-                worst = std::max(worst, std::abs(d.pdf(wo, r.wi) / r.pdf - 1));
-                const glm::dvec3 f = d.eval(wo, r.wi);
-                for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.weight[c] * r.pdf, f[c], 1e-9 * (1 + f[c]));
-            }
-        }
-    EXPECT_LT(worst, 1e-9);
+TEST(DualBcsdf, AnyModelBehindTheContract) {
+    // A lobe subset builds its own tables (the dropped lobes are absent from them) and
+    // samples consistently.
+    using RTT = hs::BasicChiangFiber<double, hs::Lobes::kR | hs::Lobes::kTT>;
+    const hs::ChiangMaterial<double> mat(params_of(kHairs[1]));
+    const auto t = hs::DualScatteringTables<double>::build<RTT>(mat);
+    const auto full = hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(mat);
+    EXPECT_LT(mean(t.entry(32).a_f), mean(full.entry(32).a_f));
+    EXPECT_EQ(mean(t.window(0.1, 2, 1.0)), 0.0);  // no TRT
+    const RTT fiber(mat, 0.1);
+    const auto at = hs::DualScatteringBcsdf<RTT>(fiber, t).at(direction(20, 0.1));
+    chi2::Options opt;
+    opt.samples = 200000;
+    const auto r = chi2::test([&](const dvec4& u) { return at.sample(u).wi; }, [&](const dvec3& wi) { return at.pdf(wi); }, opt);
+    EXPECT_TRUE(r.passed) << r.report;
 }
 
 TEST(DualBcsdf, NoNaNAtExtremes) {
-    const HairSetup s(kHairs[1], 0.05, 0.05);
-    const std::vector<glm::dvec3> dirs = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, 0, -1}, direction(45, 1.0), direction(-89.99, 2.0)};
-    long calls = 0;
-    for (double n : {0.0, 1.0, 1e4})
-        for (double direct : {0.0, 1.0})
-            for (double h : {-1.0, 0.0, 1.0}) {
-                const auto d = s.at(h, n, direct);
-                for (const auto& wo : dirs) {
-                    for (const auto& wi : dirs) {
-                        const auto e = d.eval_pdf(wo, wi);
-                        for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(e.f[c]) && e.f[c] >= 0);
-                        ASSERT_TRUE(std::isfinite(e.pdf) && e.pdf >= 0);
-                        ++calls;
-                    }
-                    for (double u0 : {0.0, 0.3, 0.999999, 1.0})
-                        for (double u : {0.0, 0.5, 1.0}) {
-                            const auto r = d.sample(wo, glm::dvec4(u0, u, 1 - u, u));
-                            ASSERT_TRUE(std::isfinite(r.pdf) && r.pdf >= 0);
-                            for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(r.weight[c]) && std::isfinite(r.wi[c]));
-                            ++calls;
-                        }
+    const HairSetup s(kHairs[0]);
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    std::vector<dvec3> dirs = {dvec3(1, 0, 0), dvec3(-1, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, -1), direction(89.999, 3.14159),
+                               dvec3(nan, 0, 1), dvec3(inf, inf, 0)};
+    std::vector<hs::DualScatteringLight<double>> lights = {shadowed(0), shadowed(1e6, 0), shadowed(nan, nan), shadowed(inf)};
+    hs::DualScatteringLight<double> odd;
+    odd.direct_fraction = nan;
+    lights.push_back(odd);
+    for (double h : {-1.0, 0.0, 1.0}) {
+        const hs::ChiangFiber<double> fiber(s.material, h);
+        const Dual d(fiber, s.tables);
+        for (const dvec3& wo : dirs)
+            for (const dvec3& wi : dirs) {
+                const bool finite_in = std::isfinite(wo.x + wo.y + wo.z) && std::isfinite(wi.x + wi.y + wi.z);
+                for (const auto& l : lights) {
+                    const dvec3 f = d.eval(wo, wi, l);
+                    if (finite_in) EXPECT_TRUE(std::isfinite(f.x + f.y + f.z) && f.x >= 0) << wo.x << " " << wi.x;
+                }
+                const double p = d.pdf(wo, wi);
+                if (finite_in) EXPECT_TRUE(std::isfinite(p) && p >= 0);
+                for (const dvec4& u : {dvec4(0), dvec4(1), dvec4(nan), dvec4(1 - 1e-16, 0.5, 0.5, 1 - 1e-16)}) {
+                    const auto smp = d.sample(wo, u);  // must not crash; finite when inputs are
+                    if (finite_in && std::isfinite(u.x + u.y + u.z + u.w)) EXPECT_TRUE(std::isfinite(smp.pdf));
                 }
             }
-    std::printf("[ sweep    ] %ld dual-scattering calls without NaN/Inf\n", calls);
+    }
 }
 
-// The seed thesis's comparison in miniature: the variance per sample of the estimate of
-// Lo at one shading point, importance sampling vs uniform directions, (a) under a uniform
-// white environment (Lo = ∫ F dω) and (b) under a small spherical light of 5° radius placed
-// in the forward (TT) lobe. Same numbers of samples; the ratio is printed.
 TEST(DualBcsdf, ImportanceSamplingReducesVariance) {
-    const HairSetup s(kHairs[0]);
-    const auto d = s.at(0.2, 3.0, 0.0);
-    const hs::UniformSphereSampling<hs::DualScatteringFiber<double>> uniform(d);
-    const glm::dvec3 wo = direction(25, 0.0);
-    const glm::dvec3 light_dir = direction(-28, kPi);  // TT's peak: θi ≈ -(θo + α), forward
-    const double cos_light = std::cos(5 * kPi / 180);
-    auto variance = [&](auto&& sampler, bool light) {
-        std::mt19937_64 rng(17);
-        std::uniform_real_distribution<double> uni(0, 1);
-        double s1 = 0, s2 = 0;
-        const int n = 200000;
-        for (int k = 0; k < n; ++k) {
-            const auto r = sampler.sample(wo, glm::dvec4(uni(rng), uni(rng), uni(rng), uni(rng)));
-            double x = r.weight.g;
-            if (light && glm::dot(r.wi, light_dir) < cos_light) x = 0;
-            s1 += x;
-            s2 += x * x;
+    // One shading point under a white environment: the estimator of ∫ F dω by the mixture
+    // against uniform directions at equal sample counts, for a lit and a shadowed point (the
+    // sampler does not know which: half its samples serve each state).
+    const HairSetup s(kHairs[1]);
+    const hs::ChiangFiber<double> fiber(s.material, 0.3);
+    hs::DualScatteringLight<double> lit;
+    lit.beyond = 5;
+    const auto dark = shadowed(2, 5);
+    // the sampler's spread hint: what the renderer knows toward its main light
+    const double spread = hs::dual_forward(dark, s.tables.lookup(-0.35), hs::DualFormulation::kImproved).spread;
+    const auto at = Dual(fiber, s.tables).at(direction(20, 0.2), spread);
+    for (const auto& light : {lit, dark}) {
+        std::mt19937_64 rng(5);
+        std::uniform_real_distribution<double> U;
+        const int N = 200000;
+        double m1 = 0, m2 = 0, u1 = 0, u2 = 0;
+        for (int k = 0; k < N; ++k) {
+            const auto si = at.sample(dvec4(U(rng), U(rng), U(rng), U(rng)));
+            const double vi = si.pdf > 0 ? mean(at.eval(si.wi, light)) / si.pdf : 0;
+            const auto su = hs::uniform_sphere_sample(U(rng), U(rng));
+            const double vu = mean(at.eval(su.wi, light)) / su.pdf;
+            m1 += vi, m2 += vi * vi, u1 += vu, u2 += vu * vu;
         }
-        const double mean = s1 / n;
-        return std::make_pair(mean, s2 / n - mean * mean);
-    };
-    const auto ie = variance(d, false), ue = variance(uniform, false);
-    const auto il = variance(d, true), ul = variance(uniform, true);
-    std::printf("[ variance ] uniform environment: mean %.5f / %.5f, variance importance %.3g vs uniform %.3g: %.1f× lower\n",
-                ie.first, ue.first, ie.second, ue.second, ue.second / ie.second);
-    std::printf("[ variance ] 5° light in the TT lobe: mean %.5f / %.5f, variance importance %.3g vs uniform %.3g: %.1f× lower\n",
-                il.first, ul.first, il.second, ul.second, ul.second / il.second);
-    EXPECT_NEAR(ie.first, ue.first, 0.02 * ue.first);  // both unbiased
-    EXPECT_NEAR(il.first, ul.first, 0.1 * ul.first);
-    EXPECT_LT(ie.second, ue.second);
-    EXPECT_LT(il.second, ul.second);
+        const double mi = m1 / N, mu = u1 / N, var_i = m2 / N - mi * mi, var_u = u2 / N - mu * mu;
+        EXPECT_NEAR(mi, mu, 5 * std::sqrt(var_u / N));  // both estimate the same integral
+        const bool is_lit = light.direct_fraction > 0;
+        EXPECT_GT(var_u / var_i, is_lit ? 5.0 : 2.0);
+        std::printf("[ variance ] %s blond point, white environment: uniform / importance = %.1f\n",
+                    is_lit ? "lit" : "shadowed", var_u / var_i);
+    }
+}
+
+// The dual-scattering estimate at the first hits of camera rays on a slab of explicit
+// parallel fibers against path tracing the same slab (tests/support/fiber_slab.hpp): both
+// use ChiangFiber at the true h; dual scattering gets a shadow ray and the expected counts
+// toward the light and beyond the point from the slab's density, as a renderer would.
+namespace {
+struct SlabResult {
+    double path = 0, improved = 0, zinke = 0;
+};
+SlabResult slab_compare(const Hair& hair, double tau, const dvec3& wl, const dvec3& wo, int paths) {
+    const hs::ChiangMaterial<double> mat(params_of(hair));
+    const auto improved = HairSetup::build(mat, {});
+    const auto zinke = HairSetup::build(mat, hs::DualScatteringSettings<double>::zinke2008());
+    const slab::FiberSlab s(400, 8 * tau, tau, 7);
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> U;
+    const dvec3 axis(1, 0, 0);
+    const double per_length = s.crossings_per_length(), proj = std::sqrt(wl.y * wl.y + wl.z * wl.z);
+    SlabResult r;
+    for (int k = 0; k < paths; ++k) {
+        const slab::Hit hit = s.intersect(dvec3(0, U(rng) * s.width(), wo.z > 0 ? s.depth() : 0.0), -wo);
+        if (hit.fiber < 0) continue;
+        {
+            const hs::FiberFrame<double> fr(axis, wo);
+            const hs::ChiangFiber<double> fiber(mat, glm::dot(hit.p - hit.axis, fr.y));
+            const bool blocked = s.intersect(hit.p, wl, hit.fiber).fiber >= 0;
+            const double up = wl.z > 0 ? (s.depth() - hit.p.z) / wl.z : hit.p.z / -wl.z;
+            const double down = wl.z > 0 ? hit.p.z / wl.z : (s.depth() - hit.p.z) / -wl.z;
+            hs::DualScatteringLight<double> l;
+            l.direct_fraction = blocked ? 0 : 1;
+            l.n = blocked ? per_length * proj * up : 0;
+            l.beyond = per_length * proj * down;
+            r.improved += mean(Dual(fiber, improved).eval(fr.to_local(wo), fr.to_local(wl), l));
+            l.beyond = hs::kUnbounded<double>;
+            r.zinke += mean(Dual(fiber, zinke).eval(fr.to_local(wo), fr.to_local(wl), l));
+        }
+        dvec3 beta(1), w = wo;
+        slab::Hit cur = hit;
+        for (int depth = 0;; ++depth) {
+            const hs::FiberFrame<double> fr(axis, w);
+            const hs::ChiangFiber<double> fiber(mat, glm::dot(cur.p - cur.axis, fr.y));
+            const dvec3 wo_l = fr.to_local(w);
+            if (s.intersect(cur.p, wl, cur.fiber).fiber < 0) r.path += mean(beta * fiber.eval(wo_l, fr.to_local(wl)));
+            const auto smp = fiber.sample(wo_l, dvec4(U(rng), U(rng), U(rng), U(rng)));
+            if (!(smp.pdf > 0)) break;
+            beta *= smp.weight;
+            const dvec3 d = glm::normalize(fr.to_world(smp.wi));
+            const slab::Hit next = s.intersect(cur.p, d, cur.fiber);
+            if (next.fiber < 0) break;
+            w = -d;
+            cur = next;
+            if (depth >= 3) {  // Russian roulette only: no depth cut
+                const double q = std::min(0.95, std::max({beta.x, beta.y, beta.z}));
+                if (U(rng) >= q) break;
+                beta /= q;
+            }
+        }
+    }
+    return r;
+}
+}  // namespace
+
+TEST(DualBcsdf, AgreesWithPathTracedSlabOfExplicitFibers) {
+    // Tolerance 20 % on the mean over first hits (measured: blond 0.96–1.10, dark 0.93–0.97;
+    // the path estimate's own noise at 20,000 paths is about 2 %). The improved formulation
+    // must also beat Zinke's text where that one is far off (blond seen from the light's side).
+    const dvec3 wl = glm::normalize(dvec3(0.3, 0.35, 0.9));
+    const dvec3 geometry[] = {glm::normalize(dvec3(-0.1, -0.2, 0.95)), glm::normalize(dvec3(0.2, 0.5, 0.7)),
+                              glm::normalize(dvec3(-0.2, -0.3, -0.9))};
+    const char* names[] = {"seen from the light's side", "grazing", "seen through the slab"};
+    for (int hair : {1, 2}) {
+        for (int g = 0; g < 3; ++g) {
+            if (hair == 2 && g == 2) continue;  // dark hair lets nothing through ten fibers
+            const SlabResult r = slab_compare(kHairs[hair], 10, wl, geometry[g], 20000);
+            const double ratio = r.improved / r.path, ratio_z = r.zinke / r.path;
+            std::printf("[ slab     ] %s, %s: dual / path = %.3f (Zinke 2008: %.3f)\n", kHairs[hair].name, names[g], ratio,
+                        ratio_z);
+            EXPECT_NEAR(ratio, 1.0, 0.2) << kHairs[hair].name << " " << names[g];
+            if (hair == 1 && g == 0) EXPECT_LT(std::abs(ratio - 1), std::abs(ratio_z - 1));
+        }
+    }
 }

@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -68,14 +70,14 @@ McLobes monte_carlo(const hs::FiberParams<double>& p, double theta, int n_h, int
 // issue's bound; the closed-form tables land within 1e-9), and Σ_p A_p averaged over h
 // with absorption.
 TEST(DualTables, ForwardPlusBackwardIsTheAlbedo) {
-    const auto t0 = hs::DualScatteringTables<double>::build<hs::ChiangFiber>(hs::ChiangMaterial<double>(fiber_params(0)));
+    const auto t0 = hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(hs::ChiangMaterial<double>(fiber_params(0)));
     double worst = 0;
     for (int i = 0; i < t0.size(); ++i) worst = std::max(worst, std::abs(t0.entry(i).a_f.g + t0.entry(i).a_b.g - 1));
     std::printf("[ tables   ] lossless: max |a_f + a_b - 1| = %.3g over %d θ\n", worst, t0.size());
     EXPECT_LT(worst, 0.01);
 
     const hs::ChiangMaterial<double> mat(fiber_params(0.8));
-    const auto t = hs::DualScatteringTables<double>::build<hs::ChiangFiber>(mat);
+    const auto t = hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(mat);
     for (int i = 0; i < t.size(); i += 7) {
         const double th = t.theta_of(i);
         const glm::dvec3 wo = ref::dir(th, 0.0);
@@ -96,7 +98,7 @@ TEST(DualTables, EntriesMatchMonteCarlo) {
     const auto params = fiber_params(0.5, 0.35, 0.4);
     hs::DualTableOptions<double> opt;
     opt.theta_samples = 181;
-    const auto t = hs::DualScatteringTables<double>::build<hs::ChiangFiber>(hs::ChiangMaterial<double>(params), opt);
+    const auto t = hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(hs::ChiangMaterial<double>(params), opt);
     const hs::ChiangMaterial<double> mat(params);
     for (int deg : {0, 25, 50, 75, 88}) {
         int node = 0;  // the table node nearest to deg: its θ is the one tested
@@ -114,7 +116,7 @@ TEST(DualTables, EntriesMatchMonteCarlo) {
             bef += mat.lobe_variance(l) * mc.fwd[l];
             beb += mat.lobe_variance(l) * mc.bwd[l];
             for (int c = 0; c < 3; ++c)
-                EXPECT_NEAR(e.global[l][c], mc.fwd[l][c] / kPi, 0.03 * mc.fwd[l][c] / kPi + 2e-4) << "θ " << deg << " lobe " << l;
+                EXPECT_NEAR(t.window(th, l, kPi)[c], mc.fwd[l][c] / kPi, 0.03 * mc.fwd[l][c] / kPi + 2e-4) << "θ " << deg << " lobe " << l;
         }
         for (int c = 0; c < 3; ++c) {
             EXPECT_NEAR(e.a_f[c], af[c], 0.02 * af[c] + 1e-3) << "θ " << deg;
@@ -155,7 +157,7 @@ TEST(DualTables, DerivedQuantitiesMatchHandComputation) {
 }
 
 TEST(DualTables, LookupInterpolatesAndClamps) {
-    const auto t = hs::DualScatteringTables<float>::build<hs::ChiangFiber>(hs::ChiangMaterial<float>(hs::FiberParams<float>{}));
+    const auto t = hs::DualScatteringTables<float>::build<hs::ChiangFiber<float>>(hs::ChiangMaterial<float>(hs::FiberParams<float>{}));
     for (int i = 0; i < t.size(); ++i) EXPECT_NEAR(t.lookup(t.theta_of(i)).a_f.r, t.entry(i).a_f.r, 1e-5f);
     for (int i : {0, 10, 31, 62}) {
         const float mid = 0.5f * (t.theta_of(i) + t.theta_of(i + 1));
@@ -174,10 +176,10 @@ TEST(DualTables, LookupInterpolatesAndClamps) {
 // A_b within a degree of grazing, about 1.2 %; elsewhere it is far smaller).
 TEST(DualTables, InterpolationErrorAtShippedResolution) {
     const hs::ChiangMaterial<double> mat(fiber_params(0.4));
-    const auto coarse = hs::DualScatteringTables<double>::build<hs::ChiangFiber>(mat);
+    const auto coarse = hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(mat);
     hs::DualTableOptions<double> fine_opt;
     fine_opt.theta_samples = 2049;
-    const auto fine = hs::DualScatteringTables<double>::build<hs::ChiangFiber>(mat, fine_opt);
+    const auto fine = hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(mat, fine_opt);
     const char* names[] = {"a_f", "a_b", "alpha_f", "alpha_b", "beta2_f", "beta2_b", "A_b", "delta_b", "sigma2_b"};
     for (int k = 0; k < 9; ++k) {
         double worst = 0, lo = 1e30, hi = -1e30;
@@ -199,7 +201,7 @@ TEST(DualTables, BuildTime) {
         hs::DualTableOptions<float> opt;
         opt.theta_samples = res;
         const auto t0 = std::chrono::steady_clock::now();
-        const auto t = hs::DualScatteringTables<float>::build<hs::ChiangFiber>(mat, opt);
+        const auto t = hs::DualScatteringTables<float>::build<hs::ChiangFiber<float>>(mat, opt);
         const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         std::printf("[ tables   ] build %d θ × %d h nodes: %.2f ms\n", t.size(), opt.h_nodes, ms);
         EXPECT_LT(ms, 2000.0);
@@ -207,14 +209,16 @@ TEST(DualTables, BuildTime) {
 }
 
 TEST(DualTables, SaveLoadRoundTripAndRejectsBadFiles) {
-    const auto t = hs::DualScatteringTables<double>::build<hs::ChiangFiber>(hs::ChiangMaterial<double>(fiber_params(0.4)));
+    const auto t = hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(hs::ChiangMaterial<double>(fiber_params(0.4)));
     const std::string path = ::testing::TempDir() + "hairscatter_tables.hsdt";
     t.save(path);
     const auto u = hs::DualScatteringTables<double>::load(path);
     ASSERT_EQ(u.size(), t.size());
-    EXPECT_EQ(u.d_b(), t.d_b());
+    EXPECT_EQ(u.settings().d_b, t.settings().d_b);
+    EXPECT_EQ(u.settings().formulation, t.settings().formulation);
     for (int i = 0; i < t.size(); ++i)
         for (int k = 0; k < hs::DualScatteringEntry<double>::kFields; ++k) EXPECT_EQ(u.entry(i).fields()[k], t.entry(i).fields()[k]);
+    EXPECT_EQ(u.window_data(), t.window_data());
 
     std::vector<char> bytes;
     {
@@ -245,5 +249,49 @@ TEST(DualTables, SaveLoadRoundTripAndRejectsBadFiles) {
     version[4] = 9;
     expect_error(version, "an unknown version");
     expect_error({}, "no content");
+    // Values that are finite as doubles but not as floats, or impossible for a fiber, with a
+    // valid checksum: rejected after the conversion, by range.
+    auto with_value = [&](std::size_t offset, double v) {
+        auto b = bytes;
+        std::memcpy(b.data() + offset, &v, 8);
+        std::uint64_t h = 1469598103934665603ull;
+        for (std::size_t i = 0; i + 8 < b.size(); ++i) h = (h ^ static_cast<unsigned char>(b[i])) * 1099511628211ull;
+        std::memcpy(b.data() + b.size() - 8, &h, 8);
+        return b;
+    };
+    const std::size_t first_value = 4 + 6 * 4 + 2 * 8 + 8 * 8;  // a_f.r of the first entry
+    write(with_value(first_value, 0.25));
+    EXPECT_NO_THROW(hs::DualScatteringTables<double>::load(path));  // the re-checksummed file itself is fine
+    expect_error(with_value(first_value, 1e6), "a_f = 1e6");
+    expect_error(with_value(first_value + 8 * 3 * 8, -5.0), "σ_b² = -5");  // sigma2_b.r of the first entry
+    {
+        write(with_value(first_value, 1e300));
+        EXPECT_THROW(hs::DualScatteringTables<float>::load(path), std::runtime_error);  // +inf as a float
+    }
     EXPECT_THROW(hs::DualScatteringTables<double>::load(path + ".missing"), std::runtime_error);
+}
+
+TEST(DualTables, OptionsAreValidated) {
+    const hs::ChiangMaterial<double> mat(fiber_params(0.4));
+    auto rejects = [&](hs::DualTableOptions<double> o) {
+        EXPECT_THROW((hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(mat, o)), std::invalid_argument);
+    };
+    hs::DualTableOptions<double> o;
+    o.h_nodes = 1;  // a 1-node rule gives a lossless albedo of π/2
+    rejects(o);
+    o = {};
+    o.theta_samples = 2;
+    rejects(o);
+    o = {};
+    o.settings.d_b = 1.5;
+    rejects(o);
+    o = {};
+    o.settings.d_f = std::numeric_limits<double>::quiet_NaN();
+    rejects(o);
+    // The smallest accepted h_nodes still integrates a lossless fiber's albedo to 1.
+    hs::FiberParams<double> white;
+    o = {};
+    o.h_nodes = 8;
+    const auto t = hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(hs::ChiangMaterial<double>(white), o);
+    for (int i = 0; i < t.size(); ++i) EXPECT_NEAR(t.entry(i).a_f.x + t.entry(i).a_b.x, 1.0, 2e-3);
 }

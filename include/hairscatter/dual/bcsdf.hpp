@@ -1,10 +1,13 @@
-// hairscatter — the dual-scattering BCSDF at a shading point (Zinke et al. 2008 §4,
-// theory.md §5.2–5.4) with eval, pdf and sample, and the seed thesis's contribution:
-// importance sampling it as one mixture of its lobes. Also the uniform-sphere sampler the
-// thesis compares against, behind the same interface.
+// hairscatter — the dual-scattering BCSDF at a shading point (Zinke et al. 2008 §4; the
+// improved formulation of docs/dual.md) over any single-fiber model, with eval, pdf and
+// sample, and importance sampling of the whole BCSDF as one mixture of its lobes (the
+// origin study's contribution) whose density does not depend on the light state: a
+// renderer samples a direction first and learns whether hair shadows it afterwards.
 #pragma once
 
 #include <cmath>
+#include <type_traits>
+#include <utility>
 
 #include <glm/glm.hpp>
 
@@ -12,267 +15,364 @@
 #include "../fiber/frame.hpp"
 #include "../lobes/longitudinal.hpp"
 #include "../math/constants.hpp"
+#include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
 #include "../math/functions.hpp"
 #include "../models/chiang.hpp"
+#include "settings.hpp"
 #include "tables.hpp"
 
 namespace hairscatter {
 
-// What the renderer knows about the light path at the shading point: either the number n
-// of fibers crossed toward the light (dual/density.hpp), from which T_f = a_f(θi)^n and
-// σ̄²_f = n β̄²_f(θi) follow (theory.md §5.2), or T_f and σ̄²_f themselves (from a deep
-// opacity map that accumulated Π a_f and Σ β̄²_f along the way): set use_transmittance.
-template <typename T> struct DualScatteringLight {
-    T n = T(0);                // fibers crossed toward the light
-    T direct_fraction = T(1);  // 1 if a shadow ray reaches the light, else 0
-    T d_f = T(0.7);            // forward density factor (applied once, in F_scatter)
-    T d_b = T(0.7);            // backward density factor
-    bool use_transmittance = false;
-    glm::vec<3, T> T_f{T(1)};  // with use_transmittance: the forward transmittance
-    T sigma2_f = T(0);         // with use_transmittance: the summed forward variance
+// Which component of the dual BCSDF's mixture drew a sample (kSingle: the fiber model's
+// own sampler; the model's lobe is not reported).
+enum class DualComponent : int { kSingle = 0, kBack = 1, kGlobal = 2, kGlobalBack = 3, kUniform = 4 };
+
+template <typename T> struct DualSample {
+    glm::vec<3, T> wi{T(0)};
+    T pdf = T(0);  // solid-angle density of the mixture; 0: no sample
+    DualComponent component = DualComponent::kSingle;
 };
 
-// F = F_direct + F_scatter of theory.md §5.3 in the library's eval convention (cosine
-// inside: Lo = ∫ eval Li dωi):
-//   F_direct  = df (f_s + d_b f_back)
-//   F_scatter = max(0, T_f - df) d_f (f_s^G + π d_b f_back^G)
-// with T_f = a_f(θi)^n, σ̄²_f = n β̄²_f(θi), f_s the single-fiber model, and
-//   f_back   = A_b(θi) M(σ_b²; θi, θo - Δ_b) / π           backward azimuths only,
-//   f_s^G    = Σ_p M(v_p + σ̄²_f; θi, θo'_p) G_p(θo)       forward azimuths only,
-//   f_back^G = A_b(θi) M(σ_b² + σ̄²_f; θi, θo - Δ_b) / π   backward azimuths only,
-// G_p the tables' h-averaged A_p N^G_p. Two deliberate changes from Zinke's text, both so
-// that every lobe is a normalised density that the sampler can draw exactly: the
-// longitudinal Gaussians are d'Eon's energy-conserving M (a Gaussian in θ for narrow
-// lobes, normalised on the sphere for wide ones) instead of g(θh)/cos²θd, so f_back
-// integrates to exactly A_b over the backward half; and the widening variances are the
-// mean over the colour channels (the lobes' shapes are shared, their weights are not).
-template <typename T> class DualScatteringFiber {
+// The light that reaches a shadowed point, and its spread σ̄²_f, from the count n toward the
+// light. The density source's n is an unconditional expectation, and a shadow ray that hit
+// hair says at least one fiber lies in the way: for a Poisson count of mean n,
+// E[N | N ≥ 1] = n / (1 - e^{-n}) (→ 1 as n → 0). Improved: the direct forward-scattered
+// light is attenuated by a_f^{E[N | N ≥ 1]} and spread by E[N | N ≥ 1] β̄²_f; the hair below
+// the point is driven by the downward flux of the 1D adding model of the layers above and
+// below, T_n / (1 - R_n R_{m+1}), which also counts the light the hair below sends back up
+// and the layers above return (lossless hair: the flux stays 1 at every depth).
+// Zinke 2008 eq. 6: a_f^n with the unconditional n for both.
+template <typename T> struct DualForward {
+    glm::vec<3, T> transmittance{T(1)};
+    glm::vec<3, T> flux{T(1)};  // improved: the downward flux T_n / (1 - R_n R_{m+1}) that drives f_back^G
+    T spread = T(0);  // σ̄²_f, channel mean
+};
+template <typename T>
+HAIRSCATTER_HD DualForward<T> dual_forward(const DualScatteringLight<T>& light, const DualScatteringEntry<T>& e,
+                                           DualFormulation formulation) {
+    using std::expm1;
+    using std::pow;
+    DualForward<T> r;
+    const T beta2 = (e.beta2_f.x + e.beta2_f.y + e.beta2_f.z) * T(1.0 / 3.0);
+    if (light.use_transmittance) {
+        for (int c = 0; c < 3; ++c) r.transmittance[c] = clamp(light.T_f[c], T(0), T(1));
+        r.spread = light.sigma2_f > T(0) ? light.sigma2_f : T(0);
+        return r;
+    }
+    // NaN → 0; beyond a million fibers nothing gets through, and the spread stays finite.
+    const T n0 = light.n > T(0) ? (light.n < T(1e6) ? light.n : T(1e6)) : T(0);
+    if (formulation == DualFormulation::kZinke2008) {
+        for (int c = 0; c < 3; ++c) r.transmittance[c] = pow(e.a_f[c], n0);
+        r.spread = n0 * beta2;
+        return r;
+    }
+    const T q = -expm1(-n0);  // P(N ≥ 1)
+    const T n = q > T(1e-6) ? n0 / q : T(1);
+    const T m = light.beyond >= T(0) ? light.beyond : T(0);
+    for (int c = 0; c < 3; ++c) {
+        const LayerStack<T> above = layered_stack(e.a_f[c], e.a_b[c], n);
+        const LayerStack<T> below = layered_stack(e.a_f[c], e.a_b[c], m + T(1));
+        const T den = T(1) - above.R * below.R;
+        r.flux[c] = den > T(0) ? clamp(above.T_ / den, T(0), T(1)) : T(1);
+        r.transmittance[c] = pow(e.a_f[c], n);
+    }
+    r.spread = n * beta2;
+    return r;
+}
+
+// The local backscattering amplitude at a point with `beyond` fibers behind it along the
+// light's direction of travel. Improved: the 1D adding formula's multiple reflection of
+// the point's layer and the `beyond` layers after it, R_{m+1} - a_b (all odd orders, finite
+// depth; R_∞ - a_b for a deep volume). Zinke 2008 eqs. 13–14: A_1 + A_3 of a deep volume.
+template <typename T>
+HAIRSCATTER_HD glm::vec<3, T> dual_backscatter(const DualScatteringEntry<T>& e, T beyond, DualFormulation formulation) {
+    if (formulation == DualFormulation::kZinke2008) return e.A_b;
+    const T m = beyond >= T(0) ? beyond : T(0);  // NaN → 0
+    glm::vec<3, T> r;
+    for (int c = 0; c < 3; ++c) {
+        const T R = layered_stack(e.a_f[c], e.a_b[c], m + T(1)).R;
+        r[c] = R > e.a_b[c] ? R - e.a_b[c] : T(0);
+    }
+    return r;
+}
+
+// The dual-scattering BCSDF of one hit, in the library's convention (cosine inside:
+// Lo = ∫ eval Li dωi). With df the direct fraction, s = the tables' settings:
+//   F = df (f_s + d_b f_back) + (1 - df) d_f (T_f f_s^G + D d_b f_back^G)       (improved)
+//   F = df (f_s + d_b f_back) + max(0, T_f - df) d_f (f_s^G + π d_b f_back^G)  (Zinke 2008)
+//   f_back   = k A_b M(σ_b²; θi, θo - Δ_b) / π                  on |ψ| < π/2
+//              (k = 2, A_b = R_{m+1} - a_b improved; k = 1, A_b = A_1 + A_3 Zinke)
+//   f_s^G    = Σ_p M(v_p + σ̄²_f; θi, θo'_p) W_p(θo, ψ)          improved: every ψ
+//            = Σ_p M(v_p + σ̄²_f; θi, θo'_p) W_p(θo, π)          Zinke: |ψ| > π/2 only
+//   f_back^G = k A_b M(σ_b² + σ̄²_f; θi, θo - Δ_b) (π - |ψ|) / π² improved (f_back's half-
+//              circle convolved with the half-circle the forward light is spread over)
+//            = A_b M(σ_b² + σ̄²_f; θi, θo - Δ_b) / π on |ψ| < π/2 Zinke
+// where ψ is the relative azimuth of wi, A_b, Δ_b, σ_b, a_f, β̄²_f are read at θi and W_p at
+// θo. The longitudinal lobes are d'Eon et al. 2011's normalised M (so f_back integrates to
+// A_b), and the widening variances are the channel mean.
+//
+// The fiber is held by value (models keep a pointer to their material); the tables' arrays
+// must outlive this object (a view of them is held: tables are per material).
+template <typename Fiber> class DualScatteringBcsdf {
   public:
-    using V3 = glm::vec<3, T>;
+    using V3 = typename Fiber::V3;
+    using T = typename V3::value_type;
     using V4 = glm::vec<4, T>;
-    static constexpr int kLobes = ChiangFiber<T>::kLobes;  // explicit lobes; +1 residual
+    using Entry = DualScatteringEntry<T>;
+    using View = DualTablesView<T>;
+    using FiberAt = decltype(std::declval<const Fiber&>().at(std::declval<const V3&>()));
+    static constexpr int kMaxLobes = View::kMaxLobes;
+    // Zinke et al. 2008 eq. 14 writes f_back = 2 A_b g(…) / (π cos²θd): the factor 2 is kept in
+    // the improved formulation, where with d'Eon's normalised M it doubles the backscattered
+    // energy — measured against path-traced slabs of explicit fibers (tests/dual_slab_test.cpp)
+    // the lit points' multiple scattering is otherwise half of what the path tracer finds.
+    // The Zinke formulation keeps this library's earlier normalised reading (factor 1).
 
-    // tables must outlive this object (it keeps a pointer: tables are per material).
-    DualScatteringFiber(const ChiangFiber<T>& fiber, const DualScatteringTables<T>& tables,
-                        const DualScatteringLight<T>& light)
-        : fiber_(fiber), tables_(&tables), light_(light) {
-        light_.n = light_.n > T(0) ? light_.n : T(0);
-        light_.direct_fraction = clamp(light_.direct_fraction, T(0), T(1));
-        light_.sigma2_f = light_.sigma2_f > T(0) ? light_.sigma2_f : T(0);
-        for (int c = 0; c < 3; ++c) light_.T_f[c] = clamp(light_.T_f[c], T(0), T(1));
-    }
+    HAIRSCATTER_HD DualScatteringBcsdf(const Fiber& fiber, const View& tables) : fiber_(fiber), tables_(tables) {}
+    DualScatteringBcsdf(const Fiber& fiber, const DualScatteringTables<T>& tables) : fiber_(fiber), tables_(tables.view()) {}
 
-    const DualScatteringLight<T>& light() const { return light_; }
-
-    V3 eval(const V3& wo, const V3& wi) const { return value(wo, wi, relative_azimuth(wo, wi), fiber_.eval(wo, wi)); }
-    T pdf(const V3& wo, const V3& wi) const {
-        return density(mixture(wo), wi, relative_azimuth(wo, wi), fiber_.pdf(wo, wi));
-    }
-    HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const {
-        const T phi = relative_azimuth(wo, wi);
-        const HairEvalPdf<T> single = fiber_.eval_pdf(wo, wi);
-        HairEvalPdf<T> r;
-        r.f = value(wo, wi, phi, single.f);
-        r.pdf = density(mixture(wo), wi, phi, single.pdf);
-        return r;
-    }
-
-    // u.x picks the component (single scattering, f_back, f_s^G, f_back^G) and is
-    // rescaled to pick the lobe inside it; (u.y, u.z) sample θi, u.w the azimuth.
-    HairSample<T> sample(const V3& wo, const V4& u) const {
-        const Mixture mix = mixture(wo);
-        T acc = T(0);
-        int c = 0;
-        for (; c < 3; ++c) {
-            if (u.x < acc + mix.w[c]) break;
-            acc += mix.w[c];
+    // Everything that depends on wo, computed once per hit. spread is the forward variance
+    // σ̄²_f the sampler widens its global lobes by (a hint such as n β̄²_f toward the main
+    // light; 0 if unknown): it shapes the density, never the value.
+    class At {
+      public:
+        // Non-finite directions (or a non-finite wo) give 0, never NaN or an out-of-table read.
+        HAIRSCATTER_HD V3 eval(const V3& wi, const DualScatteringLight<T>& light) const {
+            if (!(valid_ && finite(wi))) return V3(T(0));
+            return value(wi, relative_azimuth(wo_, wi), light, single_.eval(wi));
         }
-        while (c > 0 && !(mix.w[c] > T(0))) --c;
-        const T ux = mix.w[c] > T(0) ? clamp((u.x - acc) / mix.w[c], T(0), T(1)) : T(0);
+        HAIRSCATTER_HD T pdf(const V3& wi) const {
+            if (!(valid_ && finite(wi))) return T(0);
+            return density(wi, relative_azimuth(wo_, wi), single_.pdf(wi));
+        }
+        HAIRSCATTER_HD const V3& wo() const { return wo_; }
 
-        V3 wi;
-        HairSample<T> r;
-        if (c == 0) {
-            const HairSample<T> s = fiber_.sample(wo, V4(ux, u.y, u.z, u.w));
-            wi = s.wi;
-            r.lobe = s.lobe;
-        } else {
-            T sin_i;
-            bool forward = false;
-            if (c == 2) {
-                // pick lobe p of f_s^G by its forward energy
-                int p = 0;
-                T a = T(0);
-                for (; p < kLobes; ++p) {
-                    if (ux < a + mix.g[p]) break;
-                    a += mix.g[p];
+        // u.x picks the component and, rescaled, the lobe inside it; (u.y, u.z) sample θi,
+        // u.w the azimuth (and, rescaled, its sign).
+        // Non-finite u (or wo) gives no sample (pdf 0).
+        HAIRSCATTER_HD DualSample<T> sample(const V4& u) const {
+            DualSample<T> r;
+            if (!(valid_ && finite(V3(u.x, u.y, u.z)) && u.w == u.w)) return r;
+            const DiscreteChoice<T> c = sample_discrete(w_, 5, clamp(u.x, T(0), T(1)), T(1));
+            r.component = DualComponent(c.index);
+            T sin_i, phi;
+            if (c.index == 4) {
+                sin_i = T(1) - T(2) * clamp(u.y, T(0), T(1));
+                phi = kTwoPi<T> * clamp(u.z, T(0), T(1)) - kPi<T>;
+            } else if (c.index == 0) {
+                const auto s = single_.sample(V4(c.rescaled, u.y, u.z, u.w));
+                if (!(s.pdf > T(0))) return r;
+                sin_i = s.wi.x;
+                phi = relative_azimuth(wo_, s.wi);
+            } else if (c.index == 2) {
+                const DiscreteChoice<T> l = sample_discrete(g_, kMaxLobes, c.rescaled, T(1));
+                const int p = l.index;
+                sin_i = DeonLongitudinal<T>(t_.lobe_variance[p] + s2_spread_).sample_sin_theta(sin_l_[p], cos_l_[p], u.y, u.z);
+                if (improved()) {
+                    // |ψ| from the row's piecewise-linear W̄_p, the sign from u.w's first half.
+                    const bool negative = u.w < T(0.5);
+                    const T v = clamp(negative ? T(2) * u.w : T(2) * u.w - T(1), T(0), T(1));
+                    const T h = kPi<T> / T(t_.n_psi - 1);
+                    const std::size_t base = t_.window_index(row_, p, 0);
+                    const auto pt = invert_piecewise_linear<T>(
+                        [&](int k) { return t_.window_cdf[base + std::size_t(k)]; },
+                        [&](int k) {
+                            const V3& w = t_.window[base + std::size_t(k)];
+                            return (w.x + w.y + w.z) * T(1.0 / 3.0);
+                        },
+                        t_.n_psi, h, T(1) / h, v * total_[p]);
+                    const T a = clamp(T(pt.cell) * h + pt.offset, T(0), kPi<T>);
+                    phi = negative ? -a : a;
+                } else {
+                    const T half = kPi<T> * (u.w - T(0.5));  // uniform over the forward half
+                    phi = half >= T(0) ? kPi<T> - half : -kPi<T> - half;
                 }
-                sin_i = mix.m_global[p].sample_sin_theta(mix.sin_o[p], mix.cos_o[p], u.y, u.z);
-                forward = true;
-                r.lobe = kDualGlobal;
             } else {
-                const DeonLongitudinal<T>& m = c == 1 ? mix.m_back : mix.m_back_global;
-                sin_i = m.sample_sin_theta(mix.sin_back, mix.cos_back, u.y, u.z);
-                r.lobe = c == 1 ? kDualBack : kDualGlobalBack;
+                const T var = c.index == 1 ? s2_back_ : s2_back_ + s2_spread_;
+                sin_i = DeonLongitudinal<T>(var).sample_sin_theta(sin_back_, cos_back_, u.y, u.z);
+                if (c.index == 3 && improved()) {
+                    // the triangle (π - |ψ|)/π² on [-π, π], by inversion
+                    const T w = clamp(u.w, T(0), T(1));
+                    phi = w < T(0.5) ? kPi<T> * (safe_sqrt(T(2) * w) - T(1)) : kPi<T> * (T(1) - safe_sqrt(T(2) - T(2) * w));
+                } else {
+                    phi = kPi<T> * (u.w - T(0.5));  // uniform over the backward half
+                }
             }
-            // φ uniform over the chosen half: backward |φ| < π/2, forward |φ| > π/2.
-            const T half = kPi<T> * (u.w - T(0.5));
-            const T phi = forward ? (half >= T(0) ? kPi<T> - half : -kPi<T> - half) : half;
-            wi = direction_from_azimuth(wo, sin_i, phi);
+            r.wi = direction_from_azimuth(wo_, clamp(sin_i, T(-1), T(1)), phi);
+            r.pdf = pdf(r.wi);
+            if (!(r.pdf > T(0))) r.pdf = T(0);
+            return r;
         }
-        const T phi = relative_azimuth(wo, wi);
-        const HairEvalPdf<T> single = fiber_.eval_pdf(wo, wi);
-        r.wi = wi;
-        r.pdf = density(mix, wi, phi, single.pdf);
-        r.weight = r.pdf > T(0) ? value(wo, wi, phi, single.f) / r.pdf : V3(T(0));
-        return r;
-    }
 
-    // Sampled-lobe tags beyond the single-fiber ones (kR … kResidual).
-    static constexpr int kDualBack = 10, kDualGlobal = 11, kDualGlobalBack = 12;
+      private:
+        friend class DualScatteringBcsdf;
+        HAIRSCATTER_HD bool improved() const { return t_.settings.formulation == DualFormulation::kImproved; }
+        static HAIRSCATTER_HD T mean(const V3& v) { return (v.x + v.y + v.z) * T(1.0 / 3.0); }
+        static HAIRSCATTER_HD bool finite(const V3& v) {
+            const T s = v.x + v.y + v.z;
+            return s - s == T(0);  // false for NaN and ±Inf
+        }
 
-  private:
-    // Everything that depends on wo: the mixture weights of the four components, the
-    // lobes' shapes (taken at the specular cone θi = -θo, where the scattered light is
-    // concentrated) and the tilted θo' per lobe.
-    struct Mixture {
-        T w[4];                   // single, back, global, global back
-        T g[kLobes + 1];          // lobe probabilities inside f_s^G
-        T sin_o[kLobes + 1], cos_o[kLobes + 1];
-        DeonLongitudinal<T> m_global[kLobes + 1];
-        DeonLongitudinal<T> m_back, m_back_global;
-        T sin_back, cos_back;     // θo - Δ_b
+        HAIRSCATTER_HD At(const DualScatteringBcsdf& d, const V3& wo, T spread)
+            : t_(d.tables_), single_(d.fiber_.at(wo)), wo_(wo), valid_(finite(wo)) {
+            const T so = clamp(wo.x, T(-1), T(1));
+            sin_o_ = so == so ? so : T(0);
+            cos_o_ = cos_from_sin(sin_o_);
+            theta_o_ = elem::asin(sin_o_);
+            cell_o_ = t_.cell(sin_o_);
+            row_ = cell_o_.t < T(0.5) ? cell_o_.i : cell_o_.i + 1;
+            const DualScatteringSettings<T>& s = t_.settings;
+
+            // The backscattering lobe's shape at the specular cone θi = -θo, where the light
+            // that returns toward wo is concentrated.
+            const Entry es = t_.lookup(-sin_o_);
+            T sb, cb;
+            elem::sincos(theta_o_ - mean(es.delta_b), sb, cb);
+            sin_back_ = sb;
+            cos_back_ = cb < T(0) ? -cb : cb;
+            const T s2b = mean(es.sigma2_b);
+            s2_back_ = s2b > T(1e-6) ? s2b : T(1e-6);
+            s2_spread_ = spread > T(0) ? spread : T(0);
+            const T ab = (improved() ? T(2) : T(1)) * mean(dual_backscatter(es, kUnbounded<T>, s.formulation));
+
+            T gsum = T(0);
+            for (int p = 0; p < kMaxLobes; ++p) {
+                t_.rotate(p, sin_o_, cos_o_, sin_l_[p], cos_l_[p]);
+                total_[p] = p < t_.lobes ? t_.window_cdf[t_.window_index(row_, p, t_.n_psi - 1)] : T(0);
+                // improved: the lobe's mass over every ψ; Zinke: the forward half at W_p(π).
+                g_[p] = p >= t_.lobes ? T(0)
+                        : improved()  ? total_[p]
+                                      : kHalfPi<T> * mean(t_.window[t_.window_index(row_, p, t_.n_psi - 1)]);
+                gsum += g_[p];
+            }
+            for (int p = 0; p < kMaxLobes; ++p) g_[p] = gsum > T(0) ? g_[p] / gsum : T(p == 0);
+
+            // Half the samples as for a directly lit point, half as for a shadowed one, after a
+            // small uniform share that bounds the weight where the hint's lobes are too narrow.
+            const T lit[2] = {mean(d.fiber_.albedo(wo)), s.d_b * ab};
+            const T shadow[2] = {gsum, s.d_b * ab * (improved() ? T(1) : kPi<T>)};
+            const T lit_sum = lit[0] + lit[1], shadow_sum = shadow[0] + shadow[1];
+            const T half_lit = (shadow_sum > T(0) ? T(0.5) : T(1)) * (T(1) - kUniformShare);
+            for (int k = 0; k < 2; ++k) {
+                w_[k] = lit_sum > T(0) ? half_lit * lit[k] / lit_sum : (k == 0 ? half_lit : T(0));
+                w_[2 + k] = shadow_sum > T(0) ? (T(1) - kUniformShare - half_lit) * shadow[k] / shadow_sum : T(0);
+            }
+            w_[4] = kUniformShare;
+        }
+
+        // The global lobe p's density over ψ ∈ [-π, π]: the sampler's row of W̄_p, normalised.
+        HAIRSCATTER_HD T window_pdf(int p, T abs_psi) const {
+            if (!(total_[p] > T(0))) return T(0);
+            const T x = clamp(abs_psi * kInvPi<T>, T(0), T(1)) * T(t_.n_psi - 1);
+            int j = int(x);
+            j = j > t_.n_psi - 2 ? t_.n_psi - 2 : j;
+            const T s = x - T(j);
+            const T a = mean(t_.window[t_.window_index(row_, p, j)]), b = mean(t_.window[t_.window_index(row_, p, j + 1)]);
+            return T(0.5) * (a + s * (b - a)) / total_[p];
+        }
+
+        HAIRSCATTER_HD T density(const V3& wi, T psi, T pdf_single) const {
+            const T sin_i = clamp(wi.x, T(-1), T(1)), cos_i = cos_from_sin(sin_i);
+            const T a = psi < T(0) ? -psi : psi;
+            const bool backward = a < kHalfPi<T>;
+            T pdf = w_[4] * T(0.25) * kInvPi<T> + w_[0] * pdf_single;
+            if (w_[1] > T(0) && backward)
+                pdf += w_[1] * DeonLongitudinal<T>(s2_back_).eval(sin_i, cos_i, sin_back_, cos_back_) * kInvPi<T>;
+            if (w_[2] > T(0)) {
+                T g = T(0);
+                for (int p = 0; p < t_.lobes; ++p) {
+                    if (!(g_[p] > T(0))) continue;
+                    const T az = improved() ? window_pdf(p, a) : (backward ? T(0) : kInvPi<T>);
+                    if (az > T(0))
+                        g += g_[p] * az *
+                             DeonLongitudinal<T>(t_.lobe_variance[p] + s2_spread_).eval(sin_i, cos_i, sin_l_[p], cos_l_[p]);
+                }
+                pdf += w_[2] * g;
+            }
+            if (w_[3] > T(0)) {
+                const T az = improved() ? (kPi<T> - a) * kInvPi<T> * kInvPi<T> : (backward ? kInvPi<T> : T(0));
+                if (az > T(0))
+                    pdf += w_[3] * az * DeonLongitudinal<T>(s2_back_ + s2_spread_).eval(sin_i, cos_i, sin_back_, cos_back_);
+            }
+            return pdf;
+        }
+
+        HAIRSCATTER_HD V3 value(const V3& wi, T psi, const DualScatteringLight<T>& light, const V3& f_single) const {
+            const DualScatteringSettings<T>& s = t_.settings;
+            const T kBack = improved() ? T(2) : T(1);
+            const T sin_i = clamp(wi.x, T(-1), T(1)), cos_i = cos_from_sin(sin_i);
+            const T a = psi < T(0) ? -psi : psi;
+            const bool backward = a < kHalfPi<T>;
+            const T dfr = light.direct_fraction;
+            const T df = dfr > T(0) ? (dfr < T(1) ? dfr : T(1)) : T(0);  // NaN → 0
+            const Entry ei = t_.lookup(sin_i);
+            T sb, cb;
+            elem::sincos(theta_o_ - mean(ei.delta_b), sb, cb);
+            cb = cb < T(0) ? -cb : cb;
+            const T s2b = mean(ei.sigma2_b) > T(1e-6) ? mean(ei.sigma2_b) : T(1e-6);
+            const V3 ab = dual_backscatter(ei, light.beyond, s.formulation);
+
+            V3 f = df * f_single;
+            if (df > T(0) && backward)
+                f += kBack * df * s.d_b * ab * (DeonLongitudinal<T>(s2b).eval(sin_i, cos_i, sb, cb) * kInvPi<T>);
+
+            const DualForward<T> fw = dual_forward(light, ei, s.formulation);
+            V3 scale, scale_back;
+            if (improved()) {
+                scale = (T(1) - df) * s.d_f * fw.transmittance;
+                scale_back = (T(1) - df) * s.d_f * fw.flux;
+            } else {
+                for (int c = 0; c < 3; ++c) scale[c] = fw.transmittance[c] > df ? (fw.transmittance[c] - df) * s.d_f : T(0);
+                scale_back = scale;
+            }
+            if (!(scale_back.x > T(0) || scale_back.y > T(0) || scale_back.z > T(0))) return f;
+
+            V3 g(T(0));
+            if (improved() || !backward) {
+                for (int p = 0; p < t_.lobes; ++p) {
+                    const V3 w = t_.window_at(cell_o_, p, improved() ? a : kPi<T>);
+                    g += w * DeonLongitudinal<T>(t_.lobe_variance[p] + fw.spread).eval(sin_i, cos_i, sin_l_[p], cos_l_[p]);
+                }
+            }
+            const T az = improved() ? (kPi<T> - a) * kInvPi<T> * kInvPi<T> : (backward ? T(1) : T(0));
+            V3 gb(T(0));
+            if (az > T(0)) gb = kBack * s.d_b * az * ab * DeonLongitudinal<T>(s2b + fw.spread).eval(sin_i, cos_i, sb, cb);
+            return f + scale * g + scale_back * gb;
+        }
+
+        View t_;
+        FiberAt single_;
+        V3 wo_;
+        bool valid_ = true;
+        T sin_o_ = T(0), cos_o_ = T(1), theta_o_ = T(0);
+        typename View::Cell cell_o_{0, T(0)};
+        int row_ = 0;  // the θ row the sampler's window CDFs are read from (nearest to θo)
+        T sin_l_[kMaxLobes] = {}, cos_l_[kMaxLobes] = {};
+        static constexpr T kUniformShare = T(0.05);
+        T w_[5] = {};              // mixture weights: single, back, global, global back, uniform
+        T g_[kMaxLobes] = {};      // lobe probabilities inside the global component
+        T total_[kMaxLobes] = {};  // each lobe's row total ∫_0^π W̄_p
+        T s2_back_ = T(1e-6), s2_spread_ = T(0);
+        T sin_back_ = T(0), cos_back_ = T(1);  // θo - Δ_b at the specular cone
     };
 
-    static T mean(const V3& v) { return (v.x + v.y + v.z) * T(1.0 / 3.0); }
-
-
-    // T_f and σ̄²_f for light arriving with the table entry e of its inclination.
-    V3 transmittance(const DualScatteringEntry<T>& e) const {
-        using std::pow;
-        if (light_.use_transmittance) return light_.T_f;
-        return V3(pow(e.a_f.x, light_.n), pow(e.a_f.y, light_.n), pow(e.a_f.z, light_.n));
+    HAIRSCATTER_HD At at(const V3& wo, T spread = T(0)) const { return At(*this, wo, spread); }
+    HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi, const DualScatteringLight<T>& light) const {
+        return at(wo).eval(wi, light);
     }
-    T forward_variance(const DualScatteringEntry<T>& e) const {
-        return light_.use_transmittance ? light_.sigma2_f : light_.n * mean(e.beta2_f);
-    }
+    HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return at(wo).pdf(wi); }
+    HAIRSCATTER_HD DualSample<T> sample(const V3& wo, const V4& u) const { return at(wo).sample(u); }
+    HAIRSCATTER_HD const Fiber& fiber() const { return fiber_; }
+    HAIRSCATTER_HD const View& tables() const { return tables_; }
 
-    Mixture mixture(const V3& wo) const {
-        using std::asin;
-        using std::cos;
-        using std::sin;
-        Mixture m;
-        const T sin_o = clamp(wo.x, T(-1), T(1)), cos_o = cos_from_sin(sin_o);
-        const T theta_o = asin(sin_o);
-        const DualScatteringEntry<T> eo = tables_->lookup(theta_o);
-        const DualScatteringEntry<T> es = tables_->lookup(-theta_o);  // the specular cone
-        const T s2f = forward_variance(es);
-        const T scatter = light_.d_f * (mean(transmittance(es)) - light_.direct_fraction);
-        const T df = light_.direct_fraction;
-        const ChiangMaterial<T>& mat = fiber_.material();
-
-        T total_g = T(0);
-        for (int p = 0; p <= kLobes; ++p) {
-            const auto r = mat.tilt().rotate(p, sin_o, cos_o);
-            m.sin_o[p] = r.sin_theta;
-            m.cos_o[p] = r.cos_theta;
-            m.m_global[p] = DeonLongitudinal<T>(mat.lobe_variance(p) + s2f);
-            m.g[p] = mean(eo.global[p]);
-            total_g += m.g[p];
-        }
-        for (int p = 0; p <= kLobes; ++p) m.g[p] = total_g > T(0) ? m.g[p] / total_g : T(p == 0);
-
-        const T delta = mean(es.delta_b);
-        const T tb = theta_o - delta;
-        m.sin_back = sin(tb);
-        m.cos_back = cos(tb) < T(0) ? -cos(tb) : cos(tb);
-        const T s2b = mean(es.sigma2_b);
-        m.m_back = DeonLongitudinal<T>(s2b > T(1e-6) ? s2b : T(1e-6));
-        m.m_back_global = DeonLongitudinal<T>((s2b > T(1e-6) ? s2b : T(1e-6)) + s2f);
-
-        const T ab = mean(es.A_b);
-        m.w[0] = df * mean(fiber_.albedo(wo));
-        m.w[1] = df * light_.d_b * ab;
-        m.w[2] = scatter > T(0) ? scatter * kPi<T> * total_g : T(0);
-        m.w[3] = scatter > T(0) ? scatter * kPi<T> * light_.d_b * ab : T(0);
-        const T sum = m.w[0] + m.w[1] + m.w[2] + m.w[3];
-        if (sum > T(0)) {
-            for (T& w : m.w) w /= sum;
-        } else {
-            m.w[0] = T(1);  // nothing to scatter: any valid density will do (f is 0)
-            m.w[1] = m.w[2] = m.w[3] = T(0);
-        }
-        return m;
-    }
-
-    // F(wo, wi) given φ and the single-fiber f_s.
-    V3 value(const V3& wo, const V3& wi, T phi, const V3& f_single) const {
-        using std::asin;
-        const T sin_i = clamp(wi.x, T(-1), T(1)), cos_i = cos_from_sin(sin_i);
-        const T sin_o = clamp(wo.x, T(-1), T(1)), cos_o = cos_from_sin(sin_o);
-        const bool forward = phi > kHalfPi<T> || phi < -kHalfPi<T>;
-        const DualScatteringEntry<T> ei = tables_->lookup(asin(sin_i));
-        const T df = light_.direct_fraction;
-        const V3 tf = transmittance(ei);
-        const T s2f = forward_variance(ei);
-        T scatter_max = T(0);
-        for (int c = 0; c < 3; ++c) scatter_max = tf[c] - df > scatter_max ? tf[c] - df : scatter_max;
-
-        V3 f = df * f_single;
-        if (!forward) {
-            // f_back and its widened twin, shaped at this θi (the pdf's shape is fixed per wo).
-            const T s2b = mean(ei.sigma2_b) > T(1e-6) ? mean(ei.sigma2_b) : T(1e-6);
-            const T tb = asin(sin_o) - mean(ei.delta_b);
-            const T sb = std::sin(tb), cb = std::abs(std::cos(tb));
-            const V3 f_back = ei.A_b * DeonLongitudinal<T>(s2b).eval(sin_i, cos_i, sb, cb) * kInvPi<T>;
-            f += df * light_.d_b * f_back;
-            if (scatter_max > T(0)) {
-                const V3 f_back_g = ei.A_b * DeonLongitudinal<T>(s2b + s2f).eval(sin_i, cos_i, sb, cb) * kInvPi<T>;
-                for (int c = 0; c < 3; ++c)
-                    if (tf[c] > df) f[c] += (tf[c] - df) * light_.d_f * kPi<T> * light_.d_b * f_back_g[c];
-            }
-        } else if (scatter_max > T(0)) {
-            const DualScatteringEntry<T> eo = tables_->lookup(asin(sin_o));
-            const ChiangMaterial<T>& mat = fiber_.material();
-            V3 f_s_g(T(0));
-            for (int p = 0; p <= kLobes; ++p) {
-                const auto r = mat.tilt().rotate(p, sin_o, cos_o);
-                f_s_g += DeonLongitudinal<T>(mat.lobe_variance(p) + s2f).eval(sin_i, cos_i, r.sin_theta, r.cos_theta) *
-                         eo.global[p];
-            }
-            for (int c = 0; c < 3; ++c)
-                if (tf[c] > df) f[c] += (tf[c] - df) * light_.d_f * f_s_g[c];
-        }
-        return f;
-    }
-
-    // The mixture's density: each component normalised on the sphere.
-    T density(const Mixture& mix, const V3& wi, T phi, T pdf_single) const {
-        const T sin_i = clamp(wi.x, T(-1), T(1)), cos_i = cos_from_sin(sin_i);
-        const bool forward = phi > kHalfPi<T> || phi < -kHalfPi<T>;
-        T pdf = mix.w[0] * pdf_single;
-        if (!forward) {
-            if (mix.w[1] > T(0)) pdf += mix.w[1] * mix.m_back.eval(sin_i, cos_i, mix.sin_back, mix.cos_back) * kInvPi<T>;
-            if (mix.w[3] > T(0))
-                pdf += mix.w[3] * mix.m_back_global.eval(sin_i, cos_i, mix.sin_back, mix.cos_back) * kInvPi<T>;
-        } else if (mix.w[2] > T(0)) {
-            T p_global = T(0);
-            for (int p = 0; p <= kLobes; ++p)
-                if (mix.g[p] > T(0))
-                    p_global += mix.g[p] * mix.m_global[p].eval(sin_i, cos_i, mix.sin_o[p], mix.cos_o[p]) * kInvPi<T>;
-            pdf += mix.w[2] * p_global;
-        }
-        return pdf;
-    }
-
-    ChiangFiber<T> fiber_;
-    const DualScatteringTables<T>* tables_;
-    DualScatteringLight<T> light_;
+  private:
+    Fiber fiber_;
+    View tables_;
 };
 
 // Uniform directions on the sphere for any model with eval(wo, wi): the baseline the
-// seed thesis measures importance sampling against.
+// origin study measures importance sampling against.
 template <typename Model> class UniformSphereSampling {
   public:
     explicit UniformSphereSampling(const Model& model) : model_(model) {}
@@ -299,4 +399,16 @@ template <typename Model> class UniformSphereSampling {
     Model model_;
 };
 
+// A uniform direction on the sphere and its density 1/4π, for the uniform baseline of the
+// dual BCSDF (whose value needs the light state, so no weight is computed here).
+template <typename T> HAIRSCATTER_HD DualSample<T> uniform_sphere_sample(T u1, T u2) {
+    DualSample<T> out;
+    const T z = T(1) - T(2) * u1;
+    const T r = cos_from_sin(z);
+    T s, c;
+    elem::sincos(kTwoPi<T> * u2, s, c);
+    out.wi = glm::vec<3, T>(z, r * c, r * s);
+    out.pdf = T(0.25) * kInvPi<T>;
+    return out;
+}
 }  // namespace hairscatter

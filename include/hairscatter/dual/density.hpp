@@ -29,12 +29,10 @@
 #include "../config.hpp"
 #include "../math/constants.hpp"
 #include "../math/functions.hpp"
+#include "settings.hpp"
 
 namespace hairscatter {
 
-// max_distance for "until the ray leaves the hair". A constexpr variable, so device code
-// may read it (numeric_limits' members are host functions to a CUDA compiler).
-template <typename T> inline constexpr T kUnbounded = std::numeric_limits<T>::infinity();
 
 // ---------------------------------------------------------------------------------------
 // The interface

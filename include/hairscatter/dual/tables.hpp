@@ -1,63 +1,66 @@
-// hairscatter — the per-fiber tables of dual scattering (Zinke et al. 2008 §4.1, theory.md
-// §5.1): forward and backward albedos a_f, a_b, their albedo-weighted lobe shifts ᾱ and
-// variances β̄², and from them the local backscattering A_b, Δ_b, σ_b; plus the
-// azimuthally averaged forward lobes of the widened global term. Built once per fiber
-// parameter set on the host, looked up by the light's inclination.
+// hairscatter — the per-fiber tables of dual scattering (Zinke et al. 2008 §4.1; docs/dual.md):
+// forward and backward albedos a_f, a_b, their albedo-weighted lobe shifts ᾱ and variances
+// β̄², the local backscattering A_b, Δ_b, σ_b derived from them, and per lobe the window
+// W_p(θ, ψ): the lobe's h-averaged A_p N_p averaged over the half-circle of azimuths
+// |φ - ψ| < π/2, which is what the global term needs once the forward-scattered light is
+// spread over azimuth. Built once per fiber parameter set and settings on the host from any
+// model that reports per-lobe A_p and half-circle masses (lobe_split); looked up by the
+// light's inclination on the host or, through view(), on a GPU.
 #pragma once
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "../config.hpp"
 #include "../math/constants.hpp"
+#include "../math/elementary.hpp"
+#include "../math/functions.hpp"
 #include "../math/quadrature.hpp"
+#include "settings.hpp"
 
 namespace hairscatter {
 
-// Conventions. θ is the inclination of the direction light arrives from (tables are
-// built with wo at θ and integrated over wi, read through the fiber's reciprocity; the
-// lookups use θi, as Sadeghi & Tamstorf note Zinke's θd really is). Shifts and variances
-// are in θi + θo (d'Eon's corrected 2θh): lobe p peaks at θi = α_p - θo with variance
-// β_p² = v_p, so Δ_b below is a shift of θi + θo too. Everything is per RGB channel.
+// Conventions. θ is the inclination of the direction light arrives from (tables are built
+// with wo at θ and integrated over wi, read through the fiber's reciprocity; the lookups
+// use θi, as Sadeghi & Tamstorf 2010 note Zinke's θd really is). Shifts and variances are
+// in θi + θo (d'Eon et al. 2011's corrected 2θh): lobe p peaks at θi = α_p - θo with
+// variance β_p² = v_p, so Δ_b is a shift of θi + θo too. Everything is per RGB channel.
 template <typename T> struct DualScatteringEntry {
     using V3 = glm::vec<3, T>;
-    static constexpr int kLobes = 4;  // R, TT, TRT, residual; models with fewer leave zeros
-
-    V3 a_f{T(0)}, a_b{T(0)};            // ∫ f over the forward (|φ| > π/2) / backward half
-    V3 alpha_f{T(0)}, alpha_b{T(0)};    // ᾱ_f, ᾱ_b
-    V3 beta2_f{T(0)}, beta2_b{T(0)};    // β̄²_f, β̄²_b
+    V3 a_f{T(0)}, a_b{T(0)};                      // ∫ f over the forward (|φ| > π/2) / backward half
+    V3 alpha_f{T(0)}, alpha_b{T(0)};              // ᾱ_f, ᾱ_b
+    V3 beta2_f{T(0)}, beta2_b{T(0)};              // β̄²_f, β̄²_b
     V3 A_b{T(0)}, delta_b{T(0)}, sigma2_b{T(0)};  // A_1 + A_3, Δ_b, σ_b²
-    V3 global[kLobes] = {V3(T(0)), V3(T(0)), V3(T(0)), V3(T(0))};  // h-mean of A_p N^G_p
 
-    static constexpr int kFields = 9 + kLobes;  // V3 fields, in the order of fields()
-    V3* fields() { return &a_f; }
-    const V3* fields() const { return &a_f; }
+    static constexpr int kFields = 9;  // V3 fields, in the order of fields()
+    HAIRSCATTER_HD V3* fields() { return &a_f; }
+    HAIRSCATTER_HD const V3* fields() const { return &a_f; }
 };
 static_assert(sizeof(DualScatteringEntry<float>) == DualScatteringEntry<float>::kFields * 3 * sizeof(float),
-              "DualScatteringEntry must be a flat array of vec3 for fields() and the file format");
+              "DualScatteringEntry must be a flat array of vec3 for fields() and the file format "
+              "(GLM_FORCE_DEFAULT_ALIGNED_GENTYPES pads vec3: dual scattering needs packed vec3)");
 
-// Zinke et al. 2008 eqs. 13–15 (theory.md §5.1), the derived backscattering quantities from
-// a_f, a_b, ᾱ and β̄² of one θ. d_b enters σ_b. Denominators are floored: 1 - a_f² → 0 only
-// for a lossless fiber that scatters everything forward, where A_b → 0 anyway.
+// Zinke et al. 2008 eqs. 13–15, the backscattering quantities from a_f, a_b, ᾱ and β̄² of
+// one θ; d_b enters σ_b. 1 - a_f² → 0 only for a lossless fiber that scatters everything
+// forward, where A_b → 0 anyway: the floor keeps the quotients finite.
 template <typename T> void derive_backscattering(DualScatteringEntry<T>& e, T d_b) {
     for (int c = 0; c < 3; ++c) {
         const T af = e.a_f[c], ab = e.a_b[c];
         const T af2 = af * af, ab2 = ab * ab, ab3 = ab2 * ab;
         const T one = std::max(T(1) - af2, T(1e-6));
         const T one2 = one * one, one3 = one2 * one;
-        const T A1 = ab * af2 / one;
-        const T A3 = ab3 * af2 / one3;
-        e.A_b[c] = A1 + A3;
-        e.delta_b[c] = e.alpha_b[c] * (T(1) - T(2) * ab2 / one2) +
-                       e.alpha_f[c] * (T(2) * one2 + T(4) * af2 * ab2) / one3;
+        e.A_b[c] = ab * af2 / one + ab3 * af2 / one3;  // A_1 + A_3
+        e.delta_b[c] = e.alpha_b[c] * (T(1) - T(2) * ab2 / one2) + e.alpha_f[c] * (T(2) * one2 + T(4) * af2 * ab2) / one3;
         const T bf2 = e.beta2_f[c], bb2 = e.beta2_b[c];
         const T bf = std::sqrt(bf2), bb = std::sqrt(bb2);
         const T num = ab * std::sqrt(T(2) * bf2 + bb2) + ab3 * std::sqrt(T(2) * bf2 + T(3) * bb2);
@@ -67,72 +70,200 @@ template <typename T> void derive_backscattering(DualScatteringEntry<T>& e, T d_
     }
 }
 
+// Reflectance R_N and transmittance T_N of N layers that each reflect a_b and transmit a_f,
+// by the adding formula of 1D transport (R_{N+1} = a_b + a_f² R_N / (1 - a_b R_N),
+// T_{N+1} = a_f T_N / (1 - a_b R_N), R_0 = 0, T_0 = 1). The stack's transfer matrix is
+// M^N / a_f^N with M = [[a_f² - a_b², a_b], [-a_b, 1]], so R_N = (M^N)₀₁ / (M^N)₁₁ and
+// T_N = a_f^N / (M^N)₁₁; M^N by repeated squaring, renormalised with the scale kept as a
+// logarithm. Exact for the lossless case too, where R_N = N a_b / (1 + (N - 1) a_b) tends
+// to 1 only slowly. A fractional N interpolates between ⌊N⌋ and ⌊N⌋ + 1 layers.
+template <typename T> struct LayerStack {
+    T R = T(0), T_ = T(1);
+};
+template <typename T> HAIRSCATTER_HD LayerStack<T> layered_stack(T a_f, T a_b, T layers) {
+    using std::exp;
+    using std::log;
+    LayerStack<T> r;
+    const T n = layers > T(0) ? (layers < T(1048576) ? layers : T(1048576)) : T(0);  // NaN → 0
+    unsigned k = unsigned(n);
+    const T frac = n - T(k);
+    T m00 = a_f * a_f - a_b * a_b, m01 = a_b, m10 = -a_b, m11 = T(1), m_log = T(0);
+    T r00 = T(1), r01 = T(0), r10 = T(0), r11 = T(1), r_log = T(0);
+    const unsigned k0 = k;
+    while (k) {
+        if (k & 1u) {
+            const T n00 = r00 * m00 + r01 * m10, n01 = r00 * m01 + r01 * m11;
+            const T n10 = r10 * m00 + r11 * m10, n11 = r10 * m01 + r11 * m11;
+            const T s = n11 > T(0) ? n11 : T(1);
+            r00 = n00 / s, r01 = n01 / s, r10 = n10 / s, r11 = n11 / s, r_log += log(s) + m_log;
+        }
+        k >>= 1;
+        if (k) {
+            const T n00 = m00 * m00 + m01 * m10, n01 = m00 * m01 + m01 * m11;
+            const T n10 = m10 * m00 + m11 * m10, n11 = m10 * m01 + m11 * m11;
+            const T s = n11 > T(0) ? n11 : T(1);
+            m00 = n00 / s, m01 = n01 / s, m10 = n10 / s, m11 = n11 / s, m_log = T(2) * m_log + log(s);
+        }
+    }
+    const T R = r11 > T(0) ? r01 / r11 : T(0);
+    const T Tn = k0 == 0 ? T(1) : (a_f > T(0) ? exp(T(k0) * log(a_f) - r_log) : T(0));
+    const T den = T(1) - a_b * R;
+    const T inv = den > T(0) ? T(1) / den : T(0);
+    r.R = R + frac * (a_b + a_f * a_f * R * inv - R);
+    r.T_ = Tn + frac * (a_f * Tn * inv - Tn);
+    return r;
+}
+
 template <typename T> struct DualTableOptions {
-    int theta_samples = 64;  // table entries over θ ∈ [-π/2, π/2]
-    int h_nodes = 32;        // Gauss–Legendre nodes averaging near-field models over h = sin γ
-    T d_b = T(0.7);          // backscattering density factor (enters σ_b)
+    int theta_samples = 64;  // table entries over θ ∈ [-π/2, π/2] (≥ 8)
+    int psi_samples = 33;    // window nodes over ψ ∈ [0, π] (≥ 9)
+    int h_nodes = 32;        // Gauss–Legendre nodes in γ = asin h for near-field models (≥ 8)
+    DualScatteringSettings<T> settings{};
+};
+
+// Everything the dual BCSDF reads, as plain pointers and numbers: trivially copyable, so
+// it can be passed to a GPU kernel once the arrays live in device memory (with_arrays).
+template <typename T> struct DualTablesView {
+    using V3 = glm::vec<3, T>;
+    using Entry = DualScatteringEntry<T>;
+    static constexpr int kMaxLobes = 4;  // R, TT, TRT, residual; models with fewer leave zeros
+
+    const Entry* entries = nullptr;  // [theta]
+    const V3* window = nullptr;      // [theta][lobe][psi]: W_p, per channel
+    const T* window_cdf = nullptr;   // [theta][lobe][psi]: ∫_0^ψ of the channel mean of W_p
+    int n_theta = 0, n_psi = 0, lobes = 0;
+    T lobe_angle[kMaxLobes] = {};     // θo' = θo + angle: each lobe's tilt (-α_p)
+    T lobe_variance[kMaxLobes] = {};  // v_p
+    T lobe_sin[kMaxLobes] = {}, lobe_cos[kMaxLobes] = {};  // sin, cos of lobe_angle
+    DualScatteringSettings<T> settings{};
+
+    // (sinθo', cosθo') of lobe p: θo rotated by the lobe's tilt, cosθo' folded to ≥ 0.
+    HAIRSCATTER_HD void rotate(int p, T sin_o, T cos_o, T& s, T& c) const {
+        s = sin_o * lobe_cos[p] + cos_o * lobe_sin[p];
+        c = cos_o * lobe_cos[p] - sin_o * lobe_sin[p];
+        c = c < T(0) ? -c : c;
+    }
+
+    // Nodes θ_i = (π/2) sin(π x_i / 2) for x_i uniform in [-1, 1]: uniform near θ = 0 and
+    // denser toward the poles, where the albedos and A_b change fastest (a uniform grid of
+    // 64 samples leaves 12 % of A_b's range as interpolation error within 3° of grazing).
+    static T node_theta(int i, int n) {
+        const T x = T(-1) + T(2) * T(i) / T(n - 1);
+        return kHalfPi<T> * std::sin(kHalfPi<T> * x);
+    }
+    struct Cell {
+        int i;
+        T t;
+    };
+    // The θ cell of inclination sinθ (clamped; NaN reads the first cell).
+    HAIRSCATTER_HD Cell cell(T sin_theta) const {
+        const T s = clamp(sin_theta, T(-1), T(1));
+        const T theta = elem::asin(s == s ? s : T(-1));
+        const T u = clamp(elem::asin(clamp(theta * (T(2) * kInvPi<T>), T(-1), T(1))) * (T(2) * kInvPi<T>), T(-1), T(1));
+        const T x = (u + T(1)) * T(0.5) * T(n_theta - 1);
+        int i = int(x);
+        i = i < 0 ? 0 : (i > n_theta - 2 ? n_theta - 2 : i);
+        return {i, clamp(x - T(i), T(0), T(1))};
+    }
+    HAIRSCATTER_HD Entry lookup(T sin_theta) const {
+        const Cell c = cell(sin_theta);
+        Entry r;
+        const V3* a = entries[c.i].fields();
+        const V3* b = entries[c.i + 1].fields();
+        V3* o = r.fields();
+        for (int k = 0; k < Entry::kFields; ++k) o[k] = a[k] + c.t * (b[k] - a[k]);
+        return r;
+    }
+    HAIRSCATTER_HD std::size_t window_index(int i, int p, int j) const {
+        return (std::size_t(i) * std::size_t(lobes) + std::size_t(p)) * std::size_t(n_psi) + std::size_t(j);
+    }
+    // W_p at the θ cell c and |ψ| (ψ ∈ [-π, π]), bilinear.
+    HAIRSCATTER_HD V3 window_at(const Cell& c, int p, T abs_psi) const {
+        const T x = clamp(abs_psi * kInvPi<T>, T(0), T(1)) * T(n_psi - 1);
+        int j = int(x);
+        j = j > n_psi - 2 ? n_psi - 2 : j;
+        const T s = x - T(j);
+        const V3 lo = window[window_index(c.i, p, j)] + s * (window[window_index(c.i, p, j + 1)] - window[window_index(c.i, p, j)]);
+        const V3 hi = window[window_index(c.i + 1, p, j)] +
+                      s * (window[window_index(c.i + 1, p, j + 1)] - window[window_index(c.i + 1, p, j)]);
+        return lo + c.t * (hi - lo);
+    }
 };
 
 template <typename T> class DualScatteringTables {
   public:
+    using V3 = glm::vec<3, T>;
     using Entry = DualScatteringEntry<T>;
-    static constexpr std::uint32_t kFileVersion = 1;
+    using View = DualTablesView<T>;
+    static constexpr int kMaxLobes = View::kMaxLobes;
+    static constexpr std::uint32_t kFileVersion = 2;
 
     DualScatteringTables() = default;
-    DualScatteringTables(std::vector<Entry> entries, T d_b, int h_nodes) : entries_(std::move(entries)), d_b_(d_b), h_nodes_(h_nodes) {
-        if (entries_.size() < 2) throw std::invalid_argument("hairscatter: dual-scattering tables need ≥ 2 θ samples");
-    }
 
-    // Builds the tables of a single-fiber model. Material is a model's per-material
-    // object and Fiber(material, h) its per-hit fiber, which must provide kLobes,
-    // lobe_split(wo) (per lobe A_p and the backward fraction of N_p), and the material
-    // lobe_shift(p) and lobe_variance(p). Near-field models are averaged over h by
-    // Gauss–Legendre quadrature in γ = asin h: ½∫ f(h) dh = ½∫ f(sin γ) cos γ dγ removes the
-    // square-root behaviour of γ (and of Fresnel) at h = ±1, where a rule in h converges
-    // slowly (32 nodes in h: 2e-3 relative error in a lobe's forward albedo; in γ: 1e-7).
-    template <template <typename> class Fiber, typename Material>
+    // Builds the tables of a single-fiber model type Fiber (e.g. ChiangFiber<T>, a lobe
+    // subset, or a far-field fiber) from its material. The fiber must provide kLobes and
+    // lobe_split(wo, centre) (per lobe A_p and the mass of N_p on |φ - centre| < π/2), the
+    // material lobe_shift(p) and lobe_variance(p). A fiber constructed from (material, h)
+    // is averaged over h by Gauss–Legendre quadrature in γ = asin h: ½∫ f(h) dh =
+    // ½∫ f(sin γ) cos γ dγ removes the square-root behaviour of γ (and of Fresnel) at h = ±1,
+    // where a rule in h converges slowly (32 nodes in h: 2e-3 relative error in a lobe's
+    // forward albedo; in γ: 1e-7). One built from (material) is already h-integrated.
+    template <typename Fiber, typename Material>
     static DualScatteringTables build(const Material& material, const DualTableOptions<T>& opt = {}) {
-        if (opt.theta_samples < 2 || opt.h_nodes < 1)
-            throw std::invalid_argument("hairscatter: DualTableOptions needs theta_samples ≥ 2 and h_nodes ≥ 1");
-        if (!(opt.d_b >= T(0) && opt.d_b <= T(1)))
-            throw std::invalid_argument("hairscatter: DualTableOptions d_b must lie in [0, 1]");
-        using V3 = glm::vec<3, T>;
-        constexpr int L = Fiber<T>::kLobes + 1;
-        static_assert(L <= Entry::kLobes, "the model has more lobes than the tables hold");
-        const GaussLegendre<T> gl(opt.h_nodes);
-        std::vector<Fiber<T>> fibers;
+        static_assert(std::is_same_v<typename Fiber::V3, V3>, "the fiber's real type must match the tables'");
+        constexpr int L = Fiber::kLobes + 1;
+        static_assert(L <= kMaxLobes, "the model has more lobes than the tables hold");
+        check(opt);
+        std::vector<Fiber> fibers;
         std::vector<T> h_weight;
-        for (int k = 0; k < opt.h_nodes; ++k) {
-            const T gamma = kHalfPi<T> * gl.nodes[std::size_t(k)];
-            fibers.emplace_back(material, std::sin(gamma));
-            h_weight.push_back(T(0.5) * kHalfPi<T> * gl.weights[std::size_t(k)] * std::cos(gamma));
+        if constexpr (std::is_constructible_v<Fiber, const Material&, T>) {
+            const GaussLegendre<T> gl(opt.h_nodes);
+            for (int k = 0; k < opt.h_nodes; ++k) {
+                const T gamma = kHalfPi<T> * gl.nodes[std::size_t(k)];
+                fibers.emplace_back(material, std::sin(gamma));
+                h_weight.push_back(T(0.5) * kHalfPi<T> * gl.weights[std::size_t(k)] * std::cos(gamma));
+            }
+        } else {
+            fibers.emplace_back(material);
+            h_weight.push_back(T(1));
         }
 
-        std::vector<Entry> entries(std::size_t(opt.theta_samples));
+        DualScatteringTables t;
+        t.n_theta_ = opt.theta_samples;
+        t.n_psi_ = opt.psi_samples;
+        t.lobes_ = L;
+        t.h_nodes_ = opt.h_nodes;
+        t.settings_ = opt.settings;
+        for (int p = 0; p < kMaxLobes; ++p) {
+            t.lobe_angle_[p] = p < L ? -material.lobe_shift(p) : T(0);
+            t.lobe_variance_[p] = p < L ? material.lobe_variance(p) : T(0);
+        }
+        t.entries_.resize(std::size_t(opt.theta_samples));
+        t.window_.assign(std::size_t(opt.theta_samples) * std::size_t(L) * std::size_t(opt.psi_samples), V3(T(0)));
+        const View v = t.shape_view();
         for (int i = 0; i < opt.theta_samples; ++i) {
-            const T theta = node_theta(i, opt.theta_samples);
+            const T theta = View::node_theta(i, opt.theta_samples);
             const V3 wo(std::sin(theta), std::cos(theta), T(0));
-            V3 af[L], ab[L];
-            for (int p = 0; p < L; ++p) af[p] = ab[p] = V3(T(0));
-            Entry& e = entries[std::size_t(i)];
-            for (int k = 0; k < opt.h_nodes; ++k) {
-                const auto split = fibers[std::size_t(k)].lobe_split(wo);
-                const T w = h_weight[std::size_t(k)];  // mean over h ∈ [-1, 1]
-                for (int p = 0; p < L; ++p) {
-                    af[p] += w * split.a[p] * (T(1) - split.backward[p]);
-                    ab[p] += w * split.a[p] * split.backward[p];
+            for (int j = 0; j < opt.psi_samples; ++j) {
+                const T psi = kPi<T> * T(j) / T(opt.psi_samples - 1);
+                for (std::size_t k = 0; k < fibers.size(); ++k) {
+                    const auto split = fibers[k].lobe_split(wo, psi);
+                    for (int p = 0; p < L; ++p)
+                        t.window_[v.window_index(i, p, j)] += h_weight[k] * kInvPi<T> * split.a[p] * split.backward[p];
                 }
             }
+            // a_b,p = π W_p(0), a_f,p = π W_p(π): the backward and forward halves.
+            Entry& e = t.entries_[std::size_t(i)];
             for (int p = 0; p < L; ++p) {
-                const T alpha = material.lobe_shift(p), v = material.lobe_variance(p);
-                e.a_f += af[p];
-                e.a_b += ab[p];
-                e.alpha_f += alpha * af[p];
-                e.alpha_b += alpha * ab[p];
-                e.beta2_f += v * af[p];
-                e.beta2_b += v * ab[p];
-                // N^G_p: N_p's mean over the forward half (width π), times A_p, over h.
-                e.global[p] = af[p] * kInvPi<T>;
+                const V3 ab = kPi<T> * t.window_[v.window_index(i, p, 0)];
+                const V3 af = kPi<T> * t.window_[v.window_index(i, p, opt.psi_samples - 1)];
+                const T alpha = material.lobe_shift(p), var = material.lobe_variance(p);
+                e.a_f += af;
+                e.a_b += ab;
+                e.alpha_f += alpha * af;
+                e.alpha_b += alpha * ab;
+                e.beta2_f += var * af;
+                e.beta2_b += var * ab;
             }
             for (int c = 0; c < 3; ++c) {
                 const T f = e.a_f[c], b = e.a_b[c];
@@ -141,44 +272,61 @@ template <typename T> class DualScatteringTables {
                 e.alpha_b[c] = b > T(0) ? e.alpha_b[c] / b : T(0);
                 e.beta2_b[c] = b > T(0) ? e.beta2_b[c] / b : T(0);
             }
-            derive_backscattering(e, opt.d_b);
+            derive_backscattering(e, opt.settings.d_b);
         }
-        return DualScatteringTables(std::move(entries), opt.d_b, opt.h_nodes);
+        t.finish();
+        return t;
     }
 
-    int size() const { return int(entries_.size()); }
-    T d_b() const { return d_b_; }
+    int size() const { return n_theta_; }
+    int psi_samples() const { return n_psi_; }
+    int lobes() const { return lobes_; }
     int h_nodes() const { return h_nodes_; }
+    const DualScatteringSettings<T>& settings() const { return settings_; }
     const Entry& entry(int i) const { return entries_[std::size_t(i)]; }
-    T theta_of(int i) const { return node_theta(i, size()); }
-
+    T theta_of(int i) const { return View::node_theta(i, n_theta_); }
     // Linear interpolation between the nodes (θ clamped to [-π/2, π/2]).
-    Entry lookup(T theta) const {
-        const T s = std::clamp(theta * (T(2) * kInvPi<T>), T(-1), T(1));
-        const T x = (std::asin(s) * (T(2) * kInvPi<T>) + T(1)) * T(0.5) * T(size() - 1);
-        const int i = std::min(int(x), size() - 2);
-        const T t = x - T(i);
-        Entry r;
-        const auto* a = entries_[std::size_t(i)].fields();
-        const auto* b = entries_[std::size_t(i + 1)].fields();
-        auto* o = r.fields();
-        for (int k = 0; k < Entry::kFields; ++k) o[k] = a[k] + t * (b[k] - a[k]);
-        return r;
+    Entry lookup(T theta) const { return view().lookup(std::sin(clamp(theta, -kHalfPi<T>, kHalfPi<T>))); }
+    // W_p(θ, ψ) for lobe p (0 for a lobe the model does not have).
+    V3 window(T theta, int p, T psi) const {
+        if (p < 0 || p >= lobes_) return V3(T(0));
+        const View v = view();
+        return v.window_at(v.cell(std::sin(clamp(theta, -kHalfPi<T>, kHalfPi<T>))), p, std::abs(wrap_pi(psi)));
     }
 
-    // A small versioned binary file: "HSDT", version, θ samples, h nodes, d_b, the entries
-    // as doubles, and an FNV-1a checksum of everything before it.
+    // The host view; on a GPU, copy entries(), window_data() and window_cdf_data() to device
+    // memory and pass with_arrays(…) of the result.
+    View view() const {
+        View v = shape_view();
+        v.entries = entries_.data();
+        v.window = window_.data();
+        v.window_cdf = cdf_.data();
+        return v;
+    }
+    static View with_arrays(View v, const Entry* entries, const V3* window, const T* window_cdf) {
+        v.entries = entries;
+        v.window = window;
+        v.window_cdf = window_cdf;
+        return v;
+    }
+    const std::vector<Entry>& entries() const { return entries_; }
+    const std::vector<V3>& window_data() const { return window_; }
+    const std::vector<T>& window_cdf_data() const { return cdf_; }
+
+    // A small versioned binary file: "HSDT", version, the shape, the settings and the lobes'
+    // shapes, entries and windows as doubles, and an FNV-1a checksum of everything before it.
     void save(const std::string& path) const {
         std::vector<unsigned char> buf;
         put(buf, "HSDT", 4);
-        put_u32(buf, kFileVersion);
-        put_u32(buf, std::uint32_t(size()));
-        put_u32(buf, std::uint32_t(Entry::kFields));
-        put_u32(buf, std::uint32_t(h_nodes_));
-        put_f64(buf, double(d_b_));
+        for (std::uint32_t u : {kFileVersion, std::uint32_t(n_theta_), std::uint32_t(n_psi_), std::uint32_t(lobes_),
+                                std::uint32_t(h_nodes_), std::uint32_t(settings_.formulation)})
+            put(buf, &u, 4);
+        for (double d : {double(settings_.d_f), double(settings_.d_b)}) put(buf, &d, 8);
+        for (int p = 0; p < kMaxLobes; ++p)
+            for (double d : {double(lobe_angle_[p]), double(lobe_variance_[p])}) put(buf, &d, 8);
         for (const Entry& e : entries_)
-            for (int k = 0; k < Entry::kFields; ++k)
-                for (int c = 0; c < 3; ++c) put_f64(buf, double(e.fields()[k][c]));
+            for (int k = 0; k < Entry::kFields; ++k) put_v3(buf, e.fields()[k]);
+        for (const V3& w : window_) put_v3(buf, w);
         const std::uint64_t sum = fnv1a(buf.data(), buf.size());
         put(buf, &sum, 8);
         std::ofstream f(path, std::ios::binary);
@@ -187,6 +335,9 @@ template <typename T> class DualScatteringTables {
         if (!f) throw std::runtime_error("hairscatter: failed writing dual-scattering tables to '" + path + "'");
     }
 
+    // Reads a file written by save(). Rejects, with a message, a wrong magic, version,
+    // size or checksum, and values that are not finite in T or outside what a fiber can
+    // produce (albedos outside [0, 1], negative variances, …).
     static DualScatteringTables load(const std::string& path) {
         std::ifstream f(path, std::ios::binary);
         if (!f) throw std::runtime_error("hairscatter: cannot open dual-scattering tables '" + path + "'");
@@ -194,41 +345,113 @@ template <typename T> class DualScatteringTables {
         auto fail = [&](const std::string& why) {
             return std::runtime_error("hairscatter: '" + path + "' is not a valid dual-scattering table file: " + why);
         };
-        const std::size_t header = 4 + 4 * 4 + 8;
+        const std::size_t header = 4 + 6 * 4 + 2 * 8 + 2 * kMaxLobes * 8;
         if (buf.size() < header + 8 || std::memcmp(buf.data(), "HSDT", 4) != 0) throw fail("bad magic or too short");
         std::size_t at = 4;
-        const std::uint32_t version = get_u32(buf, at), n = get_u32(buf, at), fields = get_u32(buf, at),
-                            h_nodes = get_u32(buf, at);
-        const double d_b = get_f64(buf, at);
-        if (version != kFileVersion)
-            throw fail("version " + std::to_string(version) + ", this library reads version " + std::to_string(kFileVersion));
-        if (fields != std::uint32_t(Entry::kFields)) throw fail("unexpected number of fields per entry");
-        if (n < 2 || n > 1000000) throw fail("implausible number of θ samples");
-        const std::size_t expected = header + std::size_t(n) * fields * 3 * 8 + 8;
+        std::uint32_t u[6];
+        for (std::uint32_t& x : u) x = get<std::uint32_t>(buf, at);
+        if (u[0] != kFileVersion)
+            throw fail("version " + std::to_string(u[0]) + ", this library reads version " + std::to_string(kFileVersion));
+        DualScatteringTables t;
+        if (u[1] < 8 || u[1] > 65536) throw fail("implausible number of θ samples");
+        if (u[2] < 9 || u[2] > 65536) throw fail("implausible number of ψ samples");
+        if (u[3] < 1 || u[3] > std::uint32_t(kMaxLobes)) throw fail("number of lobes outside [1, 4]");
+        if (u[4] > 1000000) throw fail("implausible number of h nodes");
+        if (u[5] > 1) throw fail("unknown formulation");
+        t.n_theta_ = int(u[1]), t.n_psi_ = int(u[2]), t.lobes_ = int(u[3]), t.h_nodes_ = int(u[4]);
+        t.settings_.formulation = DualFormulation(u[5]);
+        const std::size_t values = std::size_t(t.n_theta_) * (Entry::kFields + std::size_t(t.lobes_ * t.n_psi_)) * 3;
+        const std::size_t expected = header + values * 8 + 8;
         if (buf.size() != expected)
             throw fail("size " + std::to_string(buf.size()) + " bytes, expected " + std::to_string(expected) + " (truncated?)");
         std::uint64_t sum;
         std::memcpy(&sum, buf.data() + expected - 8, 8);
         if (sum != fnv1a(buf.data(), expected - 8)) throw fail("checksum mismatch (corrupt file)");
-        std::vector<Entry> entries(n);
-        for (Entry& e : entries)
+        // Every value is checked after its conversion to T (1e300 is finite as a double,
+        // not as a float) and against the range a fiber can produce.
+        auto value = [&](double lo, double hi, const char* what) {
+            const T v = T(get<double>(buf, at));
+            if (!(std::isfinite(double(v)) && double(v) >= lo && double(v) <= hi))
+                throw fail(std::string(what) + " = " + std::to_string(double(v)) + " outside [" + std::to_string(lo) +
+                           ", " + std::to_string(hi) + "]");
+            return v;
+        };
+        t.settings_.d_f = value(0, 1, "d_f");
+        t.settings_.d_b = value(0, 1, "d_b");
+        for (int p = 0; p < kMaxLobes; ++p) {
+            t.lobe_angle_[p] = value(-kHalfPi<double>, kHalfPi<double>, "a lobe's tilt");
+            t.lobe_variance_[p] = value(p < t.lobes_ ? 1e-12 : 0, 1e6, "a lobe's variance");
+        }
+        // Albedos are ≤ 1 up to the build's rounding; the derived A_b of Zinke's series may
+        // exceed 1 for a nearly lossless fiber, so only finiteness and sign are required.
+        static const double kField[Entry::kFields][2] = {{0, 1.001}, {0, 1.001}, {-kPi<double>, kPi<double>},
+                                                        {-kPi<double>, kPi<double>}, {0, 1e6}, {0, 1e6},
+                                                        {0, 1e6}, {-1e6, 1e6}, {0, 1e6}};
+        static const char* kName[Entry::kFields] = {"a_f", "a_b", "alpha_f", "alpha_b", "beta2_f",
+                                                    "beta2_b", "A_b", "delta_b", "sigma2_b"};
+        t.entries_.resize(std::size_t(t.n_theta_));
+        for (Entry& e : t.entries_) {
             for (int k = 0; k < Entry::kFields; ++k)
-                for (int c = 0; c < 3; ++c) {
-                    const double v = get_f64(buf, at);
-                    if (!std::isfinite(v)) throw fail("non-finite value");
-                    e.fields()[k][c] = T(v);
-                }
-        if (!(d_b >= 0 && d_b <= 1)) throw fail("d_b outside [0, 1]");
-        return DualScatteringTables(std::move(entries), T(d_b), int(h_nodes));
+                for (int c = 0; c < 3; ++c) e.fields()[k][c] = value(kField[k][0], kField[k][1], kName[k]);
+            for (int c = 0; c < 3; ++c)
+                if (double(e.a_f[c]) + double(e.a_b[c]) > 1.001) throw fail("a_f + a_b exceeds 1");
+        }
+        t.window_.resize(std::size_t(t.n_theta_) * std::size_t(t.lobes_) * std::size_t(t.n_psi_));
+        for (V3& w : t.window_)
+            for (int c = 0; c < 3; ++c) w[c] = value(0, 1.001 / kPi<double>, "a window value W_p");
+        t.finish();
+        return t;
     }
 
   private:
-    // Nodes θ_i = (π/2) sin(π x_i / 2) for x_i uniform in [-1, 1]: uniform near θ = 0 and
-    // denser toward the poles, where the albedos and A_b change fastest (a uniform θ grid of
-    // 64 samples leaves 12 % of A_b's range as interpolation error within 3° of grazing).
-    static T node_theta(int i, int n) {
-        const T x = T(-1) + T(2) * T(i) / T(n - 1);
-        return kHalfPi<T> * std::sin(kHalfPi<T> * x);
+    static void check(const DualTableOptions<T>& opt) {
+        if (opt.theta_samples < 8 || opt.theta_samples > 65536)
+            throw std::invalid_argument("hairscatter: DualTableOptions::theta_samples must lie in [8, 65536]");
+        if (opt.psi_samples < 9 || opt.psi_samples > 65536)
+            throw std::invalid_argument("hairscatter: DualTableOptions::psi_samples must lie in [9, 65536]");
+        // One or two nodes in γ cannot integrate cos γ (1 node: a lossless albedo of π/2).
+        if (opt.h_nodes < 8 || opt.h_nodes > 4096)
+            throw std::invalid_argument("hairscatter: DualTableOptions::h_nodes must lie in [8, 4096]");
+        const DualScatteringSettings<T>& s = opt.settings;
+        if (!(s.d_f >= T(0) && s.d_f <= T(1)))
+            throw std::invalid_argument("hairscatter: DualScatteringSettings::d_f must lie in [0, 1]");
+        if (!(s.d_b >= T(0) && s.d_b <= T(1)))
+            throw std::invalid_argument("hairscatter: DualScatteringSettings::d_b must lie in [0, 1]");
+        if (s.formulation != DualFormulation::kImproved && s.formulation != DualFormulation::kZinke2008)
+            throw std::invalid_argument("hairscatter: DualScatteringSettings::formulation is not a known formulation");
+    }
+
+    View shape_view() const {
+        View v;
+        v.n_theta = n_theta_;
+        v.n_psi = n_psi_;
+        v.lobes = lobes_;
+        v.settings = settings_;
+        for (int p = 0; p < kMaxLobes; ++p) {
+            v.lobe_angle[p] = lobe_angle_[p];
+            v.lobe_variance[p] = lobe_variance_[p];
+            v.lobe_sin[p] = std::sin(lobe_angle_[p]);
+            v.lobe_cos[p] = std::cos(lobe_angle_[p]);
+        }
+        return v;
+    }
+
+    // The sampler's per-row, per-lobe CDF over ψ ∈ [0, π] of the channel mean of W_p
+    // (trapezoids: the exact integral of the piecewise-linear interpolant).
+    void finish() {
+        const View v = shape_view();
+        cdf_.assign(window_.size(), T(0));
+        const T h = kPi<T> / T(n_psi_ - 1);
+        for (int i = 0; i < n_theta_; ++i)
+            for (int p = 0; p < lobes_; ++p) {
+                T acc = T(0);
+                for (int j = 1; j < n_psi_; ++j) {
+                    const V3& a = window_[v.window_index(i, p, j - 1)];
+                    const V3& b = window_[v.window_index(i, p, j)];
+                    acc += T(0.5) * h * ((a.x + a.y + a.z) + (b.x + b.y + b.z)) * T(1.0 / 3.0);
+                    cdf_[v.window_index(i, p, j)] = acc;
+                }
+            }
     }
 
     static std::uint64_t fnv1a(const unsigned char* p, std::size_t n) {
@@ -240,24 +463,25 @@ template <typename T> class DualScatteringTables {
         const auto* c = static_cast<const unsigned char*>(p);
         b.insert(b.end(), c, c + n);
     }
-    static void put_u32(std::vector<unsigned char>& b, std::uint32_t v) { put(b, &v, 4); }
-    static void put_f64(std::vector<unsigned char>& b, double v) { put(b, &v, 8); }
-    static std::uint32_t get_u32(const std::vector<unsigned char>& b, std::size_t& at) {
-        std::uint32_t v;
-        std::memcpy(&v, b.data() + at, 4);
-        at += 4;
-        return v;
+    static void put_v3(std::vector<unsigned char>& b, const V3& v) {
+        for (int c = 0; c < 3; ++c) {
+            const double d = double(v[c]);
+            put(b, &d, 8);
+        }
     }
-    static double get_f64(const std::vector<unsigned char>& b, std::size_t& at) {
-        double v;
-        std::memcpy(&v, b.data() + at, 8);
-        at += 8;
+    template <typename U> static U get(const std::vector<unsigned char>& b, std::size_t& at) {
+        U v;
+        std::memcpy(&v, b.data() + at, sizeof(U));
+        at += sizeof(U);
         return v;
     }
 
     std::vector<Entry> entries_;
-    T d_b_ = T(0.7);
-    int h_nodes_ = 0;
+    std::vector<V3> window_;
+    std::vector<T> cdf_;
+    int n_theta_ = 0, n_psi_ = 0, lobes_ = 0, h_nodes_ = 0;
+    T lobe_angle_[kMaxLobes] = {}, lobe_variance_[kMaxLobes] = {};
+    DualScatteringSettings<T> settings_{};
 };
 
 }  // namespace hairscatter

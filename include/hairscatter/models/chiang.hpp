@@ -165,19 +165,20 @@ template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
     };
     HAIRSCATTER_HD At at(const V3& wo) const { return At(*this, wo); }
 
-    // Per lobe: A_p(wo) and the fraction of N_p that scatters backward (|φ| < π/2).
-    // M_p integrates to 1, so ∫ over the backward half of f_p = A_p · backward; these are
-    // what the dual-scattering tables integrate (dual/tables.hpp).
+    // Per lobe: A_p(wo) and the fraction of N_p inside the half-circle of relative
+    // azimuths |φ - centre| < π/2 (centre 0: the backward half). M_p integrates to 1, so
+    // ∫ over that half of f_p = A_p · backward; the dual-scattering tables integrate these
+    // (dual/tables.hpp: a_b at centre 0, a_f at centre π, the window W_p at every centre).
     struct LobeSplit {
         V3 a[kLobes + 1];
         T backward[kLobes + 1];
     };
-    HAIRSCATTER_HD LobeSplit lobe_split(const V3& wo) const {
+    HAIRSCATTER_HD LobeSplit lobe_split(const V3& wo, T centre = T(0)) const {
         const Outgoing o = outgoing<false>(wo);
         LobeSplit r;
         for (int p = 0; p < kLobes; ++p) {
             r.a[p] = keeps(p) ? o.a[p] : V3(T(0));
-            r.backward[p] = keeps(p) ? mat_.azimuthal().arc_mass(-kHalfPi<T> - o.phi_p[p], kPi<T>) : T(0);
+            r.backward[p] = keeps(p) ? mat_.azimuthal().arc_mass(centre - kHalfPi<T> - o.phi_p[p], kPi<T>) : T(0);
         }
         r.a[kLobes] = keeps(kLobes) ? o.a[kLobes] : V3(T(0));
         r.backward[kLobes] = T(0.5);  // the residual is uniform in φ

@@ -1,0 +1,149 @@
+// A brute-force reference for dual scattering: a slab of explicit, parallel, infinitely long
+// fibers (axis x), laterally periodic in y, between z = 0 and z = depth, lit by a directional
+// light and seen by a distant camera. Because the fibers are parallel, intersections only
+// depend on the rays' (y, z) components. path_radiance() path-traces the exact multiple
+// scattering with the single-fiber model at the true h of every hit; the dual-scattering
+// estimate at the same first hits gets what a renderer gets: a shadow ray, and the expected
+// fiber counts toward the light and beyond the point from the slab's density.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include <hairscatter/fiber/frame.hpp>
+
+namespace slab {
+
+using glm::dvec2;
+using glm::dvec3;
+
+struct Hit {
+    double t = 0;
+    int fiber = -1;
+    dvec3 p{0};
+    dvec3 axis{0};  // the point of the fiber's axis (the periodic image hit) nearest p
+};
+
+class FiberSlab {
+  public:
+    // width and depth in fiber radii (radius 1); fibers are placed uniformly without overlap
+    // until the expected number crossed by a ray perpendicular to the slab, 2ρ·depth, is tau.
+    FiberSlab(double width, double depth, double tau, std::uint64_t seed) : width_(width), depth_(depth) {
+        const double rho = tau / (2.0 * depth);  // fibers per unit area
+        const int count = int(std::lround(rho * width * depth));
+        std::mt19937_64 rng(seed);
+        std::uniform_real_distribution<double> uy(0, width), uz(1.0, depth - 1.0);
+        // width is rounded to whole cells so that the cell grid wraps with the fibers.
+        cells_y_ = std::max(1, int(std::lround(width / kCell)));
+        width_ = width = cells_y_ * kCell;
+        cells_z_ = std::max(1, int(std::ceil(depth / kCell)));
+        grid_.assign(std::size_t(cells_y_ * cells_z_), {});
+        int tries = 0;
+        while (int(centres_.size()) < count && tries++ < count * 1000) {
+            const dvec2 c(uy(rng), uz(rng));
+            if (overlaps(c)) continue;
+            add(c);
+        }
+        rho_ = double(centres_.size()) / (width * depth);
+    }
+
+    double depth() const { return depth_; }
+    double width() const { return width_; }
+    std::size_t size() const { return centres_.size(); }
+    // The expected number of fibers a ray crosses per unit of its (y, z)-projected length.
+    double crossings_per_length() const { return 2.0 * rho_; }
+
+    // The first fiber hit along o + t d (t > 0, skipping fiber `skip`), or fiber = -1.
+    Hit intersect(const dvec3& o, const dvec3& d, int skip = -1) const {
+        Hit best;
+        const dvec2 d2(d.y, d.z);
+        const double len2 = glm::dot(d2, d2);
+        if (len2 < 1e-24) return best;
+        // Walk the cells the projected ray crosses (uniform steps of half a cell: a fiber of
+        // radius 1 is registered in every cell its disc touches, so none is missed).
+        const double len = std::sqrt(len2);
+        const double step = 0.5 * kCell / len;  // in t
+        double t_end = 1e30;
+        // leave the slab
+        if (d.z > 0) t_end = (depth_ - o.z) / d.z;
+        else if (d.z < 0) t_end = -o.z / d.z;
+        if (!(t_end > 0)) return best;
+        int last_cell = -1;
+        for (double t = 0; t <= t_end + step; t += step) {
+            const double z = o.z + t * d.z;
+            const int cz = int(std::floor(z / kCell));
+            const int cy = wrap_cell(int(std::floor((o.y + t * d.y) / kCell)));
+            if (cz < 0 || cz >= cells_z_) continue;
+            const int cell = cz * cells_y_ + cy;
+            if (cell == last_cell) continue;
+            last_cell = cell;
+            const double y_here = o.y + t * d.y;
+            for (int i : grid_[std::size_t(cell)]) {
+                if (i == skip) continue;
+                const double th = hit_circle(o, d2, len2, i, y_here);
+                if (th > 1e-9 && (best.fiber < 0 || th < best.t)) {
+                    best.t = th;
+                    best.fiber = i;
+                }
+            }
+            if (best.fiber >= 0 && best.t < t - 2 * step) break;
+        }
+        if (best.fiber >= 0) {
+            best.p = o + best.t * d;
+            const dvec2 c = nearest_image(centres_[std::size_t(best.fiber)], best.p.y);
+            best.axis = dvec3(best.p.x, c.x, c.y);
+        }
+        return best;
+    }
+
+  private:
+    static constexpr double kCell = 4.0;
+
+    int wrap_cell(int cy) const { return ((cy % cells_y_) + cells_y_) % cells_y_; }
+    // The periodic image of centre c nearest to the lateral position y.
+    dvec2 nearest_image(const dvec2& c, double y) const {
+        return dvec2(c.x + width_ * std::round((y - c.x) / width_), c.y);
+    }
+    // The ray's entry into fiber i's image nearest y_ref (or its neighbours), or -1.
+    double hit_circle(const dvec3& o, const dvec2& d2, double len2, int i, double y_ref) const {
+        const dvec2 c = nearest_image(centres_[std::size_t(i)], y_ref);
+        double best = -1;
+        for (int k = -1; k <= 1; ++k) {
+            const dvec2 oc = dvec2(o.y, o.z) - dvec2(c.x + k * width_, c.y);
+            const double b = glm::dot(oc, d2), cc = glm::dot(oc, oc) - 1.0;
+            const double disc = b * b - len2 * cc;
+            if (disc < 0) continue;
+            const double t = (-b - std::sqrt(disc)) / len2;
+            if (t > 1e-9 && (best < 0 || t < best)) best = t;
+        }
+        return best;
+    }
+    bool overlaps(const dvec2& c) const {
+        for (const dvec2& o : centres_) {
+            dvec2 d = c - o;
+            d.x -= width_ * std::round(d.x / width_);
+            if (glm::dot(d, d) < 4.0) return true;
+        }
+        return false;
+    }
+    void add(const dvec2& c) {
+        const int i = int(centres_.size());
+        centres_.push_back(c);
+        const int z0 = int(std::floor((c.y - 1) / kCell)), z1 = int(std::floor((c.y + 1) / kCell));
+        const int y0 = int(std::floor((c.x - 1) / kCell)), y1 = int(std::floor((c.x + 1) / kCell));
+        for (int z = z0; z <= z1; ++z)
+            for (int y = y0; y <= y1; ++y)
+                if (z >= 0 && z < cells_z_) grid_[std::size_t(z * cells_y_ + wrap_cell(y))].push_back(i);
+    }
+
+    double width_, depth_, rho_ = 0;
+    int cells_y_ = 1, cells_z_ = 1;
+    std::vector<dvec2> centres_;
+    std::vector<std::vector<int>> grid_;
+};
+
+}  // namespace slab
