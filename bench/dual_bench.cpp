@@ -27,7 +27,7 @@ void BM_DualTablesBuild(benchmark::State& state) {
     opt.theta_samples = int(state.range(0));
     opt.h_nodes = int(state.range(1));
     for (auto _ : state) {
-        auto t = hs::DualScatteringTables<double>::build<hs::ChiangFiber>(mat, opt);
+        auto t = hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(mat, opt);
         benchmark::DoNotOptimize(t);
     }
 }
@@ -76,39 +76,53 @@ void BM_DensityMarch(benchmark::State& state) {
 }
 BENCHMARK(BM_DensityMarch);
 
-template <bool kSample, bool kDual> void BM_Shade(benchmark::State& state) {
-    const hs::ChiangMaterial<double> mat(blond());
-    const auto tables = hs::DualScatteringTables<double>::build<hs::ChiangFiber>(mat);
-    hs::DualScatteringLight<double> light;
-    light.n = 5;
-    light.direct_fraction = 0;
+// One shading call as a renderer makes it: the fiber of the hit, then eval or sample
+// (stateless), for the single fiber and for the dual-scattering BCSDF over it (a shadowed
+// point, 5 fibers toward the light, 10 beyond), float and double.
+template <typename T, bool kSample, bool kDual> void BM_Shade(benchmark::State& state) {
+    using V = glm::vec<3, T>;
+    using U4 = glm::vec<4, T>;
+    hs::FiberParams<T> p;
+    p.sigma_a = hs::sigma_a_from_melanin(T(0.3), T(0));
+    const hs::ChiangMaterial<T> mat(p);
+    const auto tables = hs::DualScatteringTables<T>::template build<hs::ChiangFiber<T>>(mat);
+    hs::DualScatteringLight<T> light;
+    light.n = T(5);
+    light.beyond = T(10);
+    light.direct_fraction = T(0);
     const Scene& s = scene();
     std::size_t i = 0;
     for (auto _ : state) {
-        const hs::ChiangFiber<double> fiber(mat, s.h[i]);
+        const hs::ChiangFiber<T> fiber(mat, T(s.h[i]));
+        const V wo(s.wo[i]), wi(s.wi[i]);
+        const U4 u(s.u[i]);
         if constexpr (kDual) {
-            const hs::DualScatteringFiber<double> d(fiber, tables, light);
+            const hs::DualScatteringBcsdf<hs::ChiangFiber<T>> d(fiber, tables);
             if constexpr (kSample) {
-                auto r = d.sample(s.wo[i], s.u[i]);
+                auto r = d.sample(wo, u);
                 benchmark::DoNotOptimize(r);
             } else {
-                auto r = d.eval(s.wo[i], s.wi[i]);
+                auto r = d.eval(wo, wi, light);
                 benchmark::DoNotOptimize(r);
             }
         } else if constexpr (kSample) {
-            auto r = fiber.sample(s.wo[i], s.u[i]);
+            auto r = fiber.sample(wo, u);
             benchmark::DoNotOptimize(r);
         } else {
-            auto r = fiber.eval(s.wo[i], s.wi[i]);
+            auto r = fiber.eval(wo, wi);
             benchmark::DoNotOptimize(r);
         }
         i = (i + 1) & 1023;
     }
 }
-BENCHMARK_TEMPLATE(BM_Shade, false, false)->Name("BM_SingleEval<double>");
-BENCHMARK_TEMPLATE(BM_Shade, true, false)->Name("BM_SingleSample<double>");
-BENCHMARK_TEMPLATE(BM_Shade, false, true)->Name("BM_DualEval<double>");
-BENCHMARK_TEMPLATE(BM_Shade, true, true)->Name("BM_DualSample<double>");
+BENCHMARK_TEMPLATE(BM_Shade, float, false, false)->Name("BM_SingleEval<float>");
+BENCHMARK_TEMPLATE(BM_Shade, float, true, false)->Name("BM_SingleSample<float>");
+BENCHMARK_TEMPLATE(BM_Shade, float, false, true)->Name("BM_DualEval<float>");
+BENCHMARK_TEMPLATE(BM_Shade, float, true, true)->Name("BM_DualSample<float>");
+BENCHMARK_TEMPLATE(BM_Shade, double, false, false)->Name("BM_SingleEval<double>");
+BENCHMARK_TEMPLATE(BM_Shade, double, true, false)->Name("BM_SingleSample<double>");
+BENCHMARK_TEMPLATE(BM_Shade, double, false, true)->Name("BM_DualEval<double>");
+BENCHMARK_TEMPLATE(BM_Shade, double, true, true)->Name("BM_DualSample<double>");
 
 }  // namespace
 

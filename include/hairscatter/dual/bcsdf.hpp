@@ -49,8 +49,16 @@ template <typename T> struct DualForward {
     T spread = T(0);  // σ̄²_f, channel mean
 };
 template <typename T>
+HAIRSCATTER_HD glm::vec<3, T> dual_below_reflectance(const DualScatteringEntry<T>& e, T beyond) {
+    const T m = beyond >= T(0) ? beyond : T(0);  // NaN → 0
+    glm::vec<3, T> r;
+    for (int c = 0; c < 3; ++c) r[c] = layered_stack(e.a_f[c], e.a_b[c], m + T(1)).R;
+    return r;
+}
+// below_R: R_{m+1} of dual_below_reflectance (improved only; computed here if negative).
+template <typename T>
 HAIRSCATTER_HD DualForward<T> dual_forward(const DualScatteringLight<T>& light, const DualScatteringEntry<T>& e,
-                                           DualFormulation formulation) {
+                                           DualFormulation formulation, glm::vec<3, T> below_R = glm::vec<3, T>(T(-1))) {
     using std::expm1;
     using std::pow;
     DualForward<T> r;
@@ -69,11 +77,10 @@ HAIRSCATTER_HD DualForward<T> dual_forward(const DualScatteringLight<T>& light, 
     }
     const T q = -expm1(-n0);  // P(N ≥ 1)
     const T n = q > T(1e-6) ? n0 / q : T(1);
-    const T m = light.beyond >= T(0) ? light.beyond : T(0);
+    if (below_R.x < T(0)) below_R = dual_below_reflectance(e, light.beyond);
     for (int c = 0; c < 3; ++c) {
         const LayerStack<T> above = layered_stack(e.a_f[c], e.a_b[c], n);
-        const LayerStack<T> below = layered_stack(e.a_f[c], e.a_b[c], m + T(1));
-        const T den = T(1) - above.R * below.R;
+        const T den = T(1) - above.R * below_R[c];
         r.flux[c] = den > T(0) ? clamp(above.T_ / den, T(0), T(1)) : T(1);
         r.transmittance[c] = pow(e.a_f[c], n);
     }
@@ -88,12 +95,9 @@ HAIRSCATTER_HD DualForward<T> dual_forward(const DualScatteringLight<T>& light, 
 template <typename T>
 HAIRSCATTER_HD glm::vec<3, T> dual_backscatter(const DualScatteringEntry<T>& e, T beyond, DualFormulation formulation) {
     if (formulation == DualFormulation::kZinke2008) return e.A_b;
-    const T m = beyond >= T(0) ? beyond : T(0);  // NaN → 0
+    const glm::vec<3, T> R = dual_below_reflectance(e, beyond);
     glm::vec<3, T> r;
-    for (int c = 0; c < 3; ++c) {
-        const T R = layered_stack(e.a_f[c], e.a_b[c], m + T(1)).R;
-        r[c] = R > e.a_b[c] ? R - e.a_b[c] : T(0);
-    }
+    for (int c = 0; c < 3; ++c) r[c] = R[c] > e.a_b[c] ? R[c] - e.a_b[c] : T(0);
     return r;
 }
 
@@ -214,7 +218,8 @@ template <typename Fiber> class DualScatteringBcsdf {
             return s - s == T(0);  // false for NaN and ±Inf
         }
 
-        HAIRSCATTER_HD At(const DualScatteringBcsdf& d, const V3& wo, T spread)
+        // with_mixture: also the sampler's mixture (pdf and sample need it, eval not).
+        HAIRSCATTER_HD At(const DualScatteringBcsdf& d, const V3& wo, T spread, bool with_mixture = true)
             : t_(d.tables_), single_(d.fiber_.at(wo)), wo_(wo), valid_(finite(wo)) {
             const T so = clamp(wo.x, T(-1), T(1));
             sin_o_ = so == so ? so : T(0);
@@ -222,6 +227,11 @@ template <typename Fiber> class DualScatteringBcsdf {
             theta_o_ = elem::asin(sin_o_);
             cell_o_ = t_.cell(sin_o_);
             row_ = cell_o_.t < T(0.5) ? cell_o_.i : cell_o_.i + 1;
+            for (int p = 0; p < kMaxLobes; ++p) t_.rotate(p, sin_o_, cos_o_, sin_l_[p], cos_l_[p]);
+            if (with_mixture) mixture(d.fiber_.albedo(wo), spread);
+        }
+
+        HAIRSCATTER_HD void mixture(const V3& albedo, T spread) {
             const DualScatteringSettings<T>& s = t_.settings;
 
             // The backscattering lobe's shape at the specular cone θi = -θo, where the light
@@ -238,7 +248,6 @@ template <typename Fiber> class DualScatteringBcsdf {
 
             T gsum = T(0);
             for (int p = 0; p < kMaxLobes; ++p) {
-                t_.rotate(p, sin_o_, cos_o_, sin_l_[p], cos_l_[p]);
                 total_[p] = p < t_.lobes ? t_.window_cdf[t_.window_index(row_, p, t_.n_psi - 1)] : T(0);
                 // improved: the lobe's mass over every ψ; Zinke: the forward half at W_p(π).
                 g_[p] = p >= t_.lobes ? T(0)
@@ -250,7 +259,7 @@ template <typename Fiber> class DualScatteringBcsdf {
 
             // Half the samples as for a directly lit point, half as for a shadowed one, after a
             // small uniform share that bounds the weight where the hint's lobes are too narrow.
-            const T lit[2] = {mean(d.fiber_.albedo(wo)), s.d_b * ab};
+            const T lit[2] = {mean(albedo), s.d_b * ab};
             const T shadow[2] = {gsum, s.d_b * ab * (improved() ? T(1) : kPi<T>)};
             const T lit_sum = lit[0] + lit[1], shadow_sum = shadow[0] + shadow[1];
             const T half_lit = (shadow_sum > T(0) ? T(0.5) : T(1)) * (T(1) - kUniformShare);
@@ -311,13 +320,21 @@ template <typename Fiber> class DualScatteringBcsdf {
             elem::sincos(theta_o_ - mean(ei.delta_b), sb, cb);
             cb = cb < T(0) ? -cb : cb;
             const T s2b = mean(ei.sigma2_b) > T(1e-6) ? mean(ei.sigma2_b) : T(1e-6);
-            const V3 ab = dual_backscatter(ei, light.beyond, s.formulation);
+            const bool lit_back = df > T(0) && backward;
+            const bool shadowed = df < T(1);
+            if (!(lit_back || shadowed)) return df * f_single;
+            // A_b: Zinke's table value, or R_{m+1} - a_b of the hair beyond (shared with T_f).
+            V3 below_R(T(-1)), ab = ei.A_b;
+            if (improved()) {
+                below_R = dual_below_reflectance(ei, light.beyond);
+                for (int c = 0; c < 3; ++c) ab[c] = below_R[c] > ei.a_b[c] ? below_R[c] - ei.a_b[c] : T(0);
+            }
 
             V3 f = df * f_single;
-            if (df > T(0) && backward)
-                f += kBack * df * s.d_b * ab * (DeonLongitudinal<T>(s2b).eval(sin_i, cos_i, sb, cb) * kInvPi<T>);
+            if (lit_back) f += kBack * df * s.d_b * ab * (DeonLongitudinal<T>(s2b).eval(sin_i, cos_i, sb, cb) * kInvPi<T>);
+            if (!shadowed) return f;
 
-            const DualForward<T> fw = dual_forward(light, ei, s.formulation);
+            const DualForward<T> fw = dual_forward(light, ei, s.formulation, below_R);
             V3 scale, scale_back;
             if (improved()) {
                 scale = (T(1) - df) * s.d_f * fw.transmittance;
@@ -359,7 +376,7 @@ template <typename Fiber> class DualScatteringBcsdf {
 
     HAIRSCATTER_HD At at(const V3& wo, T spread = T(0)) const { return At(*this, wo, spread); }
     HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi, const DualScatteringLight<T>& light) const {
-        return at(wo).eval(wi, light);
+        return At(*this, wo, T(0), false).eval(wi, light);
     }
     HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return at(wo).pdf(wi); }
     HAIRSCATTER_HD DualSample<T> sample(const V3& wo, const V4& u) const { return at(wo).sample(u); }

@@ -72,45 +72,49 @@ template <typename T> void derive_backscattering(DualScatteringEntry<T>& e, T d_
 
 // Reflectance R_N and transmittance T_N of N layers that each reflect a_b and transmit a_f,
 // by the adding formula of 1D transport (R_{N+1} = a_b + a_f² R_N / (1 - a_b R_N),
-// T_{N+1} = a_f T_N / (1 - a_b R_N), R_0 = 0, T_0 = 1). The stack's transfer matrix is
-// M^N / a_f^N with M = [[a_f² - a_b², a_b], [-a_b, 1]], so R_N = (M^N)₀₁ / (M^N)₁₁ and
-// T_N = a_f^N / (M^N)₁₁; M^N by repeated squaring, renormalised with the scale kept as a
-// logarithm. Exact for the lossless case too, where R_N = N a_b / (1 + (N - 1) a_b) tends
-// to 1 only slowly. A fractional N interpolates between ⌊N⌋ and ⌊N⌋ + 1 layers.
+// T_{N+1} = a_f T_N / (1 - a_b R_N), R_0 = 0, T_0 = 1), in closed form: one layer's transfer
+// matrix P = [[a_f² - a_b², a_b], [-a_b, 1]] / a_f has determinant 1 and trace 2 cosh κ, so
+// P^N = (S_N P - S_{N-1} I) with S_k = sinh(kκ) / sinh κ, which gives
+//     R_N = a_b / (1 - a_f ρ),   T_N = (a_f / S_N) / (1 - a_f ρ),   ρ = S_{N-1} / S_N,
+// smooth in N (a fractional number of layers needs no interpolation). ρ and 1/S_N are
+// written with expm1 so that they stay finite for any N and exact as κ → 0, the lossless
+// limit where R_N = N a_b / (1 + (N - 1) a_b). Depths below one layer interpolate to none.
 template <typename T> struct LayerStack {
     T R = T(0), T_ = T(1);
 };
 template <typename T> HAIRSCATTER_HD LayerStack<T> layered_stack(T a_f, T a_b, T layers) {
     using std::exp;
-    using std::log;
+    using std::expm1;
+    using std::log1p;
+    using std::sqrt;
     LayerStack<T> r;
-    const T n = layers > T(0) ? (layers < T(1048576) ? layers : T(1048576)) : T(0);  // NaN → 0
-    unsigned k = unsigned(n);
-    const T frac = n - T(k);
-    T m00 = a_f * a_f - a_b * a_b, m01 = a_b, m10 = -a_b, m11 = T(1), m_log = T(0);
-    T r00 = T(1), r01 = T(0), r10 = T(0), r11 = T(1), r_log = T(0);
-    const unsigned k0 = k;
-    while (k) {
-        if (k & 1u) {
-            const T n00 = r00 * m00 + r01 * m10, n01 = r00 * m01 + r01 * m11;
-            const T n10 = r10 * m00 + r11 * m10, n11 = r10 * m01 + r11 * m11;
-            const T s = n11 > T(0) ? n11 : T(1);
-            r00 = n00 / s, r01 = n01 / s, r10 = n10 / s, r11 = n11 / s, r_log += log(s) + m_log;
-        }
-        k >>= 1;
-        if (k) {
-            const T n00 = m00 * m00 + m01 * m10, n01 = m00 * m01 + m01 * m11;
-            const T n10 = m10 * m00 + m11 * m10, n11 = m10 * m01 + m11 * m11;
-            const T s = n11 > T(0) ? n11 : T(1);
-            m00 = n00 / s, m01 = n01 / s, m10 = n10 / s, m11 = n11 / s, m_log = T(2) * m_log + log(s);
-        }
+    const T n = layers > T(0) ? (layers < T(1e12) ? layers : T(1e12)) : T(0);  // NaN → 0
+    if (!(a_f > T(0))) {  // an opaque layer: the first one reflects, nothing passes
+        r.R = n >= T(1) ? a_b : n * a_b;
+        r.T_ = n >= T(1) ? T(0) : T(1) - n;
+        return r;
     }
-    const T R = r11 > T(0) ? r01 / r11 : T(0);
-    const T Tn = k0 == 0 ? T(1) : (a_f > T(0) ? exp(T(k0) * log(a_f) - r_log) : T(0));
-    const T den = T(1) - a_b * R;
-    const T inv = den > T(0) ? T(1) / den : T(0);
-    r.R = R + frac * (a_b + a_f * a_f * R * inv - R);
-    r.T_ = Tn + frac * (a_f * Tn * inv - Tn);
+    const T N = n > T(1) ? n : T(1);
+    // cosh κ = 1 + δ, δ = ((1 - a_f)² - a_b²) / 2a_f without cancellation.
+    const T gap = T(1) - a_f - a_b;
+    const T delta = (gap > T(0) ? gap : T(0)) * (T(1) - a_f + a_b) / (T(2) * a_f);
+    const T kappa = log1p(delta + sqrt(delta * (delta + T(2))));
+    T rho, inv_s;
+    const T e_n = expm1(T(-2) * N * kappa);
+    if (e_n > T(-1e-12)) {  // κ N ≈ 0: the lossless limit
+        rho = (N - T(1)) / N;
+        inv_s = T(1) / N;
+    } else {
+        rho = exp(-kappa) * expm1(T(-2) * (N - T(1)) * kappa) / e_n;
+        inv_s = exp(-(N - T(1)) * kappa) * expm1(T(-2) * kappa) / e_n;
+    }
+    const T den = T(1) - a_f * rho;
+    r.R = den > T(0) ? a_b / den : T(1);
+    r.T_ = den > T(0) ? a_f * inv_s / den : T(0);
+    if (n < T(1)) {  // between no layer and one
+        r.R = n * r.R;
+        r.T_ = T(1) + n * (r.T_ - T(1));
+    }
     return r;
 }
 
