@@ -21,6 +21,8 @@ set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
+# shellcheck source=SCRIPTDIR/lib.sh
+source "$ROOT/scripts/lib.sh"
 
 BUILD="$ROOT/build/bench"
 SRC="$ROOT"
@@ -41,8 +43,8 @@ while [[ $# -gt 0 ]]; do
         --out) out="$2"; shift ;;
         --headers) headers_rev="$2"; shift ;;
         --no-deps) install_deps=0 ;;
-        -h | --help) sed -n '2,20p' "$0"; exit 0 ;;
-        *) echo "bench.sh: unknown option '$1'" >&2; exit 2 ;;
+        -h | --help) hs_usage; exit 0 ;;
+        *) hs_usage_error "unknown option '$1'" ;;
     esac
     shift
 done
