@@ -1,6 +1,6 @@
 // The dual-scattering BCSDF (dual/bcsdf.hpp): its importance sampler against its pdf
 // (chi-square, with negative controls), sample/pdf/eval agreement, the n = 0 identity,
-// extremes, and the seed thesis's claim in miniature — the importance sampler's variance
+// extremes, and the origin study's claim in miniature — the importance sampler's variance
 // against the uniform sampler's.
 #include <cmath>
 #include <cstdio>
@@ -53,7 +53,7 @@ glm::dvec3 direction(double theta_deg, double phi) {
 
 }  // namespace
 
-// n = 0 and a lit point: no scattered term at all, F = f_s + d_b f_back (theory.md §5.2).
+// n = 0 and a lit point: no scattered term at all, F = f_s + d_b f_back (docs/theory.md §5.3).
 TEST(DualBcsdf, DirectlyLitPointHasNoScatteredTerm) {
     const HairSetup s(kHairs[0]);
     const auto lit = s.at(0.3, 0.0, 1.0);
@@ -301,7 +301,7 @@ TEST(DualBcsdf, NoNaNAtExtremes) {
     std::printf("[ sweep    ] %ld dual-scattering calls without NaN/Inf\n", calls);
 }
 
-// The seed thesis's comparison in miniature: the variance per sample of the estimate of
+// The origin study's comparison in miniature: the variance per sample of the estimate of
 // Lo at one shading point, importance sampling vs uniform directions, (a) under a uniform
 // white environment (Lo = ∫ F dω) and (b) under a small spherical light of 5° radius placed
 // in the forward (TT) lobe. Same numbers of samples; the ratio is printed.
