@@ -66,7 +66,7 @@ if [[ -n "$headers_rev" ]]; then
     rm -rf "$SRC/bench/results"
     git -C "$ROOT" archive "$headers_rev" include | tar -x -C "$SRC"
 fi
-cmake -S "$SRC" -B "$BUILD" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF \
+cmake -S "$SRC" -B "$BUILD" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF -DHAIRSCATTER_DOCS=OFF \
     -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$BUILD" --target chiang_bench bench_crosscheck dual_bench tabulated_bench -j "$(nproc 2>/dev/null || echo 2)"
 
