@@ -1,4 +1,4 @@
-// The speed/accuracy trade of every model and knob (issue 3): for each setting, ns per
+// The speed/accuracy trade of every model and knob: for each setting, ns per
 // eval / pdf / sample from Google Benchmark (medians of repetitions, in the same run as
 // the calibration loop), the error of f against an independent double-precision
 // reference of the model family the setting approximates, and the furnace deviation.

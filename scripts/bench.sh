@@ -21,6 +21,8 @@ set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
+# shellcheck source=SCRIPTDIR/lib.sh
+source "$ROOT/scripts/lib.sh"
 
 BUILD="$ROOT/build/bench"
 SRC="$ROOT"
@@ -41,8 +43,8 @@ while [[ $# -gt 0 ]]; do
         --out) out="$2"; shift ;;
         --headers) headers_rev="$2"; shift ;;
         --no-deps) install_deps=0 ;;
-        -h | --help) sed -n '2,20p' "$0"; exit 0 ;;
-        *) echo "bench.sh: unknown option '$1'" >&2; exit 2 ;;
+        -h | --help) hs_usage; exit 0 ;;
+        *) hs_usage_error "unknown option '$1'" ;;
     esac
     shift
 done
@@ -64,7 +66,7 @@ if [[ -n "$headers_rev" ]]; then
     rm -rf "$SRC/bench/results"
     git -C "$ROOT" archive "$headers_rev" include | tar -x -C "$SRC"
 fi
-cmake -S "$SRC" -B "$BUILD" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF \
+cmake -S "$SRC" -B "$BUILD" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF -DHAIRSCATTER_DOCS=OFF \
     -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$BUILD" --target chiang_bench bench_crosscheck dual_bench tabulated_bench -j "$(nproc 2>/dev/null || echo 2)"
 

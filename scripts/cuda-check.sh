@@ -13,6 +13,13 @@ set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
+# shellcheck source=SCRIPTDIR/lib.sh
+source "$ROOT/scripts/lib.sh"
+case "${1:-}" in
+    "") ;;
+    -h | --help) hs_usage; exit 0 ;;
+    *) hs_usage_error "unknown argument '$1'" ;;
+esac
 
 find_nvcc() {
     local c

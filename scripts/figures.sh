@@ -1,12 +1,19 @@
 #!/usr/bin/env bash
 # Collects the figures the tests print (furnace worst cases, chi-square p-values, accuracy
 # against references, table errors, variance ratios) into docs/test_figures.txt, so that
-# the numbers quoted in the README and the issue notes come from a committed run.
+# the numbers quoted in the README and docs/ come from a committed run.
 #
 #   bash scripts/figures.sh        (builds the tests in build/figures, Release)
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
+# shellcheck source=SCRIPTDIR/lib.sh
+source "$ROOT/scripts/lib.sh"
+case "${1:-}" in
+    "") ;;
+    -h | --help) hs_usage; exit 0 ;;
+    *) hs_usage_error "unknown argument '$1'" ;;
+esac
 bash scripts/install-deps.sh tests
 cmake -S . -B build/figures -DCMAKE_BUILD_TYPE=Release -DHAIRSCATTER_BUILD_TESTS=ON >/dev/null
 cmake --build build/figures -j "$(nproc 2>/dev/null || echo 2)"

@@ -7,11 +7,8 @@
 # Set HAIRSCATTER_SKIP_DEPS=1 to skip this step entirely (e.g. on a machine
 # whose dependencies come from elsewhere).
 set -euo pipefail
-
-usage() {
-    echo "usage: $0 [tests|example|bench|all]..." >&2
-    exit 2
-}
+# shellcheck source=SCRIPTDIR/lib.sh
+source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
 
 if [[ "${HAIRSCATTER_SKIP_DEPS:-0}" == 1 ]]; then
     echo "install-deps: HAIRSCATTER_SKIP_DEPS=1, not checking packages"
@@ -32,8 +29,8 @@ for what in "$@"; do
         example | examples) wanted+=("${example_pkgs[@]}") ;;
         bench | benchmarks) wanted+=("${bench_pkgs[@]}") ;;
         all) wanted+=("${tests_pkgs[@]}" "${example_pkgs[@]}" "${bench_pkgs[@]}") ;;
-        -h | --help) usage ;;
-        *) echo "install-deps: unknown set '$what'" >&2; usage ;;
+        -h | --help) hs_usage; exit 0 ;;
+        *) hs_usage_error "unknown set '$what'" ;;
     esac
 done
 

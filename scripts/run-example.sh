@@ -9,11 +9,14 @@
 # root. By default the renderer draws a 1500-hair blond block on a ground plane with dual
 # scattering (importance sampling combined with light sampling, 32 spp, 480 × 360) and
 # writes out/render.exr and out/render.png; the lobe explorer writes
-# out/lobe_explorer.exr and .png. Run with --help to see an example's own options.
+# out/lobe_explorer.exr and .png. --help prints this text, then builds the example and
+# prints its own options.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
+# shellcheck source=SCRIPTDIR/lib.sh
+source "$ROOT/scripts/lib.sh"
 JOBS="${JOBS:-$(nproc 2>/dev/null || echo 2)}"
 BUILD_DIR="build/example"
 TARGET="render"
@@ -21,11 +24,13 @@ if [[ $# -gt 0 && ( "$1" == lobe_explorer || "$1" == render ) ]]; then
     TARGET="$1"
     shift
 fi
-
-if [[ ! -f examples/CMakeLists.txt ]]; then
-    echo "run-example: examples/CMakeLists.txt is not in this checkout yet; nothing to run." >&2
-    exit 1
-fi
+for arg in "$@"; do
+    if [[ "$arg" == -h || "$arg" == --help ]]; then
+        hs_usage
+        echo
+        break
+    fi
+done
 
 bash scripts/install-deps.sh example
 
@@ -34,12 +39,7 @@ cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release \
     -DHAIRSCATTER_BUILD_EXAMPLES=ON -DHAIRSCATTER_BUILD_TESTS=OFF -DHAIRSCATTER_INSTALL=OFF
 
 echo "== build target $TARGET"
-if ! cmake --build "$BUILD_DIR" --target "$TARGET" -j "$JOBS"; then
-    if ! grep -rqs --include='CMakeLists.txt' "$TARGET" examples; then
-        echo "run-example: the examples do not define a '$TARGET' target yet." >&2
-    fi
-    exit 1
-fi
+cmake --build "$BUILD_DIR" --target "$TARGET" -j "$JOBS"
 
 exe="$(find "$BUILD_DIR/examples" -type f -name "$TARGET" -perm -u+x -print -quit)"
 if [[ -z "$exe" || ! -x "$exe" ]]; then

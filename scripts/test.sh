@@ -22,6 +22,8 @@ set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
+# shellcheck source=SCRIPTDIR/lib.sh
+source "$ROOT/scripts/lib.sh"
 
 ALL_STEPS=(gcc clang asan consumer cuda example)
 steps=("${ALL_STEPS[@]}")
@@ -29,8 +31,6 @@ skip=()
 clang_ctest=1
 install_deps=1
 JOBS="${JOBS:-$(nproc 2>/dev/null || echo 2)}"
-
-usage() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "${BASH_SOURCE[0]}"; }
 
 while [[ $# -gt 0 ]]; do
     case "$1" in
@@ -43,8 +43,8 @@ while [[ $# -gt 0 ]]; do
         --no-deps) install_deps=0 ;;
         -j) JOBS="${2:?-j needs a number}"; shift ;;
         -j*) JOBS="${1#-j}" ;;
-        -h | --help) usage; exit 0 ;;
-        *) echo "test.sh: unknown argument '$1'" >&2; usage >&2; exit 2 ;;
+        -h | --help) hs_usage; exit 0 ;;
+        *) hs_usage_error "unknown argument '$1'" ;;
     esac
     shift
 done

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The speed/accuracy study of every model and knob (issue 3): builds bench/tradeoff,
+# The speed/accuracy study of every model and knob: builds bench/tradeoff,
 # times eval/pdf/sample of each setting with Google Benchmark, measures its error against
 # an independent double-precision reference and its furnace, and writes
 #   docs/tradeoff.md    the table, the machine, compiler, flags, date and command
@@ -12,6 +12,8 @@ set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
+# shellcheck source=SCRIPTDIR/lib.sh
+source "$ROOT/scripts/lib.sh"
 out="$ROOT/docs"
 reps=5
 min_time=0.1
@@ -23,8 +25,8 @@ while [[ $# -gt 0 ]]; do
         --quick) reps=3; min_time=0.02; quick_flag=(--quick) ;;
         --out) out="$2"; shift ;;
         --no-deps) install_deps=0 ;;
-        -h | --help) sed -n '2,12p' "$0"; exit 0 ;;
-        *) echo "tradeoff.sh: unknown option '$1'" >&2; exit 2 ;;
+        -h | --help) hs_usage; exit 0 ;;
+        *) hs_usage_error "unknown option '$1'" ;;
     esac
     shift
 done

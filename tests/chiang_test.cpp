@@ -120,7 +120,7 @@ template <typename T> void run_furnace(bool full) {
 
 }  // namespace
 
-// σa = 0: ∫ f dωi = 1 within 0.5 % (the bound) over βm, βn, α, h and θo up to
+// σa = 0: ∫ f dωi = 1 within 0.5 % (the library's bound) over βm, βn, α, h and θo up to
 // 89.9°. Chiang's model conserves energy exactly (Σ A_p = 1, every M_p and N_p normalised),
 // so the deviation measures the quadrature and the implementation.
 TEST(ChiangFurnace, LosslessFiberConservesEnergyDouble) { run_furnace<double>(true); }
@@ -234,7 +234,7 @@ TEST(ChiangFiber, BoundToWoMatchesUnbound) {
     }
 }
 
-// The tilt convention of pbrt-v4 (theory.md §3.3): the R lobe peaks at θi = 2α - θo,
+// The tilt convention of pbrt-v4 (docs/theory.md §3.3): the R lobe peaks at θi = 2α - θo,
 // TT at -(θo + α), TRT at -(θo + 4α). Scanned at the azimuths where each lobe is alone.
 TEST(ChiangTilt, LobesPeakWherePbrtV4PutsThem) {
     const double alpha = 5.0, theta_o = 30.0;

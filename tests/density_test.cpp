@@ -1,4 +1,4 @@
-// The density interface and the shipped grid (theory.md §5.2): n against the analytic count
+// The density interface and the shipped grid (docs/theory.md §5.2): n against the analytic count
 // for blocks of parallel strands, the orientation model, robustness at the grid's edges,
 // validation, the step knob, and a renderer's own density source plugged in unchanged.
 #include <cmath>

@@ -67,7 +67,7 @@ McLobes monte_carlo(const hs::FiberParams<double>& p, double theta, int n_h, int
 }  // namespace
 
 // a_f + a_b is the h-averaged directional albedo: 1 for a lossless fiber (within 1 %, the
-// issue's bound; the closed-form tables land within 1e-9), and Σ_p A_p averaged over h
+// bound asserted here; the closed-form tables land within 1e-9), and Σ_p A_p averaged over h
 // with absorption.
 TEST(DualTables, ForwardPlusBackwardIsTheAlbedo) {
     const auto t0 = hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(hs::ChiangMaterial<double>(fiber_params(0)));

@@ -1,4 +1,4 @@
-// The fiber frame (theory.md §1) and the geometric meaning of h.
+// The fiber frame (docs/theory.md §1) and the geometric meaning of h.
 #include <cmath>
 #include <random>
 

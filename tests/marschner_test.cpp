@@ -561,7 +561,7 @@ double furnace(const hs::MarschnerMaterial<double>& mat, double theta_o) {
 
 }  // namespace
 
-// Marschner 2003 is not energy conserving (theory.md §3.3): ∫ f dωi for a lossless fiber
+// Marschner 2003 is not energy conserving (docs/theory.md §3.5): ∫ f dωi for a lossless fiber
 // at the default parameters is reported per θo, and only bounded: finite, positive and
 // below 2 (the Gaussians integrate to 1 over the real line; A_R + A_TT + A_TRT ≤ 1; the
 // 1/cos²θd factor stays near 1 except in a thin band at grazing θo).

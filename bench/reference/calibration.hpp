@@ -1,5 +1,5 @@
-// The calibration loop body that the speed goals are stated in (issue 2: "one body of
-// this loop over random a, b ∈ [0, 1)"). Shared by every benchmark program so that each
+// The calibration loop body that the speed goals are stated in ("one body of this loop
+// over random a, b ∈ [0, 1)"). Shared by every benchmark program so that each
 // run measures its own unit next to the code it times.
 #pragma once
 

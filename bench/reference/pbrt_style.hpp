@@ -1,6 +1,6 @@
 // bench_ref — a straightforward re-implementation of the algorithm that pbrt-v4's
 // HairBxDF::f / Sample_f / PDF uses, written for this project from the equations of
-// theory.md §3–4 (not copied from pbrt). It exists only as the speed (and accuracy)
+// docs/theory.md §3–4 (not copied from pbrt). It exists only as the speed (and accuracy)
 // reference of bench/: the same model as hairscatter::ChiangFiber, computed the way pbrt
 // computes it, so that "reference / ours" can be measured in one binary.
 //

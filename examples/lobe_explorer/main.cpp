@@ -8,7 +8,7 @@
 // Image layout: x = φ = φi - φo from -180° (left) to +180° (right), so φ = 0 (backward
 // scattering: R, TRT) is the centre column and |φ| = 180° (forward: TT) the two edges;
 // y = θi from +90° (top, along the fiber tangent) to -90° (bottom). Directions follow
-// the library's fiber frame (theory.md §1): w = (sinθ, cosθ cosφ, cosθ sinφ), φo = 0.
+// the library's fiber frame (docs/theory.md §1): w = (sinθ, cosθ cosφ, cosθ sinφ), φo = 0.
 
 #include <algorithm>
 #include <atomic>

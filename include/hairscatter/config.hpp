@@ -1,9 +1,13 @@
 // hairscatter — configuration: version and the host/device annotation.
 #pragma once
 
+// The version: the one place it is written. CMakeLists.txt parses these three lines for
+// the project and package version; CHANGELOG.md says what each version holds.
 #define HAIRSCATTER_VERSION_MAJOR 0
-#define HAIRSCATTER_VERSION_MINOR 1
+#define HAIRSCATTER_VERSION_MINOR 2
 #define HAIRSCATTER_VERSION_PATCH 0
+#define HAIRSCATTER_VERSION \
+    (HAIRSCATTER_VERSION_MAJOR * 10000 + HAIRSCATTER_VERSION_MINOR * 100 + HAIRSCATTER_VERSION_PATCH)
 
 // HAIRSCATTER_HD marks every function that may run on a GPU. It is empty on the CPU and
 // `__host__ __device__` when the headers are compiled by nvcc (or clang in CUDA mode).

@@ -1,5 +1,5 @@
 // An independent, deliberately plain double-precision transcription of the model that
-// pbrt-v4's HairBxDF implements (theory.md §3), used as the reference the library is
+// pbrt-v4's HairBxDF implements (docs/theory.md §3), used as the reference the library is
 // tested against. It shares no code with include/: I0 comes from Boost.Math, angles go
 // through atan2 and trig like the paper's equations, M_p uses the paper's direct form
 // for v > 0.1 and its log-space form otherwise.

@@ -1,4 +1,4 @@
-// hairscatter — the local fiber frame (theory.md §1) and world ↔ fiber conversions.
+// hairscatter — the local fiber frame (docs/theory.md §1) and world ↔ fiber conversions.
 #pragma once
 
 #include <cmath>

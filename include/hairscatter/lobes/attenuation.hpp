@@ -45,7 +45,7 @@ template <typename T> HAIRSCATTER_HD T fresnel_dielectric(T cos_i, T eta) {
 }
 
 // Marschner et al. 2003's Fresnel factor F(η', η'', γ) (their appendix B): the
-// perpendicular polarisation sees the Bravais index η', the parallel one η'' (theory.md
+// perpendicular polarisation sees the Bravais index η', the parallel one η'' (docs/theory.md
 // §3.1), each refracting by its own Snell law. Either index may be below 1 (the internal
 // reflection F(1/η', 1/η'', γt), or η'' → 0 at grazing θ): total internal reflection
 // reflects that polarisation fully.
@@ -98,7 +98,7 @@ HAIRSCATTER_HD HAIRSCATTER_INLINE Attenuation<T, P> attenuation(T fresnel, const
     return attenuation<T, P>(fresnel, fresnel, transmittance);
 }
 
-// The refracted path of a ray leaving toward wo from offset h (theory.md §3.1–3.2), split
+// The refracted path of a ray leaving toward wo from offset h (docs/theory.md §3.1–3.2), split
 // into the part that depends on θo alone (once per wo) and the part per h:
 //   sinγt = h / η' = h cosθo / sqrt(η² - sin²θo)   (no division by cosθo: finite at ±90°)
 //   T = exp(-σa · 2 cosγt / cosθt)                  (one chord through the fiber, in radii)

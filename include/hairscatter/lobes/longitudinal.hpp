@@ -72,7 +72,7 @@ template <typename T> class DeonLongitudinal {
 };
 
 // Marschner et al. 2003's longitudinal lobe with d'Eon et al. 2011's correction of the
-// half angle (theory.md §3.3): M_p(θh) = g(β_p; 2θh - α_p) = g(β_p; θi + θo - α_p), a
+// half angle (docs/theory.md §3.3): M_p(θh) = g(β_p; 2θh - α_p) = g(β_p; θi + θo - α_p), a
 // unit-area Gaussian in radians. Marschner's own shift convention: lobe p peaks at
 // θi = α_p - θo (with α_R < 0 the R highlight sits at θi + θo = α_R). Unlike
 // DeonLongitudinal it is not normalised on the sphere (it is a density in θi over the

@@ -8,7 +8,7 @@
 
 namespace hairscatter {
 
-// pbrt-v4's convention (theory.md §3.3): lobe p is evaluated with the outgoing
+// pbrt-v4's convention (docs/theory.md §3.3): lobe p is evaluated with the outgoing
 // inclination rotated, θo' = θo - 2α (R), θo + α (TT), θo + 4α (TRT), θo (residual).
 // Rotating the conditioning angle keeps ∫ M_p cosθi dθi = 1, so the tilt costs no
 // energy. sin/cos of 2α and 4α come from double-angle identities once, here, and are

@@ -1,6 +1,6 @@
 // hairscatter — d'Eon et al. 2011's far-field fiber: the energy-conserving M_p with the
 // azimuthal N_p integrated over the offset h, N_p(φ) = ½ ∫ A_p(h) D(φ - Φ(p, h)) dh, D a
-// wrapped Gaussian (theory.md §3.4). The fiber needs no h from the renderer (ribbons and
+// wrapped Gaussian (docs/theory.md §3.4). The fiber needs no h from the renderer (ribbons and
 // tubes that do not know where across the fiber they were hit); sample draws h itself.
 #pragma once
 

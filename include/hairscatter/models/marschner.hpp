@@ -1,8 +1,8 @@
 // hairscatter — Marschner et al. 2003's hair model: Gaussian longitudinal lobes on the half
 // angle (with d'Eon et al. 2011's 2θh correction) and the smooth fiber's azimuthal
 // function by root solving, with the TRT caustic replacement, eccentricity and a Gaussian
-// azimuthal roughness. Far field: the fiber needs no h. Not energy conserving (theory.md
-// §3.3): its furnace value is a reported figure.
+// azimuthal roughness. Far field: the fiber needs no h. Not energy conserving (docs/theory.md
+// §3.5): its furnace value is a reported figure.
 #pragma once
 
 #include <cmath>
@@ -171,7 +171,7 @@ template <typename T> class MarschnerMaterial {
 // the index is η*(φh) at Marschner's half azimuth φh = (φi + φo)/2 (only cos 2φh enters,
 // so the π ambiguity of a half angle does not matter).
 //
-// sample (after d'Eon, Marschner & Hanika 2013 and the seed thesis §4.1): u.x picks lobe p
+// sample (after d'Eon, Marschner & Hanika 2013 and Lemein 2019 §4.1): u.x picks lobe p
 // with probability w_p (the mean over channels and four fixed offsets of A_p at θd = θo)
 // and its leftover is a uniform h ∈ [-1, 1]; (u.y, u.z) draw θi from d'Eon's spherical
 // Gaussian of variance β_p² around θi = α_p - θo; u.w picks a roughness cell and a
@@ -279,7 +279,7 @@ template <typename T> class MarschnerFiber {
         return section_at(sin_d, cos_d, eta_star);
     }
 
-    // Marschner et al. 2003 eq. 9 (with the chord of theory.md §3.2): A_0 = F(η', η'', γi),
+    // Marschner et al. 2003 eq. 9 (with the chord of docs/theory.md §3.2): A_0 = F(η', η'', γi),
     // A_1 = (1 - F)² T, A_2 = (1 - F)² F(1/η', 1/η'', γt) T².
     HAIRSCATTER_HD Attenuation<T, kLobes> attenuations(const Section& s, T h, T cos_gamma) const {
         const auto path = s.refraction.at(h, mat_->params().sigma_a);

@@ -1,7 +1,7 @@
 // hairscatter — d'Eon et al. 2011's far-field fiber with the azimuthal lobes tabulated:
 // N_p·A_p, integrated over h exactly as models/deon_farfield.hpp does, is computed once per
 // material on a grid over (|φ|, cosθo) and interpolated bilinearly; M_p is the exact
-// energy-conserving lobe (lobes/longitudinal.hpp) with the cuticle tilt on θo (theory.md
+// energy-conserving lobe (lobes/longitudinal.hpp) with the cuticle tilt on θo (docs/theory.md
 // §3.3). For renderers that shade many fibers with shared parameters: the per-call cost no
 // longer grows with the number of h nodes.
 #pragma once

@@ -1,0 +1,20 @@
+# shellcheck shell=bash
+# hairscatter scripts: helpers shared by scripts/*.sh (sourced, not run).
+#
+#   source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
+#
+# Every script documents itself in the comment block after its shebang; --help prints
+# that block, so the usage text is written once, where the script is read.
+
+# The comment block after line 1 of FILE, without the leading "# ".
+_hs_header() { awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$1"; }
+
+# hs_usage: print the calling script's usage (its header comment) on stdout.
+hs_usage() { _hs_header "${BASH_SOURCE[1]}"; }
+
+# hs_usage_error MESSAGE...: the message and the calling script's usage on stderr; exit 2.
+hs_usage_error() {
+    echo "$(basename "${BASH_SOURCE[1]}"): $*" >&2
+    _hs_header "${BASH_SOURCE[1]}" >&2
+    exit 2
+}
