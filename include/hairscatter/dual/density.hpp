@@ -1,4 +1,4 @@
-// hairscatter — how much hair lies between a shading point and the light (theory.md §5.2,
+// hairscatter — how much hair lies between a shading point and the light (docs/theory.md §5.2,
 // Zinke et al. 2008's global multiple scattering): the density-source interface, the
 // forward transmittance and spread computed from its n, and a shipped dense voxel grid.
 //
@@ -56,7 +56,7 @@ struct is_density_source_impl<
 template <typename D, typename T> struct is_density_source : detail::is_density_source_impl<D, T> {};
 template <typename D, typename T> inline constexpr bool is_density_source_v = is_density_source<D, T>::value;
 
-// T_f ≈ a_f(θ)^n per channel (theory.md §5.2): the light left after n forward scatterings.
+// T_f ≈ a_f(θ)^n per channel (docs/theory.md §5.2): the light left after n forward scatterings.
 // The forward density factor d_f is not in here; §5.3 applies it exactly once.
 template <typename T>
 HAIRSCATTER_HD glm::vec<3, T> forward_transmittance(const glm::vec<3, T>& a_f, T n) {
@@ -64,7 +64,7 @@ HAIRSCATTER_HD glm::vec<3, T> forward_transmittance(const glm::vec<3, T>& a_f, T
     return glm::vec<3, T>(pow(a_f.x, n), pow(a_f.y, n), pow(a_f.z, n));
 }
 
-// σ̄²_f ≈ n·β̄²_f(θ) (theory.md §5.2): the longitudinal variance the n forward scatterings
+// σ̄²_f ≈ n·β̄²_f(θ) (docs/theory.md §5.2): the longitudinal variance the n forward scatterings
 // add. V is T or glm::vec<3, T> (β̄²_f per channel, as in DualScatteringEntry::beta2_f).
 template <typename V, typename T> HAIRSCATTER_HD V forward_spread(const V& beta2_f, T n) { return beta2_f * n; }
 
@@ -109,7 +109,7 @@ HAIRSCATTER_HD ForwardScattering<T> forward_scattering(const D& density, const g
 //
 // Orientation model. A ray crosses parallel fibers of diameter D at the rate L_v·D·sinψ
 // per unit length, ψ the angle between ray and fibers (sinψ = cosθ for θ the ray's
-// inclination from the fibers' normal plane, theory.md §5.2). With d the ray direction,
+// inclination from the fibers' normal plane, docs/theory.md §5.2). With d the ray direction,
 // dᵀMd / trace M is the length-weighted mean cos²ψ, and
 //   kTracked   (default) uses mean sinψ ≈ sqrt(1 - mean cos²ψ): exact wherever the hair a
 //              lookup reaches is parallel (combed, locally aligned hair), too large where
