@@ -26,6 +26,7 @@
 #include <CLI/CLI.hpp>
 #include <glm/glm.hpp>
 
+#include <common/options.hpp>
 #include <hairscatter/hairscatter.hpp>
 
 #include "image.hpp"
@@ -175,16 +176,6 @@ int supersample_needed(const hs::FiberParams<double>& p, const Options& o) {
     return std::max(1, int(std::ceil(ratio)));
 }
 
-// "out/x", "out/x.exr" and "out/x.png" all name the pair out/x.exr + out/x.png.
-std::string strip_image_extension(std::string base) {
-    for (const char* ext : {".exr", ".png", ".EXR", ".PNG"}) {
-        const std::string e(ext);
-        if (base.size() > e.size() && base.compare(base.size() - e.size(), e.size(), e) == 0)
-            return base.substr(0, base.size() - e.size());
-    }
-    return base;
-}
-
 int run(const Options& o) {
     Setup setup;
     std::vector<hs::ChiangFiber<double>> fibers;
@@ -228,7 +219,7 @@ int run(const Options& o) {
     const std::string outgoing_text = "theta_o = " + fmt("%g", o.theta_o_deg) + " deg, phi_o = 0, " + h_text;
 
     // Outputs.
-    const std::string base = strip_image_extension(o.output);
+    const std::string base = hairscatter_examples::strip_image_extension(o.output);
     const std::string exr_path = base + ".exr", png_path = base + ".png";
     lobe_explorer::PreviewOptions preview;
     preview.tone = o.tone == "log" ? lobe_explorer::ToneMap::kLog : lobe_explorer::ToneMap::kReinhard;
