@@ -146,11 +146,12 @@ glm::dvec3 sigma_a_of(const HairColourOptions& c, const std::string& default_pre
         set_source("--rgb " + num(c.rgb[0]) + "," + num(c.rgb[1]) + "," + num(c.rgb[2]));
         return hs::sigma_a_from_color(glm::dvec3(c.rgb[0], c.rgb[1], c.rgb[2]), beta_n);
     }
-    if (c.eumelanin != -1 || c.pheomelanin != -1) {
-        require(c.eumelanin != -1, "--pheomelanin needs --eumelanin (the preset fixes both)");
+    const double none = HairColourOptions::kNotGiven;
+    if (c.eumelanin != none || c.pheomelanin != none) {
+        require(c.eumelanin != none, "--pheomelanin needs --eumelanin (the preset fixes both)");
         require(std::isfinite(c.eumelanin) && c.eumelanin >= 0,
                 "--eumelanin: " + num(c.eumelanin) + " is not a finite concentration >= 0");
-        const double pheo = c.pheomelanin == -1 ? 0.0 : c.pheomelanin;
+        const double pheo = c.pheomelanin == none ? 0.0 : c.pheomelanin;
         require(std::isfinite(pheo) && pheo >= 0, "--pheomelanin: " + num(pheo) + " is not a finite concentration >= 0");
         set_source("eumelanin " + num(c.eumelanin) + ", pheomelanin " + num(pheo));
         return hs::sigma_a_from_melanin(c.eumelanin, pheo);

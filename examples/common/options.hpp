@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,8 +30,9 @@ std::string colour_preset_names();  // "white | blond | brown | dark | red | bla
 // Where σa comes from: a preset (--colour), melanin (--eumelanin, --pheomelanin), a colour
 // (--rgb, Chiang et al. 2016 eq. 9) or σa itself (--sigma-a); the last three exclude a preset.
 struct HairColourOptions {
+    static constexpr double kNotGiven = -1e300;
     std::string preset;  // the program's default preset when empty
-    double eumelanin = -1, pheomelanin = -1;  // -1: not given
+    double eumelanin = kNotGiven, pheomelanin = kNotGiven;
     std::vector<double> rgb, sigma_a;
 };
 

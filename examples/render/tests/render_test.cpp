@@ -149,6 +149,29 @@ TEST(RenderPath, TheFurnaceSeesADepthCut) {
     EXPECT_LT(m.mean, 0.98);
 }
 
+// Every energy-conserving model vanishes too (the far field and the tabulated fiber: Σ A_p
+// = 1 at every h node); Marschner's does not conserve energy and is not asserted; a Chiang
+// fiber with lobes dropped loses their energy (the negative control of the model switch).
+TEST(RenderPath, EveryConservingModelVanishesInTheFurnace) {
+    const Scene scene(furnace_block(1500));
+    for (FiberModel model : {FiberModel::kFarField, FiberModel::kTabulated}) {
+        ShadingOptions so = fiber_only(glm::vec3(0.0f));
+        so.model = model;
+        const ShadingSetup shading(scene, so);
+        const HairMean m = hair_mean(render::render(scene, shading, furnace_options(Sampling::kImportance, 2)));
+        std::printf("[ figures ] white furnace, 1500 hairs, %s: %.5f ± %.5f\n", hairscatter_examples::to_string(model),
+                    m.mean, m.sem);
+        ASSERT_EQ(m.n, 144u);
+        EXPECT_NEAR(m.mean, 1.0, 0.005) << hairscatter_examples::to_string(model);
+    }
+    ShadingOptions so = fiber_only(glm::vec3(0.0f));
+    so.lobes = hairscatter::Lobes::kR | hairscatter::Lobes::kTT;
+    const ShadingSetup shading(scene, so);
+    const HairMean m = hair_mean(render::render(scene, shading, furnace_options(Sampling::kImportance, 2)));
+    std::printf("[ figures ] white furnace, 1500 hairs, chiang R,TT only: %.5f ± %.5f\n", m.mean, m.sem);
+    EXPECT_LT(m.mean, 0.95);
+}
+
 TEST(RenderPath, AbsorbingHairDoesNotVanishInTheFurnace) {
     const Scene scene(furnace_block(1500));
     const ShadingSetup shading(scene, fiber_only(hairscatter::sigma_a_from_melanin(1.3f, 0.0f)));
