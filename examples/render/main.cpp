@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
     app.add_option("--write-hair", write_hair, "also save the scene's strands as a .hair file");
     app.add_option("--thickness-scale", thickness_scale, "scene file: multiplies the file's fiber thickness")
         ->capture_default_str();
-    app.add_option("--hairs", block.count, "block: number of strands (the thesis: 1500, 3000, 6000, 12000)")
+    app.add_option("--hairs", block.count, "block: number of strands (the study's: 1500, 3000, 6000, 12000)")
         ->capture_default_str();
     app.add_option("--block-size", block.size, "block: side of the cube")->capture_default_str();
     app.add_option("--fiber-radius", block.radius, "block: fiber radius")->capture_default_str();

@@ -1,4 +1,4 @@
-// render — the seed thesis's scenes (§5: hair blocks on a ground plane, the Cornell box)
+// render — the study's scenes (hair blocks on a ground plane, the Cornell box)
 // and a scalp, as SceneDescriptions.
 #pragma once
 
