@@ -133,6 +133,10 @@ int main(int argc, char** argv) {
             file.info = "hairscatter render --scene " + desc.name;
             render::write_hair_file(write_hair, file);
         }
+        // The material and the grid's size are checked before the BVH is built.
+        { const hairscatter_examples::FiberModels<float> check(so.model, so.lobes, so.fiber); }
+        render::check_grid(desc.hair, so);
+        std::fprintf(stderr, "render: building the scene (%zu strands)\n", desc.hair.strands.size());
         const render::Scene scene(std::move(desc));
         const render::ShadingSetup shading(scene, so);
         const render::SceneStats& st = scene.stats();

@@ -46,6 +46,31 @@ glm::ivec3 grid_resolution(const Hair& hair, float cell) {
     return r;
 }
 
+float check_grid(const Hair& hair, const ShadingOptions& o) {
+    if (!o.dual_scattering || hair.segment_count() == 0) return 0.0f;
+    if (!(o.grid_cell >= 0) || !std::isfinite(o.grid_cell))
+        throw std::invalid_argument("--grid-cell: " + std::to_string(o.grid_cell) + " is not a size >= 0");
+    const float cell = o.grid_cell > 0 ? o.grid_cell : automatic_grid_cell(hair);
+    const glm::ivec3 res = grid_resolution(hair, cell);
+    const double bytes = cells_of(res) * double(sizeof(hs::HairLengthTensor<float>));
+    if (bytes > double(o.max_grid_bytes)) {
+        // The smallest cell that fits: the resolution falls as 1/cell per axis.
+        float ok = cell;
+        while (cells_of(grid_resolution(hair, ok)) * double(sizeof(hs::HairLengthTensor<float>)) >
+               double(o.max_grid_bytes))
+            ok *= 1.05f;
+        char msg[512];
+        std::snprintf(msg, sizeof(msg),
+                      "--grid-cell %g: the density grid would be %d x %d x %d cells (%.1f GB), above the "
+                      "%.1f GB limit (the grid stores every cell of the hair's bounding box, so it grows with "
+                      "the cube of 1/cell); use --grid-cell %.3g or larger, or 0 for %.3g",
+                      double(cell), res.x, res.y, res.z, bytes / 1e9, double(o.max_grid_bytes) / 1e9, double(ok),
+                      double(automatic_grid_cell(hair)));
+        throw std::invalid_argument(msg);
+    }
+    return cell;
+}
+
 ShadingSetup::ShadingSetup(const Scene& scene, const ShadingOptions& options) : o_(options) {
     const auto t0 = Clock::now();
     models_ = std::make_unique<hairscatter_examples::FiberModels<float>>(o_.model, o_.lobes, o_.fiber);
@@ -56,26 +81,7 @@ ShadingSetup::ShadingSetup(const Scene& scene, const ShadingOptions& options) : 
         stats_.table_seconds = seconds_since(t_tables);
         stats_.table_bytes = std::size_t(tables_.size()) * sizeof(hs::DualScatteringEntry<float>);
 
-        if (!(o_.grid_cell >= 0) || !std::isfinite(o_.grid_cell))
-            throw std::invalid_argument("--grid-cell: " + std::to_string(o_.grid_cell) + " is not a size >= 0");
-        const float cell = o_.grid_cell > 0 ? o_.grid_cell : automatic_grid_cell(hair);
-        const glm::ivec3 res = grid_resolution(hair, cell);
-        const double bytes = cells_of(res) * double(sizeof(hs::HairLengthTensor<float>));
-        if (bytes > double(o_.max_grid_bytes)) {
-            // The smallest cell that fits: the resolution falls as 1/cell per axis.
-            float ok = cell;
-            while (cells_of(grid_resolution(hair, ok)) * double(sizeof(hs::HairLengthTensor<float>)) >
-                   double(o_.max_grid_bytes))
-                ok *= 1.05f;
-            char msg[512];
-            std::snprintf(msg, sizeof(msg),
-                          "--grid-cell %g: the density grid would be %d x %d x %d cells (%.1f GB), above the "
-                          "%.1f GB limit (the grid stores every cell of the hair's bounding box, so it grows with "
-                          "the cube of 1/cell); use --grid-cell %.3g or larger, or 0 for %.3g",
-                          double(cell), res.x, res.y, res.z, bytes / 1e9, double(o_.max_grid_bytes) / 1e9,
-                          double(ok), double(automatic_grid_cell(hair)));
-            throw std::invalid_argument(msg);
-        }
+        const float cell = check_grid(hair, o_);
         const auto t_grid = Clock::now();
         grid_ = std::make_unique<hs::DensityGrid<float>>(
             hs::DensityGrid<float>::from_strands(hair.strands, cell, hair.radius));

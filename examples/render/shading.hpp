@@ -61,6 +61,11 @@ class ShadingSetup {
     ShadingStats stats_;
 };
 
+// Throws std::invalid_argument (naming --grid-cell, with the reason and the smallest cell
+// that fits) when the dual-scattering density grid over this hair would exceed
+// options.max_grid_bytes; does nothing without dual_scattering. Returns the cell size.
+float check_grid(const Hair& hair, const ShadingOptions& options);
+
 // The density grid's resolution for a cell size over the hair (one padding cell either
 // side, as DensityGrid::from_strands), and the cell the renderer picks for cell = 0.
 glm::ivec3 grid_resolution(const Hair& hair, float cell);

@@ -1,5 +1,5 @@
 // The renderer's command line: every bad option is refused up front with a message naming
-// it (before the scene is built: the "render: scene" line never appears), a .hair file
+// it (before the scene is built: the "render: building" line never appears), a .hair file
 // without hair and an oversized density grid are refused with a reason, a view without
 // hair is warned about, and every --model renders. Runs the render executable.
 #include <gtest/gtest.h>
@@ -52,7 +52,7 @@ void expect_refused(const std::string& args, const std::string& named) {
     const Outcome r = run(tiny(args));
     EXPECT_EQ(r.status, 1) << args << "\n" << r.output;
     EXPECT_NE(r.output.find(named), std::string::npos) << args << "\n" << r.output;
-    EXPECT_EQ(r.output.find("render: scene"), std::string::npos) << "built the scene before refusing " << args;
+    EXPECT_EQ(r.output.find("render: building"), std::string::npos) << "built the scene before refusing " << args;
 }
 
 TEST(RenderCli, RefusesBadValuesNamingTheOption) {
@@ -107,6 +107,7 @@ TEST(RenderCli, OversizedDensityGridIsRefusedWithTheReason) {
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_NE(r.output.find("--grid-cell 0.0075: the density grid would be"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("use --grid-cell"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("render: building"), std::string::npos) << r.output;
     // Single scattering and the path tracer build no grid: the same cell is no obstacle.
     EXPECT_EQ(run("--integrator single --grid-cell 0.0075" + kTiny + " -o " + out_base("grid_single")).status, 0);
 }
@@ -123,6 +124,12 @@ TEST(RenderCli, AHairFileWithoutHairSaysSo) {
         EXPECT_EQ(r.status, 1) << r.output;
         EXPECT_NE(r.output.find("has no hair"), std::string::npos) << r.output;
     }
+}
+
+TEST(RenderCli, TheRefusalsComeBeforeTheScene) {  // the negative control of expect_refused
+    const Outcome r = run(tiny("--integrator single"));
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("render: building the scene (200 strands)"), std::string::npos) << r.output;
 }
 
 TEST(RenderCli, WarnsWhenNoHairIsInView) {
