@@ -21,23 +21,36 @@ const char* to_string(FiberModel m);
 // "chiang" | "farfield" | "tabulated" | "marschner"; throws std::invalid_argument naming --model.
 FiberModel parse_model(const std::string& name);
 
+// The examples' lobe sets: bit p keeps lobe p (0 R, 1 TT, 2 TRT, 3 residual). Only
+// with_chiang_lobes below turns one into the library's lobe-set type.
+struct LobeBits {
+    static constexpr unsigned kR = 1u, kTT = 2u, kTRT = 4u, kResidual = 8u;
+    static constexpr unsigned kPrimary = kR | kTT | kTRT, kAll = kPrimary | kResidual;
+};
+constexpr bool keeps_lobe(unsigned bits, int p) { return ((bits >> p) & 1u) != 0u; }
+
 // A lobe list "R,TT,TRT,residual" (any subset, any order, case-insensitive), or "all",
-// "primary" (R,TT,TRT), as a hairscatter::Lobes bit set; throws naming --lobes.
+// "primary" (R,TT,TRT), as LobeBits; throws naming --lobes.
 unsigned parse_lobes(const std::string& list);
 std::string lobes_to_string(unsigned lobes);  // "R,TT,TRT,residual"
 std::vector<unsigned> each_lobe(unsigned lobes);  // the set's lobes one by one
 
 // THE place where a lobe set chosen at run time becomes the template argument of
-// BasicChiangFiber: calls f(std::integral_constant<unsigned, kSet>{}) for the set. (Keep
-// every other use of the lobe set's type out of the examples, so a change of its type is
-// a change of this function only.)
-template <unsigned kSet = 1u, class F> decltype(auto) with_chiang_lobes(unsigned lobes, F&& f) {
-    if constexpr (kSet > hairscatter::Lobes::kAll) {
-        throw std::invalid_argument("--lobes: empty or unknown lobe set " + std::to_string(lobes));
-        return f(std::integral_constant<unsigned, hairscatter::Lobes::kAll>{});  // the return type
+// BasicChiangFiber: calls f(std::integral_constant<L, kLobes>{}) with L the library's
+// lobe-set type and kLobes the set (use it as BasicChiangFiber<T, decltype(arg)::value>).
+// Nothing else in the examples names the library's lobe-set type, so a change of that
+// type is a change of this function only.
+template <unsigned kBits = 1u, class F> decltype(auto) with_chiang_lobes(unsigned bits, F&& f) {
+    using Set = unsigned;  // the library's lobe-set type (hairscatter::Lobes' bits)
+    if constexpr (kBits > LobeBits::kAll) {
+        throw std::invalid_argument("--lobes: empty or unknown lobe set " + std::to_string(bits));
+        return f(std::integral_constant<Set, Set(hairscatter::Lobes::kAll)>{});  // the return type
     } else {
-        if (lobes == kSet) return f(std::integral_constant<unsigned, kSet>{});
-        return with_chiang_lobes<kSet + 1u>(lobes, std::forward<F>(f));
+        static_assert(Set(hairscatter::Lobes::kR) == LobeBits::kR && Set(hairscatter::Lobes::kTT) == LobeBits::kTT &&
+                      Set(hairscatter::Lobes::kTRT) == LobeBits::kTRT &&
+                      Set(hairscatter::Lobes::kResidual) == LobeBits::kResidual);
+        if (bits == kBits) return f(std::integral_constant<Set, Set(kBits)>{});
+        return with_chiang_lobes<kBits + 1u>(bits, std::forward<F>(f));
     }
 }
 
@@ -88,7 +101,7 @@ template <typename T> class FiberModels {
     FiberModels(FiberModel model, unsigned lobes, const hairscatter::FiberParams<T>& params)
         : model_(model), lobes_(lobes) {
         namespace hs = hairscatter;
-        if (model != FiberModel::kChiang && lobes != hs::Lobes::kAll)
+        if (model != FiberModel::kChiang && lobes != LobeBits::kAll)
             throw std::invalid_argument(std::string("--lobes: only --model chiang keeps a subset of lobes (--model ") +
                                         to_string(model) + " has all of its lobes)");
         with_chiang_lobes(lobes, [](auto) { return 0; });  // rejects an empty set

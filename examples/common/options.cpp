@@ -40,8 +40,8 @@ std::string lower(std::string s) {
 
 unsigned parse_lobes(const std::string& list) {
     const std::string l = lower(list);
-    if (l == "all") return hs::Lobes::kAll;
-    if (l == "primary") return hs::Lobes::kPrimary;
+    if (l == "all") return LobeBits::kAll;
+    if (l == "primary") return LobeBits::kPrimary;
     unsigned set = 0;
     std::size_t start = 0;
     while (start <= l.size()) {
@@ -62,14 +62,14 @@ unsigned parse_lobes(const std::string& list) {
 std::string lobes_to_string(unsigned lobes) {
     std::string s;
     for (int p = 0; p < 4; ++p)
-        if (hs::keeps_lobe(lobes, p)) s += (s.empty() ? "" : ",") + std::string(kLobeNames[p]);
+        if (keeps_lobe(lobes, p)) s += (s.empty() ? "" : ",") + std::string(kLobeNames[p]);
     return s;
 }
 
 std::vector<unsigned> each_lobe(unsigned lobes) {
     std::vector<unsigned> r;
     for (int p = 0; p < 4; ++p)
-        if (hs::keeps_lobe(lobes, p)) r.push_back(1u << p);
+        if (keeps_lobe(lobes, p)) r.push_back(1u << p);
     return r;
 }
 

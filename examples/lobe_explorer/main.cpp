@@ -60,7 +60,7 @@ struct Options {
 struct Setup {
     hs::FiberParams<double> params;
     ex::FiberModel model = ex::FiberModel::kChiang;
-    unsigned lobes = hs::Lobes::kAll;
+    unsigned lobes = ex::LobeBits::kAll;
     std::string sigma_a_source;  // how σa was given, for the summary
     std::vector<double> offsets;  // the h that eval is averaged over (one for --h)
     dvec3 wo{0.0};

@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
         render::ShadingOptions so;
         so.model = ex::parse_model(fiber.model);
         so.lobes = ex::parse_lobes(fiber.lobes);
-        if (ro.integrator == render::Integrator::kDual && (so.model != ex::FiberModel::kChiang || so.lobes != hs::Lobes::kAll))
+        if (ro.integrator == render::Integrator::kDual && (so.model != ex::FiberModel::kChiang || so.lobes != ex::LobeBits::kAll))
             throw std::invalid_argument("--integrator dual shades with the full Chiang model only: drop --model/--lobes "
                                         "or use --integrator single or path");
         const hs::FiberParams<double> params = ex::fiber_params(fiber, "blond");

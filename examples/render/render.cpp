@@ -67,7 +67,7 @@ void validate(const RenderOptions& o) {
 RenderResult render(const Scene& scene, const ShadingSetup& shading, const RenderOptions& o) {
     validate(o);
     if (o.integrator == Integrator::kDual &&
-        (shading.options().model != FiberModel::kChiang || shading.options().lobes != hairscatter::Lobes::kAll))
+        (shading.options().model != FiberModel::kChiang || shading.options().lobes != hairscatter_examples::LobeBits::kAll))
         throw std::invalid_argument("--integrator dual shades with the full Chiang model only (no --model, --lobes)");
     if (o.integrator == Integrator::kDual && scene.has_hair() && !shading.grid())
         throw std::invalid_argument("--integrator dual needs a shading setup built with dual_scattering");

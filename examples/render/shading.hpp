@@ -20,7 +20,7 @@ using hairscatter_examples::FiberModel;
 
 struct ShadingOptions {
     FiberModel model = FiberModel::kChiang;
-    unsigned lobes = hairscatter::Lobes::kAll;  // Chiang only
+    unsigned lobes = hairscatter_examples::LobeBits::kAll;  // Chiang only
     hairscatter::FiberParams<float> fiber;
     bool dual_scattering = true;  // build the dual-scattering tables and the density grid
     float grid_cell = 0.0f;       // density-grid cell size; 0: 1/32 of the hair's largest extent

@@ -15,7 +15,7 @@ namespace ex = hairscatter_examples;
 namespace hs = hairscatter;
 
 TEST(ExamplesCommon, EveryLobeSetMapsToItsTemplateArgument) {
-    for (unsigned set = 1; set <= hs::Lobes::kAll; ++set) {
+    for (unsigned set = 1; set <= ex::LobeBits::kAll; ++set) {
         const std::string list = ex::lobes_to_string(set);
         EXPECT_EQ(ex::parse_lobes(list), set) << list;
         const unsigned kept = ex::with_chiang_lobes(set, [](auto s) {
@@ -29,9 +29,9 @@ TEST(ExamplesCommon, EveryLobeSetMapsToItsTemplateArgument) {
         for (unsigned lobe : ex::each_lobe(set)) sum += lobe;
         EXPECT_EQ(sum, set) << list;
     }
-    EXPECT_EQ(ex::parse_lobes("all"), hs::Lobes::kAll);
-    EXPECT_EQ(ex::parse_lobes("primary"), hs::Lobes::kPrimary);
-    EXPECT_EQ(ex::parse_lobes("trt,r"), hs::Lobes::kR | hs::Lobes::kTRT);
+    EXPECT_EQ(ex::parse_lobes("all"), ex::LobeBits::kAll);
+    EXPECT_EQ(ex::parse_lobes("primary"), ex::LobeBits::kPrimary);
+    EXPECT_EQ(ex::parse_lobes("trt,r"), ex::LobeBits::kR | ex::LobeBits::kTRT);
     EXPECT_THROW(ex::with_chiang_lobes(0u, [](auto) { return 0; }), std::invalid_argument);
     EXPECT_THROW(ex::with_chiang_lobes(16u, [](auto) { return 0; }), std::invalid_argument);
     for (const char* bad : {"", "R,", "R,XX", "TTT", "R;TT"}) EXPECT_THROW(ex::parse_lobes(bad), std::invalid_argument) << bad;
@@ -42,8 +42,8 @@ TEST(ExamplesCommon, ModelNames) {
         EXPECT_STREQ(ex::to_string(ex::parse_model(name)), name);
     EXPECT_THROW(ex::parse_model("pbrt"), std::invalid_argument);
     hs::FiberParams<float> p;
-    EXPECT_THROW(ex::FiberModels<float>(ex::FiberModel::kTabulated, hs::Lobes::kR, p), std::invalid_argument);
-    EXPECT_NO_THROW(ex::FiberModels<float>(ex::FiberModel::kChiang, hs::Lobes::kR, p));
+    EXPECT_THROW(ex::FiberModels<float>(ex::FiberModel::kTabulated, ex::LobeBits::kR, p), std::invalid_argument);
+    EXPECT_NO_THROW(ex::FiberModels<float>(ex::FiberModel::kChiang, ex::LobeBits::kR, p));
 }
 
 TEST(ExamplesCommon, WhereSigmaAComesFrom) {

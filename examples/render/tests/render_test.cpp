@@ -165,7 +165,7 @@ TEST(RenderPath, EveryConservingModelVanishesInTheFurnace) {
         EXPECT_NEAR(m.mean, 1.0, 0.005) << hairscatter_examples::to_string(model);
     }
     ShadingOptions so = fiber_only(glm::vec3(0.0f));
-    so.lobes = hairscatter::Lobes::kR | hairscatter::Lobes::kTT;
+    so.lobes = hairscatter_examples::LobeBits::kR | hairscatter_examples::LobeBits::kTT;
     const ShadingSetup shading(scene, so);
     const HairMean m = hair_mean(render::render(scene, shading, furnace_options(Sampling::kImportance, 2)));
     std::printf("[ figures ] white furnace, 1500 hairs, chiang R,TT only: %.5f ± %.5f\n", m.mean, m.sem);
