@@ -56,15 +56,17 @@ float check_grid(const Hair& hair, const ShadingOptions& o) {
     if (bytes > double(o.max_grid_bytes)) {
         // The smallest cell that fits: the resolution falls as 1/cell per axis.
         float ok = cell;
-        while (cells_of(grid_resolution(hair, ok)) * double(sizeof(hs::HairLengthTensor<float>)) >
-               double(o.max_grid_bytes))
+        for (int k = 0; k < 2000 && cells_of(grid_resolution(hair, ok)) * double(sizeof(hs::HairLengthTensor<float>)) >
+                                        double(o.max_grid_bytes);
+             ++k)
             ok *= 1.05f;
         char msg[512];
         std::snprintf(msg, sizeof(msg),
-                      "--grid-cell %g: the density grid would be %d x %d x %d cells (%.1f GB), above the "
-                      "%.1f GB limit (the grid stores every cell of the hair's bounding box, so it grows with "
+                      "--grid-cell %g: the density grid would be %d x %d x %d cells (%.1f GiB), above the "
+                      "%.1f GiB limit (the grid stores every cell of the hair's bounding box, so it grows with "
                       "the cube of 1/cell); use --grid-cell %.3g or larger, or 0 for %.3g",
-                      double(cell), res.x, res.y, res.z, bytes / 1e9, double(o.max_grid_bytes) / 1e9, double(ok),
+                      double(cell), res.x, res.y, res.z, bytes / 1073741824.0,
+                      double(o.max_grid_bytes) / 1073741824.0, double(ok),
                       double(automatic_grid_cell(hair)));
         throw std::invalid_argument(msg);
     }
