@@ -1,7 +1,9 @@
-// lobe_explorer — an image of the hair BCSDF f(wo, wi) = ChiangFiber::eval over the whole
-// sphere of incident directions, for one outgoing direction and one set of fiber
-// parameters. Writes the linear values as OpenEXR and a tone-mapped PNG preview, and
-// prints the maximum and ∫ f dωi over the grid (the directional albedo: 1 for σa = 0).
+// lobe_explorer — an image of a hair BCSDF f(wo, wi) (any of the library's models:
+// --model chiang|farfield|tabulated|marschner, Chiang's lobe subsets with --lobes) over the
+// whole sphere of incident directions, for one outgoing direction and one set of fiber
+// parameters. Writes the linear values as OpenEXR and a tone-mapped PNG preview (with
+// --per-lobe also one pair per lobe), and prints the maximum and ∫ f dωi over the grid
+// (the directional albedo: 1 for a lossless energy-conserving model).
 //
 //   lobe_explorer --theta-o 30 --beta-m 0.3 --beta-n 0.3 -o out/lobe_explorer
 //
@@ -16,7 +18,6 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
-#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -26,6 +27,7 @@
 #include <CLI/CLI.hpp>
 #include <glm/glm.hpp>
 
+#include <common/options.hpp>
 #include <hairscatter/hairscatter.hpp>
 
 #include "image.hpp"
@@ -33,6 +35,7 @@
 #include "preview.hpp"
 
 namespace hs = hairscatter;
+namespace ex = hairscatter_examples;
 using glm::dvec3;
 using lobe_explorer::LinearImage;
 
@@ -44,9 +47,8 @@ struct Options {
     double theta_o_deg = 30.0;
     double h = 0.0;
     int average_h = 0;  // 0: the single offset h
-    double eta = 1.55, beta_m = 0.3, beta_n = 0.3, alpha_deg = 2.0;
-    double eumelanin = 1.3, pheomelanin = 0.0;
-    std::vector<double> color, sigma_a;  // alternatives to the melanin concentrations
+    ex::FiberOptions fiber;
+    bool per_lobe = false;
     int width = 720, height = 360, supersample = 1, threads = 0;
     std::string tone = "log";
     double decades = 4.0, exposure = 0.0;
@@ -57,6 +59,8 @@ struct Options {
 // What the image is of, after the options have been turned into library parameters.
 struct Setup {
     hs::FiberParams<double> params;
+    ex::FiberModel model = ex::FiberModel::kChiang;
+    unsigned lobes = ex::LobeBits::kAll;
     std::string sigma_a_source;  // how σa was given, for the summary
     std::vector<double> offsets;  // the h that eval is averaged over (one for --h)
     dvec3 wo{0.0};
@@ -80,28 +84,23 @@ std::string rgb_string(const dvec3& c, const char* format = "%.4g") {
     return "(" + fmt(format, c.r) + ", " + fmt(format, c.g) + ", " + fmt(format, c.b) + ")";
 }
 
-// Fills s from the options; throws std::invalid_argument (from sigma_a_from_color) for a
-// bad --color. sigma_a_source is set before σa so that an error can say where σa came from.
+// Fills s from the options; throws std::invalid_argument naming the bad option.
 void make_setup(const Options& o, Setup& s) {
-    s.params.eta = o.eta;
-    s.params.beta_m = o.beta_m;
-    s.params.beta_n = o.beta_n;
-    s.params.alpha = hs::radians(o.alpha_deg);
-    if (!o.sigma_a.empty()) {
-        s.params.sigma_a = dvec3(o.sigma_a[0], o.sigma_a[1], o.sigma_a[2]);
-        s.sigma_a_source = "--sigma-a";
-    } else if (!o.color.empty()) {
-        const dvec3 c(o.color[0], o.color[1], o.color[2]);
-        s.sigma_a_source = "--color " + rgb_string(c);
-        s.params.sigma_a = hs::sigma_a_from_color(c, o.beta_n);
-    } else {
-        s.params.sigma_a = hs::sigma_a_from_melanin(o.eumelanin, o.pheomelanin);
-        s.sigma_a_source = "eumelanin " + fmt("%g", o.eumelanin) + ", pheomelanin " + fmt("%g", o.pheomelanin);
-    }
+    s.params = ex::fiber_params(o.fiber, "brown", &s.sigma_a_source);
+    s.model = ex::parse_model(o.fiber.model);
+    s.lobes = ex::parse_lobes(o.fiber.lobes);
+    if (!(o.h >= -1 && o.h <= 1)) throw std::invalid_argument("--h: " + fmt("%g", o.h) + " is outside [-1, 1]");
+    if (o.per_lobe && s.model != ex::FiberModel::kChiang)
+        throw std::invalid_argument("--per-lobe needs --model chiang (the other models have no lobe subsets)");
     s.offsets = o.average_h > 0 ? uniform_offsets(o.average_h) : std::vector<double>{o.h};
     const double theta_o = hs::radians(o.theta_o_deg);
     s.wo = dvec3(std::sin(theta_o), std::cos(theta_o), 0.0);
 }
+
+// The model's albedo Σ_p A_p(wo) where it has one (Marschner's model has none).
+template <class Fiber, class = void> struct HasAlbedo : std::false_type {};
+template <class Fiber>
+struct HasAlbedo<Fiber, std::void_t<decltype(std::declval<const Fiber&>().albedo(dvec3(0.0)))>> : std::true_type {};
 
 struct Rendered {
     LinearImage image;
@@ -113,8 +112,9 @@ struct Rendered {
 // π/2 - (y+1)Δθ. Each pixel holds the mean of f at the centres of S × S sub-pixels; the
 // integral weights each by its exact solid angle Δφ (sinθ_top - sinθ_bottom), the
 // integral of cosθ dθ dφ over the sub-pixel.
-Rendered render(const std::vector<hs::ChiangFiber<double>>& fibers, const dvec3& wo, int width, int height,
-                int supersample, int threads) {
+template <class Fiber>
+Rendered render(const std::vector<Fiber>& fibers, const dvec3& wo, int width, int height, int supersample,
+                int threads) {
     const auto start = std::chrono::steady_clock::now();
     Rendered r{LinearImage(width, height), dvec3(0.0), 0.0};
     const int S = supersample;
@@ -175,34 +175,30 @@ int supersample_needed(const hs::FiberParams<double>& p, const Options& o) {
     return std::max(1, int(std::ceil(ratio)));
 }
 
-// "out/x", "out/x.exr" and "out/x.png" all name the pair out/x.exr + out/x.png.
-std::string strip_image_extension(std::string base) {
-    for (const char* ext : {".exr", ".png", ".EXR", ".PNG"}) {
-        const std::string e(ext);
-        if (base.size() > e.size() && base.compare(base.size() - e.size(), e.size(), e) == 0)
-            return base.substr(0, base.size() - e.size());
-    }
-    return base;
-}
-
-int run(const Options& o) {
-    Setup setup;
-    std::vector<hs::ChiangFiber<double>> fibers;
-    try {
-        make_setup(o, setup);
-        // The host constructor validates the parameters and h, throwing
-        // std::invalid_argument with a message that names the bad one.
-        for (double h : setup.offsets) fibers.emplace_back(setup.params, h);
-    } catch (const std::invalid_argument& e) {
-        std::fprintf(stderr, "lobe_explorer: invalid parameters: %s\n", e.what());
-        if (std::string(e.what()).find("alpha") != std::string::npos)
-            std::fprintf(stderr, "  (--alpha is in degrees: |alpha| <= 22.5)\n");
-        if (std::string(e.what()).find("sigma_a.") != std::string::npos)
-            std::fprintf(stderr, "  (sigma_a came from %s)\n", setup.sigma_a_source.c_str());
-        return 2;
-    }
-
-    const Rendered r = render(fibers, setup.wo, o.width, o.height, o.supersample, o.threads);
+// The image of one lobe set of the chosen model: rendered, written to <base>.exr and
+// <base>.png, and summarised on stdout. Returns the exit code.
+int explore(const Options& o, const Setup& setup, unsigned lobes, const std::string& base) {
+    const ex::FiberModels<double> models(setup.model, lobes, setup.params);
+    const std::string model_text =
+        setup.model == ex::FiberModel::kChiang
+            ? "Chiang et al. 2016 (" + ex::lobes_to_string(lobes) + ")"
+            : setup.model == ex::FiberModel::kFarField ? std::string("d'Eon et al. 2011 far field")
+            : setup.model == ex::FiberModel::kTabulated ? std::string("tabulated far field")
+                                                          : std::string("Marschner et al. 2003");
+    Rendered r{LinearImage(1, 1), dvec3(0.0), 0.0};
+    dvec3 albedo(-1.0);  // -1: the model reports none
+    models.visit([&](auto make) {
+        using Fiber = decltype(make(0.0));
+        std::vector<Fiber> fibers;
+        for (double h : setup.offsets) fibers.push_back(make(h));
+        r = render(fibers, setup.wo, o.width, o.height, o.supersample, o.threads);
+        if constexpr (HasAlbedo<Fiber>::value) {
+            albedo = dvec3(0.0);
+            for (const auto& fiber : fibers) albedo += fiber.albedo(setup.wo);
+            albedo /= double(fibers.size());
+        }
+        return 0;
+    });
 
     // Maximum of the image (any channel) and where it is.
     double max_f = -1.0;
@@ -215,20 +211,17 @@ int run(const Options& o) {
         }
     const double max_phi = -180.0 + (max_x + 0.5) * 360.0 / o.width;
     const double max_theta = 90.0 - (max_y + 0.5) * 180.0 / o.height;
-    dvec3 albedo(0.0);
-    for (const auto& fiber : fibers) albedo += fiber.albedo(setup.wo);
-    albedo /= double(fibers.size());
 
     const std::string h_text = o.average_h > 0 ? "h averaged over " + std::to_string(o.average_h) +
                                                      " uniformly spaced offsets in (-1, 1)"
                                                : "h = " + fmt("%g", o.h);
-    const std::string fiber_text = "eta " + fmt("%g", o.eta) + ", beta_m " + fmt("%g", o.beta_m) + ", beta_n " +
-                                   fmt("%g", o.beta_n) + ", alpha " + fmt("%g", o.alpha_deg) +
+    const ex::FiberOptions& fo = o.fiber;
+    const std::string fiber_text = "eta " + fmt("%g", fo.eta) + ", beta_m " + fmt("%g", fo.beta_m) + ", beta_n " +
+                                   fmt("%g", fo.beta_n) + ", alpha " + fmt("%g", fo.alpha_deg) +
                                    " deg, sigma_a " + rgb_string(setup.params.sigma_a);
     const std::string outgoing_text = "theta_o = " + fmt("%g", o.theta_o_deg) + " deg, phi_o = 0, " + h_text;
 
     // Outputs.
-    const std::string base = strip_image_extension(o.output);
     const std::string exr_path = base + ".exr", png_path = base + ".png";
     lobe_explorer::PreviewOptions preview;
     preview.tone = o.tone == "log" ? lobe_explorer::ToneMap::kLog : lobe_explorer::ToneMap::kReinhard;
@@ -236,17 +229,15 @@ int run(const Options& o) {
     preview.exposure = o.exposure;
     preview.annotate = !o.no_annotate;
     preview.theta_o_deg = o.theta_o_deg;
-    preview.title = {"hairscatter ChiangFiber f(wo, wi): " + outgoing_text, fiber_text};
+    preview.title = {"hairscatter " + model_text + " f(wo, wi): " + outgoing_text, fiber_text};
     const std::string tone_text =
         preview.tone == lobe_explorer::ToneMap::kLog
             ? "log10 luminance false colour, " + fmt("%g", o.decades) + " decades below the maximum"
             : "Reinhard, exposure " + fmt("%+g", o.exposure) + " stops, sRGB";
     try {
-        const std::filesystem::path parent = std::filesystem::path(base).parent_path();
-        if (!parent.empty()) std::filesystem::create_directories(parent);
         lobe_explorer::write_exr(
             exr_path, r.image,
-            {{"hairscatter:model", "ChiangFiber (Chiang et al. 2016, d'Eon et al. 2011 M_p)"},
+            {{"hairscatter:model", model_text},
              {"hairscatter:values", "f(wo, wi) with the cosine inside: Lo = integral of f Li dwi"},
              {"hairscatter:axes", "x: phi = phi_i - phi_o, -180 deg (left edge) to +180 deg (right edge); "
                                   "y: theta_i, +90 deg (top edge) to -90 deg (bottom edge)"},
@@ -261,6 +252,7 @@ int run(const Options& o) {
     std::printf("lobe_explorer: wrote %s (linear f, float RGB, %d x %d)\n", exr_path.c_str(), o.width, o.height);
     std::printf("               wrote %s (%s%s)\n", png_path.c_str(), tone_text.c_str(),
                 preview.annotate ? ", annotated" : "");
+    std::printf("  model     %s\n", model_text.c_str());
     std::printf("  outgoing  %s\n", outgoing_text.c_str());
     std::printf("  fiber     %s [from %s]\n", fiber_text.c_str(), setup.sigma_a_source.c_str());
     std::printf("  grid      x: phi -180..180 deg, y: theta_i +90 (top)..-90 (bottom); %d x %d sub-samples "
@@ -268,7 +260,8 @@ int run(const Options& o) {
                 o.supersample, o.supersample, r.seconds);
     std::printf("  max f     %.5g at theta_i = %.2f deg, phi = %.2f deg\n", max_f, max_theta, max_phi);
     std::printf("  integral  of f dw_i over the grid = %s   (model albedo sum A_p = %s)\n",
-                rgb_string(r.integral, "%.5f").c_str(), rgb_string(albedo, "%.5f").c_str());
+                rgb_string(r.integral, "%.5f").c_str(),
+                albedo.x < 0 ? "not reported by this model" : rgb_string(albedo, "%.5f").c_str());
     const int needed = supersample_needed(setup.params, o);
     if (needed > o.supersample)
         std::printf("  note      the grid is too coarse for these lobes: the integral is inaccurate and the image\n"
@@ -277,18 +270,39 @@ int run(const Options& o) {
     return 0;
 }
 
+int run(const Options& o) {
+    Setup setup;
+    std::string base;
+    try {
+        make_setup(o, setup);
+        ex::check_image_size(o.width, o.height, 3 * 8 + 3);
+        base = ex::strip_image_extension(o.output);
+        ex::prepare_output(base);
+        // The materials validate too (Marschner's mapped parameters, the lobe set).
+        const ex::FiberModels<double> check(setup.model, setup.lobes, setup.params);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "lobe_explorer: invalid parameters: %s\n", e.what());
+        return 2;
+    }
+    int rc = explore(o, setup, setup.lobes, base);
+    if (o.per_lobe)
+        for (unsigned lobe : ex::each_lobe(setup.lobes))
+            if (rc == 0) rc = explore(o, setup, lobe, base + "_" + ex::lobes_to_string(lobe));
+    return rc;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     Options o;
     CLI::App app{
-        "lobe_explorer: an image of the hair BCSDF f(wo, wi) (hairscatter::ChiangFiber::eval) over the "
-        "sphere of incident directions wi.\n"
+        "lobe_explorer: an image of a hair BCSDF f(wo, wi) (--model chiang | farfield | tabulated | marschner, "
+        "Chiang's lobes with --lobes) over the sphere of incident directions wi.\n"
         "x axis: phi = phi_i - phi_o from -180 deg (left) to +180 deg (right); phi = 0 (centre) is "
         "backward scattering (R, TRT), |phi| = 180 (edges) forward scattering (TT).\n"
         "y axis: theta_i from +90 deg (top, along the fiber tangent) to -90 deg (bottom); the lobes sit "
         "near the specular cone theta_i = -theta_o.\n"
-        "Writes <output>.exr (linear f, float RGB, one pixel per grid cell) and <output>.png (a preview: "
+        "Writes <out>.exr (linear f, float RGB, one pixel per grid cell) and <out>.png (a preview: "
         "by default log10 of the luminance in false colour, with axes and a colour bar).\n"
         "Prints the maximum of f and the integral of f over the sphere (the albedo; 1 for a lossless "
         "fiber, e.g. --eumelanin 0)."};
@@ -302,28 +316,9 @@ int main(int argc, char** argv) {
                    "Instead of one h, average f over N uniformly spaced offsets in (-1, 1): a whole fiber")
         ->check(CLI::Range(1, 100000))
         ->excludes(h_opt);
-    app.add_option("--eta", o.eta, "Index of refraction (> 1)")->capture_default_str();
-    app.add_option("--beta-m", o.beta_m, "Longitudinal roughness, (0, 1]")->capture_default_str();
-    app.add_option("--beta-n", o.beta_n, "Azimuthal roughness, (0, 1]")->capture_default_str();
-    app.add_option("--alpha", o.alpha_deg, "Cuticle-scale tilt in degrees, |alpha| <= 22.5")->capture_default_str();
-    auto* eu = app.add_option("--eumelanin", o.eumelanin, "Eumelanin concentration (sets sigma_a)")->capture_default_str();
-    auto* pheo = app.add_option("--pheomelanin", o.pheomelanin, "Pheomelanin concentration (sets sigma_a)")
-                     ->capture_default_str();
-    auto* color = app.add_option("--color", o.color,
-                                 "Instead of melanin: sigma_a for this diffuse-looking colour r,g,b in (0, 1] "
-                                 "(Chiang et al. 2016 eq. 9)")
-                      ->delimiter(',')
-                      ->expected(3)
-                      ->type_name("R,G,B")
-                      ->excludes(eu)
-                      ->excludes(pheo);
-    app.add_option("--sigma-a", o.sigma_a, "Instead of melanin: absorption per unit fiber radius r,g,b (>= 0)")
-        ->delimiter(',')
-        ->expected(3)
-        ->type_name("R,G,B")
-        ->excludes(eu)
-        ->excludes(pheo)
-        ->excludes(color);
+    ex::add_fiber_options(app, o.fiber, "brown");
+    app.add_flag("--per-lobe", o.per_lobe,
+                 "chiang: also one image per lobe of --lobes, <out>_R.exr/.png, <out>_TT..., <out>_residual...");
     app.add_option("--width", o.width, "Image width in pixels (phi)")->check(CLI::Range(1, 16384))->capture_default_str();
     app.add_option("--height", o.height, "Image height in pixels (theta_i)")
         ->check(CLI::Range(1, 16384))
@@ -344,8 +339,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--exposure", o.exposure, "reinhard preview: exposure in stops")->capture_default_str();
     app.add_flag("--no-annotate", o.no_annotate, "PNG without axes, labels and colour bar (same size as the EXR)");
-    app.add_option("-o,--output", o.output,
-                   "Output basename: writes <output>.exr and <output>.png, creating the directory")
+    app.add_option("-o,--out", o.output,
+                   "Output basename: writes <out>.exr and <out>.png, creating the directory")
         ->capture_default_str();
 
     try {

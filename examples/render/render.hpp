@@ -1,4 +1,5 @@
-// render — the renderer as a library: render(scene, options) → image, hair mask, timings.
+// render — the renderer as a library: render(scene, shading, options) → image, hair mask,
+// timings. The integrators are in integrators/, one file each.
 #pragma once
 
 #include <cstdint>
@@ -6,19 +7,20 @@
 #include <vector>
 
 #include "scene.hpp"
+#include "shading.hpp"
 
 namespace render {
 
 enum class Integrator {
     kSingle,  // single scattering: light sampling with shadow rays (hair shadows are opaque)
     kDual,    // dual scattering (Zinke 2008) with the library's tables and density grid
-    kPath,    // brute-force path tracing through fibers (ChiangFiber): the ground truth
+    kPath,    // path tracing through fibers (any model): the multiple-scattering reference
 };
 // How dual and path choose incident directions at hair (path also at surfaces: only mis
 // adds light sampling; surfaces always sample the cosine).
 enum class Sampling {
     kUniform,     // uniform on the sphere (hairscatter::UniformSphereSampling)
-    kImportance,  // the library's samplers (DualScatteringFiber / ChiangFiber::sample)
+    kImportance,  // the library's samplers (DualScatteringFiber / the model's sample)
     kMis,         // MIS (power heuristic) of BCSDF sampling and light sampling
 };
 
@@ -30,7 +32,7 @@ struct RenderOptions {
     Sampling sampling = Sampling::kMis;
     int width = 480, height = 360;  // the defaults render in seconds on 2 cores
     int spp = 32;
-    int max_depth = 32;          // path: bounces before the path is cut (Russian roulette after 3)
+    int max_depth = 4096;        // path: a safety cap only (paths end by Russian roulette)
     std::uint64_t seed = 1;      // pixel (x, y)'s generator depends on seed, x and y only
     float d_f = 0.7f, d_b = 0.7f;  // dual: forward and backward density factors
     bool hair_only = false;      // render only pixels whose primary (centre) ray hits hair
@@ -48,9 +50,12 @@ struct RenderResult {
     std::size_t hair_pixels = 0;
 };
 
+// Throws std::invalid_argument naming the first bad option (as its command-line flag).
+void validate(const RenderOptions& options);
+
 // Renders the scene. Deterministic: the same scene, options and seed give the same image
 // whatever the thread count. Throws std::invalid_argument for bad options.
-RenderResult render(const Scene& scene, const RenderOptions& options);
+RenderResult render(const Scene& scene, const ShadingSetup& shading, const RenderOptions& options);
 
 // Peak and current resident set size of this process in bytes (VmHWM and VmRSS of
 // /proc/self/status); 0 where unavailable.
@@ -58,6 +63,7 @@ std::size_t peak_rss_bytes();
 std::size_t current_rss_bytes();
 
 // A one-line, space-separated key=value summary of a render (for scripts).
-std::string summary_line(const Scene& scene, const RenderOptions& options, const RenderResult& result);
+std::string summary_line(const Scene& scene, const ShadingSetup& shading, const RenderOptions& options,
+                         const RenderResult& result);
 
 }  // namespace render

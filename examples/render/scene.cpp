@@ -1,17 +1,15 @@
 // render — building the Scene: Embree BVHs over the hair (round linear curves) and the
-// triangle meshes, the hair material, its dual-scattering tables and the density grid.
+// triangle meshes.
 #include "scene.hpp"
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 #include <string>
 
 namespace render {
-namespace hs = hairscatter;
 
 namespace {
 
@@ -86,9 +84,6 @@ constexpr float kRayEpsilon = 1e-4f;
 }  // namespace
 
 Scene::Scene(SceneDescription description) : d_(std::move(description)) {
-    const auto t_start = Clock::now();
-    material_ = std::make_unique<hs::ChiangMaterial<float>>(d_.hair_params);
-
     device_ = rtcNewDevice(nullptr);
     if (!device_) throw std::runtime_error("cannot create an Embree device (error " +
                                            std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
@@ -177,29 +172,6 @@ Scene::Scene(SceneDescription description) : d_(std::move(description)) {
     stats_.bvh_seconds = seconds_since(t_bvh);
     stats_.embree_bytes = std::size_t(std::max(0LL, embree_memory().peak.load()));
 
-    if (has_hair()) {
-        const auto t_tables = Clock::now();
-        tables_ = hs::DualScatteringTables<float>::build<hs::ChiangFiber>(*material_);
-        stats_.table_seconds = seconds_since(t_tables);
-        stats_.table_bytes = std::size_t(tables_.size()) * sizeof(hs::DualScatteringEntry<float>);
-
-        const auto t_grid = Clock::now();
-        float cell = d_.grid_cell;
-        if (!(cell > 0)) {
-            glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
-            for (const auto& s : d_.hair.strands)
-                for (const glm::vec3& p : s) lo = glm::min(lo, p), hi = glm::max(hi, p);
-            const glm::vec3 e = hi - lo;
-            cell = std::max({e.x, e.y, e.z}) / 32.0f;  // 32 cells across the hair's largest side
-            cell = std::max(cell, 4.0f * d_.hair.radius);
-        }
-        grid_ = std::make_unique<hs::DensityGrid<float>>(
-            hs::DensityGrid<float>::from_strands(d_.hair.strands, cell, d_.hair.radius));
-        stats_.grid_seconds = seconds_since(t_grid);
-        stats_.grid_bytes = grid_->cells().size() * sizeof(hs::HairLengthTensor<float>);
-        stats_.grid_resolution = grid_->resolution();
-    }
-    stats_.build_seconds = seconds_since(t_start);
 }
 
 Scene::~Scene() {
@@ -222,12 +194,10 @@ Hit Scene::hit_from(const RTCRayHit& rh, const glm::vec3& o, const glm::vec3& d)
         const float u = std::clamp(rh.hit.u, 0.0f, 1.0f);
         const glm::vec3 axis = glm::mix(glm::vec3(a), glm::vec3(b), u);
         const float radius = a.w + u * (b.w - a.w);
+        hit.axis = axis;
+        hit.radius = radius;
         hit.tangent = glm::normalize(glm::vec3(b) - glm::vec3(a));
         hit.strand = strand_of_segment_[rh.hit.primID];
-        // The library's convention (fiber/frame.hpp): with the frame built from the tangent
-        // and wo = -d, h = dot(hit - axis, frame.y) / radius.
-        const hs::FiberFrame<float> frame(hit.tangent, -d);
-        hit.h = std::clamp(glm::dot(hit.p - axis, frame.y) / radius, -1.0f, 1.0f);
         return hit;
     }
     glm::vec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);

@@ -1,18 +1,17 @@
 // render — scene description (what the user builds: camera, diffuse surfaces, hair,
-// lights) and the built Scene (Embree BVHs, the hair material, its dual-scattering tables
-// and the hair density grid), which render() consumes.
+// lights) and the built Scene: geometry only (Embree BVHs over the hair and the meshes).
+// How the hair scatters light (the fiber model, its material, the dual-scattering tables
+// and the density grid) is the ShadingSetup's (shading.hpp).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <embree3/rtcore.h>
 #include <glm/glm.hpp>
-#include <hairscatter/dual.hpp>
 
 #include "hair_gen.hpp"
 
@@ -46,20 +45,15 @@ struct SceneDescription {
     Camera camera;
     std::vector<Mesh> meshes;
     Hair hair;
-    hairscatter::FiberParams<float> hair_params;
     std::optional<AreaLight> light;
     glm::vec3 environment{0.0f};  // constant radiance of every direction that escapes
-    float grid_cell = 0.0f;        // density-grid cell size; 0: 8 fiber spacings, from the hair
 };
 
 // Sizes of what the Scene holds, for memory studies.
 struct SceneStats {
     std::size_t strands = 0, hair_segments = 0, triangles = 0;
-    std::size_t embree_bytes = 0;       // peak bytes Embree allocated (BVHs and buffers)
-    std::size_t grid_bytes = 0;         // the density grid's cells
-    glm::ivec3 grid_resolution{0};
-    std::size_t table_bytes = 0;        // dual-scattering tables
-    double build_seconds = 0, bvh_seconds = 0, grid_seconds = 0, table_seconds = 0;
+    std::size_t embree_bytes = 0;  // peak bytes Embree allocated (BVHs and buffers)
+    double bvh_seconds = 0;
 };
 
 // What a ray hit.
@@ -67,9 +61,10 @@ struct Hit {
     enum Kind { kMiss, kHair, kSurface, kLight } kind = kMiss;
     float t = 0;
     glm::vec3 p{0};
-    // hair
-    glm::vec3 tangent{0};
-    float h = 0;
+    // hair: the segment's axis point at the hit's curve parameter, its tangent (root to
+    // tip) and radius; the shading point (shading.hpp) turns them into the frame and h.
+    glm::vec3 axis{0}, tangent{0};
+    float radius = 0;
     std::uint32_t strand = 0;
     // surface and light
     glm::vec3 n{0};  // shading normal, facing the ray's origin side
@@ -81,8 +76,8 @@ inline constexpr std::uint32_t kNoStrand = 0xffffffffu;
 
 class Scene {
   public:
-    // Builds the BVHs, the hair material (throws std::invalid_argument for bad fiber
-    // parameters), the dual-scattering tables and the density grid.
+    // Builds the BVHs; throws std::invalid_argument for bad geometry (a mesh index out of
+    // range, a zero-area light, a non-positive hair radius).
     explicit Scene(SceneDescription description);
     ~Scene();
     Scene(const Scene&) = delete;
@@ -90,11 +85,7 @@ class Scene {
 
     const SceneDescription& description() const { return d_; }
     const SceneStats& stats() const { return stats_; }
-    bool has_hair() const { return !d_.hair.strands.empty(); }
-
-    const hairscatter::ChiangMaterial<float>& material() const { return *material_; }
-    const hairscatter::DualScatteringTables<float>& tables() const { return tables_; }
-    const hairscatter::DensityGrid<float>* grid() const { return grid_.get(); }
+    bool has_hair() const { return d_.hair.segment_count() > 0; }
 
     // The closest hit along o + t d, t in (tmin, tmax); hits on strand `ignore` closer than
     // a few fiber radii are skipped (the fiber a path leaves, whose own passage the BCSDF
@@ -119,9 +110,6 @@ class Scene {
     std::vector<std::uint32_t> strand_of_segment_;  // hair primID → strand
     std::vector<std::uint32_t> segment_start_;      // hair primID → first vertex
     std::vector<glm::vec4> curve_vertices_;         // (x, y, z, radius), kept for shading
-    std::unique_ptr<hairscatter::ChiangMaterial<float>> material_;
-    hairscatter::DualScatteringTables<float> tables_;
-    std::unique_ptr<hairscatter::DensityGrid<float>> grid_;
 };
 
 }  // namespace render

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "hair_file.hpp"
 
@@ -41,6 +43,36 @@ Mesh make_sphere(const std::string& name, const glm::vec3& center, float radius,
             m.triangles.push_back({a + 1, b, b + 1});
         }
     return m;
+}
+
+namespace {
+
+void require(bool ok, const std::string& message) {
+    if (!ok) throw std::invalid_argument(message);
+}
+std::string num(double v) { return std::to_string(v); }
+
+}  // namespace
+
+void validate(const LightingOptions& l) {
+    require(std::isfinite(l.light_size) && l.light_size > 0, "--light-size: " + num(l.light_size) + " is not a size > 0");
+    require(std::isfinite(l.light_power) && l.light_power >= 0,
+            "--light-power: " + num(l.light_power) + " is not a finite power >= 0");
+    require(std::isfinite(l.environment) && l.environment >= 0,
+            "--environment: " + num(l.environment) + " is not a finite radiance >= 0");
+}
+
+void validate(const BlockOptions& b) {
+    require(b.count >= 1 && b.count <= 10'000'000, "--hairs: " + std::to_string(b.count) + " is outside [1, 10^7]");
+    require(std::isfinite(b.size) && b.size > 0, "--block-size: " + num(b.size) + " is not a size > 0");
+    require(std::isfinite(b.radius) && b.radius > 0 && b.radius < b.size,
+            "--fiber-radius: " + num(b.radius) + " is not a radius in (0, block size)");
+}
+
+void validate(const ScalpOptions& s) {
+    require(s.count >= 1 && s.count <= 10'000'000, "--scalp-hairs: " + std::to_string(s.count) + " is outside [1, 10^7]");
+    require(std::isfinite(s.gravity), "--gravity: " + num(s.gravity) + " is not a finite number");
+    require(std::isfinite(s.curl_radius) && s.curl_radius >= 0, "--curl: " + num(s.curl_radius) + " is not a radius >= 0");
 }
 
 namespace {
@@ -119,6 +151,9 @@ SceneDescription make_file_scene(const std::string& path, float thickness_scale,
     SceneDescription s;
     s.name = "file";
     s.hair.strands = file.strands();
+    if (s.hair.segment_count() == 0)
+        throw std::invalid_argument(path + ": the file has no hair (" + std::to_string(file.strand_count()) +
+                                    " strands, " + std::to_string(file.points.size()) + " points, no segment)");
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
     for (const glm::vec3& p : file.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
     const glm::vec3 e = hi - lo;

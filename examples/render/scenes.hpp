@@ -1,4 +1,4 @@
-// render — the seed thesis's scenes (§5: hair blocks on a ground plane, the Cornell box)
+// render — the study's scenes (hair blocks on a ground plane, the Cornell box)
 // and a scalp, as SceneDescriptions.
 #pragma once
 
@@ -16,6 +16,12 @@ struct LightingOptions {
     float environment = 0.15f;     // constant environment radiance (grey); 0 for none
 };
 
+// Throw std::invalid_argument naming the bad option by its command-line flag (negative or
+// non-finite light size, power or environment; NaN gravity or curl; a non-positive count).
+void validate(const LightingOptions& lighting);
+void validate(const BlockOptions& block);
+void validate(const ScalpOptions& scalp);
+
 // The 5 × 5 × 5 hair block standing on a grey ground plane.
 SceneDescription make_block_scene(const BlockOptions& block, const LightingOptions& lighting);
 
@@ -28,7 +34,8 @@ SceneDescription make_cornell_scene(const BlockOptions& block, const LightingOpt
 SceneDescription make_scalp_scene(const ScalpOptions& scalp, const LightingOptions& lighting);
 
 // Hair from a .hair file (thickness: the mean of the file's, times thickness_scale),
-// scaled uniformly to fit a 5-unit box standing on the ground plane.
+// scaled uniformly to fit a 5-unit box standing on the ground plane. Throws
+// std::invalid_argument when the file has no hair (no strand with a segment).
 SceneDescription make_file_scene(const std::string& path, float thickness_scale, const LightingOptions& lighting);
 
 // Meshes used by the presets.

@@ -53,7 +53,7 @@ glm::vec3 melanin_sigma_a(const std::string& colour) {
 // The seed's hair block (5 × 5 × 5 on the ground plane). Lighting: "env" a white
 // environment of radiance 1 only (where BCSDF sampling is the only strategy), "area" the
 // preset's small area light only, "both" the preset's area light and dim environment.
-render::SceneDescription block_scene(int hairs, const std::string& colour, const std::string& light, bool ground = true) {
+render::SceneDescription block_scene(int hairs, const std::string& light, bool ground = true) {
     render::BlockOptions block;
     block.count = hairs;
     render::LightingOptions lighting;
@@ -66,9 +66,15 @@ render::SceneDescription block_scene(int hairs, const std::string& colour, const
         throw std::invalid_argument("study: unknown lighting '" + light + "' (env | area | both)");
     }
     render::SceneDescription d = render::make_block_scene(block, lighting);
-    d.hair_params.sigma_a = melanin_sigma_a(colour);
     if (!ground) d.meshes.clear();
     return d;
+}
+
+// The hair's shading: the Chiang fiber of the colour, with the dual-scattering tables and grid.
+render::ShadingOptions shading_options(const std::string& colour) {
+    render::ShadingOptions o;
+    o.fiber.sigma_a = melanin_sigma_a(colour);
+    return o;
 }
 
 // Statistics over the region of interest: pixels whose primary ray hits hair in the
@@ -161,14 +167,15 @@ render::RenderOptions options(const Common& c, render::Integrator integrator, re
 
 int convergence(const Common& c, int max_spp, int reference_spp, const std::string& reference_sampling,
                 double threshold) {
-    const render::Scene scene(block_scene(c.hairs, c.colour, c.lighting));
+    const render::Scene scene(block_scene(c.hairs, c.lighting));
+    const render::ShadingSetup shading(scene, shading_options(c.colour));
     const render::Sampling ref_sampling =
         reference_sampling == "uniform" ? render::Sampling::kUniform : render::Sampling::kImportance;
     std::fprintf(stderr, "study: reference, dual scattering, %s sampling, %d spp\n", reference_sampling.c_str(),
                  reference_spp);
     render::RenderOptions ro = options(c, render::Integrator::kDual, ref_sampling, reference_spp, 1000003);
     ro.progress = true;
-    const render::RenderResult ref = render::render(scene, ro);
+    const render::RenderResult ref = render::render(scene, shading, ro);
     if (!all_finite(ref.rgb)) throw std::runtime_error("study: the reference image has non-finite pixels");
     const Roi roi(ref);
     const double ref_ms = roi.mean_square(ref.rgb);
@@ -183,7 +190,7 @@ int convergence(const Common& c, int max_spp, int reference_spp, const std::stri
         std::vector<float> previous;
         int below = -1;
         for (int spp = 1; spp <= max_spp; spp *= 2) {
-            const render::RenderResult r = render::render(scene, options(c, render::Integrator::kDual, sampling, spp, 17));
+            const render::RenderResult r = render::render(scene, shading, options(c, render::Integrator::kDual, sampling, spp, 17));
             if (!all_finite(r.rgb)) throw std::runtime_error("study: non-finite pixels at " + std::to_string(spp) + " spp");
             const auto [mse, rel] = roi.mse(r.rgb, ref.rgb);
             // Seed §4.4: the variance between consecutive levels, mean over the ROI of
@@ -212,14 +219,15 @@ int dual_vs_path(const Common& c, const std::vector<int>& hair_counts, const std
     csv << "colour,hairs,integrator,spp,seconds,ms_per_spp,mean_r,mean_g,mean_b,rel_error_mean,mean_abs_pixel_rel_error\n";
     for (const std::string& colour : colours)
         for (int hairs : hair_counts) {
-            const render::Scene scene(block_scene(hairs, colour, c.lighting, c.ground));
+            const render::Scene scene(block_scene(hairs, c.lighting, c.ground));
+            const render::ShadingSetup shading(scene, shading_options(colour));
             render::RenderOptions po = options(c, render::Integrator::kPath, render::Sampling::kMis, path_spp, 1);
             po.progress = true;
-            const render::RenderResult path = render::render(scene, po);
+            const render::RenderResult path = render::render(scene, shading, po);
             render::RenderOptions dopt = options(c, render::Integrator::kDual, render::Sampling::kMis, dual_spp, 2);
-            const render::RenderResult dual = render::render(scene, dopt);
+            const render::RenderResult dual = render::render(scene, shading, dopt);
             render::RenderOptions so = options(c, render::Integrator::kSingle, render::Sampling::kMis, dual_spp, 3);
-            const render::RenderResult single = render::render(scene, so);
+            const render::RenderResult single = render::render(scene, shading, so);
             if (!all_finite(path.rgb) || !all_finite(dual.rgb) || !all_finite(single.rgb))
                 throw std::runtime_error("study: non-finite pixels in dual-vs-path");
             const Roi roi(path);

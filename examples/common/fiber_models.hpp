@@ -1,0 +1,163 @@
+// hairscatter examples — every fiber model the library ships behind one switch, shared by
+// the renderer and the lobe explorer: --model chiang|farfield|tabulated|marschner, the
+// Chiang lobe subsets (--lobes R,TT,TRT,residual), the materials, and per-hit fibers
+// bound to their wo.
+#pragma once
+
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include <hairscatter/hairscatter.hpp>
+
+namespace hairscatter_examples {
+
+enum class FiberModel { kChiang, kFarField, kTabulated, kMarschner };
+
+const char* to_string(FiberModel m);
+// "chiang" | "farfield" | "tabulated" | "marschner"; throws std::invalid_argument naming --model.
+FiberModel parse_model(const std::string& name);
+
+// The examples' lobe sets: bit p keeps lobe p (0 R, 1 TT, 2 TRT, 3 residual). Only
+// with_chiang_lobes below turns one into the library's lobe-set type.
+struct LobeBits {
+    static constexpr unsigned kR = 1u, kTT = 2u, kTRT = 4u, kResidual = 8u;
+    static constexpr unsigned kPrimary = kR | kTT | kTRT, kAll = kPrimary | kResidual;
+};
+constexpr bool keeps_lobe(unsigned bits, int p) { return ((bits >> p) & 1u) != 0u; }
+
+// A lobe list "R,TT,TRT,residual" (any subset, any order, case-insensitive), or "all",
+// "primary" (R,TT,TRT), as LobeBits; throws naming --lobes.
+unsigned parse_lobes(const std::string& list);
+std::string lobes_to_string(unsigned lobes);  // "R,TT,TRT,residual"
+std::vector<unsigned> each_lobe(unsigned lobes);  // the set's lobes one by one
+
+// THE place where a lobe set chosen at run time becomes the template argument of
+// BasicChiangFiber: calls f(std::integral_constant<L, kLobes>{}) with L the library's
+// lobe-set type and kLobes the set (use it as BasicChiangFiber<T, decltype(arg)::value>).
+// Nothing else in the examples names the library's lobe-set type, so a change of that
+// type is a change of this function only.
+template <unsigned kBits = 1u, class F> decltype(auto) with_chiang_lobes(unsigned bits, F&& f) {
+    using Set = unsigned;  // the library's lobe-set type (hairscatter::Lobes' bits)
+    if constexpr (kBits > LobeBits::kAll) {
+        throw std::invalid_argument("--lobes: empty or unknown lobe set " + std::to_string(bits));
+        return f(std::integral_constant<Set, Set(hairscatter::Lobes::kAll)>{});  // the return type
+    } else {
+        static_assert(Set(hairscatter::Lobes::kR) == LobeBits::kR && Set(hairscatter::Lobes::kTT) == LobeBits::kTT &&
+                      Set(hairscatter::Lobes::kTRT) == LobeBits::kTRT &&
+                      Set(hairscatter::Lobes::kResidual) == LobeBits::kResidual);
+        if (bits == kBits) return f(std::integral_constant<Set, Set(kBits)>{});
+        return with_chiang_lobes<kBits + 1u>(bits, std::forward<F>(f));
+    }
+}
+
+// Marschner's parameters for a Chiang parameter set: the same η, σa and βn; the R lobe's
+// shift α_R = −2α (the scale tilt shifts R by twice its angle, Marschner et al. 2003 §4.1)
+// and width β_R = √v(βm), Chiang's longitudinal standard deviation (Chiang et al. 2016
+// eq. 7); TT and TRT follow Marschner's Table 1.
+template <typename T> hairscatter::MarschnerParams<T> marschner_params(const hairscatter::FiberParams<T>& p) {
+    hairscatter::MarschnerParams<T> m;
+    m.eta = p.eta;
+    m.sigma_a = p.sigma_a;
+    m.beta_n = p.beta_n;
+    m.alpha_r = T(-2) * p.alpha;
+    m.beta_r = std::sqrt(hairscatter::longitudinal_variance(p.beta_m));
+    return m;
+}
+
+// A fiber bound to one wo: fiber.at(wo) where the model has it, else the fiber and wo kept
+// together. Either way: eval(wi), pdf(wi), eval_pdf(wi), sample(u).
+template <class Fiber> class BoundFiber {
+  public:
+    using V3 = typename Fiber::V3;
+    using V4 = typename Fiber::V4;
+    BoundFiber(const Fiber& fiber, const V3& wo) : fiber_(fiber), wo_(wo) {}
+    V3 eval(const V3& wi) const { return fiber_.eval(wo_, wi); }
+    auto pdf(const V3& wi) const { return fiber_.pdf(wo_, wi); }
+    auto eval_pdf(const V3& wi) const { return fiber_.eval_pdf(wo_, wi); }
+    auto sample(const V4& u) const { return fiber_.sample(wo_, u); }
+
+  private:
+    Fiber fiber_;
+    V3 wo_;
+};
+template <class Fiber, class = void> struct HasAt : std::false_type {};
+template <class Fiber>
+struct HasAt<Fiber, std::void_t<decltype(std::declval<const Fiber&>().at(std::declval<typename Fiber::V3>()))>>
+    : std::true_type {};
+template <class Fiber> auto bind_fiber(const Fiber& fiber, const typename Fiber::V3& wo) {
+    if constexpr (HasAt<Fiber>::value) return fiber.at(wo);
+    else return BoundFiber<Fiber>(fiber, wo);
+}
+
+// The chosen model's material, built and validated once (throws std::invalid_argument
+// naming the bad parameter or option). visit(f) calls f(make) with make(h) → the per-hit
+// fiber (h is ignored by the h-integrated models: far field, tabulated, Marschner).
+template <typename T> class FiberModels {
+  public:
+    FiberModels(FiberModel model, unsigned lobes, const hairscatter::FiberParams<T>& params)
+        : model_(model), lobes_(lobes) {
+        namespace hs = hairscatter;
+        if (model != FiberModel::kChiang && lobes != LobeBits::kAll)
+            throw std::invalid_argument(std::string("--lobes: only --model chiang keeps a subset of lobes (--model ") +
+                                        to_string(model) + " has all of its lobes)");
+        with_chiang_lobes(lobes, [](auto) { return 0; });  // rejects an empty set
+        chiang_ = std::make_unique<hs::ChiangMaterial<T>>(params);
+        switch (model) {
+            case FiberModel::kChiang: break;
+            case FiberModel::kFarField: farfield_ = std::make_unique<hs::DeonFarFieldMaterial<T>>(params); break;
+            case FiberModel::kTabulated: tabulated_ = std::make_unique<hs::TabulatedMaterial<T>>(params); break;
+            case FiberModel::kMarschner:
+                try {
+                    marschner_ = std::make_unique<hs::MarschnerMaterial<T>>(marschner_params(params));
+                } catch (const std::invalid_argument& e) {
+                    throw std::invalid_argument(std::string("--model marschner (alpha_r = -2 alpha, beta_r = "
+                                                            "sqrt(v(beta_m))): ") + e.what());
+                }
+                break;
+        }
+    }
+    FiberModels(const FiberModels&) = delete;
+    FiberModels& operator=(const FiberModels&) = delete;
+
+    FiberModel model() const { return model_; }
+    unsigned lobes() const { return lobes_; }
+    // Always built: the dual-scattering tables need Chiang's model whatever --model says.
+    const hairscatter::ChiangMaterial<T>& chiang() const { return *chiang_; }
+
+    template <class F> decltype(auto) visit(F&& f) const {
+        namespace hs = hairscatter;
+        switch (model_) {
+            case FiberModel::kFarField: {
+                const hs::DeonFarFieldMaterial<T>* m = farfield_.get();
+                return f([m](T) { return hs::DeonFarFieldFiber<T>(*m); });
+            }
+            case FiberModel::kTabulated: {
+                const hs::TabulatedMaterial<T>* m = tabulated_.get();
+                return f([m](T) { return hs::TabulatedFiber<T>(*m); });
+            }
+            case FiberModel::kMarschner: {
+                const hs::MarschnerMaterial<T>* m = marschner_.get();
+                return f([m](T) { return hs::MarschnerFiber<T>(*m); });
+            }
+            case FiberModel::kChiang: break;
+        }
+        const hs::ChiangMaterial<T>* m = chiang_.get();
+        return with_chiang_lobes(lobes_, [&](auto set) -> decltype(auto) {
+            return f([m](T h) { return hs::BasicChiangFiber<T, decltype(set)::value>(*m, h); });
+        });
+    }
+
+  private:
+    FiberModel model_;
+    unsigned lobes_;
+    std::unique_ptr<hairscatter::ChiangMaterial<T>> chiang_;
+    std::unique_ptr<hairscatter::DeonFarFieldMaterial<T>> farfield_;
+    std::unique_ptr<hairscatter::TabulatedMaterial<T>> tabulated_;
+    std::unique_ptr<hairscatter::MarschnerMaterial<T>> marschner_;
+};
+
+}  // namespace hairscatter_examples

@@ -1,0 +1,57 @@
+// render — what every integrator shares: the render context (scene, shading setup,
+// options, lights), the per-camera-ray interface, and direct lighting of diffuse surfaces
+// and of the camera ray's first hit (single and dual scattering).
+#pragma once
+
+#include <memory>
+
+#include <glm/glm.hpp>
+
+#include "../lights.hpp"
+#include "../render.hpp"
+#include "../sampling.hpp"
+#include "../scene.hpp"
+#include "../shading.hpp"
+
+namespace render {
+
+struct RenderContext {
+    const Scene& scene;
+    const ShadingSetup& shading;
+    const RenderOptions& options;
+    Lights lights;
+
+    RenderContext(const Scene& s, const ShadingSetup& sh, const RenderOptions& o)
+        : scene(s), shading(sh), options(o), lights(s.description()) {}
+};
+
+// Radiance along one camera ray.
+class PixelIntegrator {
+  public:
+    virtual ~PixelIntegrator() = default;
+    virtual glm::vec3 radiance(const glm::vec3& o, const glm::vec3& d, Sampler& rng) const = 0;
+};
+
+std::unique_ptr<PixelIntegrator> make_single_integrator(const RenderContext& c);  // single.cpp
+std::unique_ptr<PixelIntegrator> make_dual_integrator(const RenderContext& c);    // dual.cpp
+std::unique_ptr<PixelIntegrator> make_path_integrator(const RenderContext& c);    // path.cpp
+
+// Lambertian surface: one sample of the area light and one cosine-distributed sample of
+// the environment; everything (hair included) casts opaque shadows.
+glm::vec3 surface_direct(const RenderContext& c, const Hit& hit, Sampler& rng);
+
+// The camera ray's first hit lit directly; hair is shaded by hair(point, rng).
+template <class HairShade>
+glm::vec3 first_hit_direct(const RenderContext& c, const glm::vec3& o, const glm::vec3& d, Sampler& rng,
+                           const HairShade& hair) {
+    const Hit hit = c.scene.intersect(o, d, kInf);
+    switch (hit.kind) {
+        case Hit::kMiss: return c.lights.env;
+        case Hit::kLight: return hit.front ? c.lights.area->radiance : glm::vec3(0);
+        case Hit::kSurface: return surface_direct(c, hit, rng);
+        case Hit::kHair: return hair(ShadingPoint(hit, -d), rng);
+    }
+    return glm::vec3(0);
+}
+
+}  // namespace render

@@ -1,0 +1,99 @@
+// render — building the shading setup.
+#include "shading.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace render {
+namespace hs = hairscatter;
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+void bounds(const Hair& hair, glm::vec3& lo, glm::vec3& hi) {
+    lo = glm::vec3(std::numeric_limits<float>::max());
+    hi = glm::vec3(std::numeric_limits<float>::lowest());
+    for (const auto& s : hair.strands)
+        for (const glm::vec3& p : s)
+            if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) lo = glm::min(lo, p), hi = glm::max(hi, p);
+}
+
+double cells_of(const glm::ivec3& r) { return double(r.x) * double(r.y) * double(r.z); }
+}  // namespace
+
+float automatic_grid_cell(const Hair& hair) {
+    glm::vec3 lo, hi;
+    bounds(hair, lo, hi);
+    const glm::vec3 e = hi - lo;
+    const float cell = std::max({e.x, e.y, e.z}) / 32.0f;  // 32 cells across the hair's largest side
+    return std::max(cell, 4.0f * hair.radius);
+}
+
+glm::ivec3 grid_resolution(const Hair& hair, float cell) {
+    glm::vec3 lo, hi;
+    bounds(hair, lo, hi);
+    glm::ivec3 r;
+    for (int a = 0; a < 3; ++a) {
+        const double n = std::ceil(double(hi[a] - lo[a]) / double(cell)) + 2;
+        r[a] = n < 1e9 ? int(n) : 1000000000;
+    }
+    return r;
+}
+
+float check_grid(const Hair& hair, const ShadingOptions& o) {
+    if (!o.dual_scattering || hair.segment_count() == 0) return 0.0f;
+    if (!(o.grid_cell >= 0) || !std::isfinite(o.grid_cell))
+        throw std::invalid_argument("--grid-cell: " + std::to_string(o.grid_cell) + " is not a size >= 0");
+    const float cell = o.grid_cell > 0 ? o.grid_cell : automatic_grid_cell(hair);
+    const glm::ivec3 res = grid_resolution(hair, cell);
+    const double bytes = cells_of(res) * double(sizeof(hs::HairLengthTensor<float>));
+    if (bytes > double(o.max_grid_bytes)) {
+        // The smallest cell that fits: the resolution falls as 1/cell per axis.
+        float ok = cell;
+        for (int k = 0; k < 2000 && cells_of(grid_resolution(hair, ok)) * double(sizeof(hs::HairLengthTensor<float>)) >
+                                        double(o.max_grid_bytes);
+             ++k)
+            ok *= 1.05f;
+        char msg[512];
+        std::snprintf(msg, sizeof(msg),
+                      "--grid-cell %g: the density grid would be %d x %d x %d cells (%.1f GiB), above the "
+                      "%.1f GiB limit (the grid stores every cell of the hair's bounding box, so it grows with "
+                      "the cube of 1/cell); use --grid-cell %.3g or larger, or 0 for %.3g",
+                      double(cell), res.x, res.y, res.z, bytes / 1073741824.0,
+                      double(o.max_grid_bytes) / 1073741824.0, double(ok),
+                      double(automatic_grid_cell(hair)));
+        throw std::invalid_argument(msg);
+    }
+    return cell;
+}
+
+ShadingSetup::ShadingSetup(const Scene& scene, const ShadingOptions& options) : o_(options) {
+    const auto t0 = Clock::now();
+    models_ = std::make_unique<hairscatter_examples::FiberModels<float>>(o_.model, o_.lobes, o_.fiber);
+    const Hair& hair = scene.description().hair;
+    if (o_.dual_scattering && scene.has_hair()) {
+        const auto t_tables = Clock::now();
+        tables_ = hs::DualScatteringTables<float>::build<hs::ChiangFiber>(chiang());
+        stats_.table_seconds = seconds_since(t_tables);
+        stats_.table_bytes = std::size_t(tables_.size()) * sizeof(hs::DualScatteringEntry<float>);
+
+        const float cell = check_grid(hair, o_);
+        const auto t_grid = Clock::now();
+        grid_ = std::make_unique<hs::DensityGrid<float>>(
+            hs::DensityGrid<float>::from_strands(hair.strands, cell, hair.radius));
+        stats_.grid_seconds = seconds_since(t_grid);
+        stats_.grid_bytes = grid_->cells().size() * sizeof(hs::HairLengthTensor<float>);
+        stats_.grid_resolution = grid_->resolution();
+    }
+    stats_.seconds = seconds_since(t0);
+}
+
+ShadingSetup::~ShadingSetup() = default;
+
+}  // namespace render

@@ -1,0 +1,89 @@
+// render — how the hair scatters light: the shading setup (the fiber model's material,
+// the dual-scattering tables and the hair density grid, built once per render) and the
+// shading point (the frame, h and wo of one hit, made once per hit).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+#include <common/fiber_models.hpp>
+#include <glm/glm.hpp>
+#include <hairscatter/dual.hpp>
+#include <hairscatter/fiber/hit.hpp>
+
+#include "scene.hpp"
+
+namespace render {
+
+using hairscatter_examples::FiberModel;
+
+struct ShadingOptions {
+    FiberModel model = FiberModel::kChiang;
+    unsigned lobes = hairscatter_examples::LobeBits::kAll;  // Chiang only
+    hairscatter::FiberParams<float> fiber;
+    bool dual_scattering = true;  // build the dual-scattering tables and the density grid
+    float grid_cell = 0.0f;       // density-grid cell size; 0: 1/32 of the hair's largest extent
+    // The density grid is refused above this many bytes: it is dense (every cell of the
+    // hair's bounding box is stored), so a small cell grows it with the cube of 1/cell.
+    std::size_t max_grid_bytes = std::size_t(1) << 30;
+};
+
+struct ShadingStats {
+    std::size_t table_bytes = 0, grid_bytes = 0;
+    glm::ivec3 grid_resolution{0};
+    double seconds = 0, table_seconds = 0, grid_seconds = 0;
+};
+
+class ShadingSetup {
+  public:
+    // Builds the material (throws std::invalid_argument naming a bad parameter) and, with
+    // dual_scattering and hair in the scene, the tables and the grid (throws
+    // std::invalid_argument when the grid would exceed max_grid_bytes).
+    ShadingSetup(const Scene& scene, const ShadingOptions& options);
+    ~ShadingSetup();
+    ShadingSetup(const ShadingSetup&) = delete;
+    ShadingSetup& operator=(const ShadingSetup&) = delete;
+
+    const ShadingOptions& options() const { return o_; }
+    const hairscatter_examples::FiberModels<float>& models() const { return *models_; }
+    // The Chiang material (the dual-scattering integrator's, whatever the model).
+    const hairscatter::ChiangMaterial<float>& chiang() const { return models_->chiang(); }
+    const hairscatter::DualScatteringTables<float>& tables() const { return tables_; }
+    const hairscatter::DensityGrid<float>* grid() const { return grid_.get(); }
+    const ShadingStats& stats() const { return stats_; }
+
+  private:
+    ShadingOptions o_;
+    std::unique_ptr<hairscatter_examples::FiberModels<float>> models_;
+    hairscatter::DualScatteringTables<float> tables_;
+    std::unique_ptr<hairscatter::DensityGrid<float>> grid_;
+    ShadingStats stats_;
+};
+
+// Throws std::invalid_argument (naming --grid-cell, with the reason and the smallest cell
+// that fits) when the dual-scattering density grid over this hair would exceed
+// options.max_grid_bytes; does nothing without dual_scattering. Returns the cell size.
+float check_grid(const Hair& hair, const ShadingOptions& options);
+
+// The density grid's resolution for a cell size over the hair (one padding cell either
+// side, as DensityGrid::from_strands), and the cell the renderer picks for cell = 0.
+glm::ivec3 grid_resolution(const Hair& hair, float cell);
+float automatic_grid_cell(const Hair& hair);
+
+// One shading point on a fiber: the frame, wo in it and h (hairscatter::FiberHit), the
+// hit point and its strand. Made once per hit; every model and integrator reads it.
+struct ShadingPoint {
+    hairscatter::FiberHit<float> fiber;
+    glm::vec3 p{0};
+    std::uint32_t strand = 0;
+
+    ShadingPoint(const Hit& hit, const glm::vec3& wo_world)
+        : fiber(hit.p, hit.axis, hit.tangent, wo_world, hit.radius), p(hit.p), strand(hit.strand) {}
+    const glm::vec3& wo() const { return fiber.wo; }
+    float h() const { return fiber.h; }
+    glm::vec3 to_local(const glm::vec3& w) const { return fiber.frame.to_local(w); }
+    glm::vec3 to_world(const glm::vec3& w) const { return glm::normalize(fiber.frame.to_world(w)); }
+};
+
+}  // namespace render

@@ -1,0 +1,159 @@
+// The renderer's command line: every bad option is refused up front with a message naming
+// it (before the scene is built: the "render: building" line never appears), a .hair file
+// without hair and an oversized density grid are refused with a reason, a view without
+// hair is warned about, and every --model renders. Runs the render executable.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+#include <vector>
+
+#include "hair_file.hpp"
+
+namespace {
+
+struct Outcome {
+    int status = -1;
+    std::string output;  // stdout and stderr
+};
+
+Outcome run(const std::string& args) {
+    const std::string cmd = std::string(RENDER_EXE) + " --quiet " + args + " 2>&1";
+    Outcome r;
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) return r;
+    char buf[4096];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof(buf), p)) > 0) r.output.append(buf, n);
+    const int s = pclose(p);
+    r.status = WIFEXITED(s) ? WEXITSTATUS(s) : 128 + WTERMSIG(s);
+    return r;
+}
+
+std::string out_base(const std::string& name) { return std::string(TEST_OUT_DIR) + "/" + name; }
+const std::string kTiny = " --width 16 --height 12 --spp 1 --hairs 200";
+
+// args plus the tiny size's options it does not set itself (an option may be given once).
+std::string tiny(const std::string& args) {
+    std::string s = args;
+    for (const char* o : {"--width 16", "--height 12", "--spp 1", "--hairs 200", "-o " TEST_OUT_DIR "/refused"}) {
+        const std::string opt(o);
+        if (args.find(opt.substr(0, opt.find(' ')) + " ") == std::string::npos) s += " " + opt;
+    }
+    return s;
+}
+
+// A refusal: non-zero exit (not a crash), the option named, nothing built.
+void expect_refused(const std::string& args, const std::string& named) {
+    const Outcome r = run(tiny(args));
+    EXPECT_EQ(r.status, 1) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(named), std::string::npos) << args << "\n" << r.output;
+    EXPECT_EQ(r.output.find("render: building"), std::string::npos) << "built the scene before refusing " << args;
+}
+
+TEST(RenderCli, RefusesBadValuesNamingTheOption) {
+    expect_refused("--environment -1", "--environment");
+    expect_refused("--environment nan", "--environment");
+    expect_refused("--light-power -2", "--light-power");
+    expect_refused("--light-size -1", "--light-size");
+    expect_refused("--light-size 0", "--light-size");
+    expect_refused("--scene scalp --scalp-hairs 100 --gravity nan", "--gravity");
+    expect_refused("--scene scalp --scalp-hairs 100 --curl nan", "--curl");
+    expect_refused("--scene scalp --scalp-hairs 100 --curl -0.1", "--curl");
+    expect_refused("--eumelanin -1", "--eumelanin");
+    expect_refused("--eumelanin nan", "--eumelanin");
+    expect_refused("--eumelanin 1 --pheomelanin -1", "--pheomelanin");
+    expect_refused("--rgb 0.5,0,0.5", "--rgb");
+    expect_refused("--beta-m 0", "beta_m");
+    expect_refused("--spp 0", "--spp");
+    expect_refused("--max-depth 0", "--max-depth");
+    expect_refused("--d-f 2", "--d-f");
+    expect_refused("--grid-cell -1", "--grid-cell");
+    expect_refused("--model tabulated --lobes R", "--lobes");
+    expect_refused("--model chiang --lobes R,XX", "--lobes");
+    expect_refused("--integrator dual --model farfield", "--integrator dual");
+    expect_refused("--integrator dual --lobes R", "--integrator dual");
+    expect_refused("--integrator single --model marschner --alpha 20", "marschner");
+}
+
+TEST(RenderCli, PheomelaninNeedsEumelanin) {
+    const Outcome r = run("--pheomelanin 0.5" + kTiny + " -o " + out_base("pheo"));
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find("--eumelanin"), std::string::npos) << r.output;
+}
+
+TEST(RenderCli, UnwritableOutputIsFoundBeforeTheScene) {
+    // A path under a regular file: no directory can be made there.
+    const std::string file = out_base("a_file");
+    std::ofstream(file) << "x";
+    expect_refused("--hairs 100000 -o " + file + "/sub/render", "-o/--out");
+    std::filesystem::create_directories(out_base("isdir.exr"));
+    expect_refused("-o " + out_base("isdir"), "it is a directory");
+}
+
+TEST(RenderCli, OversizedImagesAreRefusedWithAMessage) {
+    const Outcome r = run("--width 200000 --height 200000 --spp 1 --hairs 200 -o " + out_base("huge"));
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_NE(r.output.find("--width 200000 --height 200000"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("bad_alloc"), std::string::npos) << r.output;
+}
+
+TEST(RenderCli, OversizedDensityGridIsRefusedWithTheReason) {
+    const Outcome r = run("--grid-cell 0.0075" + kTiny + " -o " + out_base("grid"));
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_NE(r.output.find("--grid-cell 0.0075: the density grid would be"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("use --grid-cell"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("render: building"), std::string::npos) << r.output;
+    // Single scattering and the path tracer build no grid: the same cell is no obstacle.
+    EXPECT_EQ(run("--integrator single --grid-cell 0.0075" + kTiny + " -o " + out_base("grid_single")).status, 0);
+}
+
+TEST(RenderCli, AHairFileWithoutHairSaysSo) {
+    for (const std::vector<std::uint32_t>& segments : {std::vector<std::uint32_t>{}, std::vector<std::uint32_t>{0, 0}}) {
+        render::HairFile f;
+        f.segments = segments;
+        f.points.assign(segments.size(), glm::vec3(0));  // a 0-segment strand has one point
+        const std::string path = out_base("empty.hair");
+        const std::vector<unsigned char> bytes = render::serialize_hair(f);
+        std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+        const Outcome r = run("--hair-file " + path + " --width 16 --height 12 --spp 1 -o " + out_base("empty"));
+        EXPECT_EQ(r.status, 1) << r.output;
+        EXPECT_NE(r.output.find("has no hair"), std::string::npos) << r.output;
+    }
+}
+
+TEST(RenderCli, TheRefusalsComeBeforeTheScene) {  // the negative control of expect_refused
+    const Outcome r = run(tiny("--integrator single"));
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("render: building the scene (200 strands)"), std::string::npos) << r.output;
+}
+
+TEST(RenderCli, WarnsWhenNoHairIsInView) {
+    const Outcome none = run("--integrator single --hairs 1 --fiber-radius 0.0001 --width 8 --height 6 --spp 1 -o " +
+                         out_base("unseen"));
+    EXPECT_EQ(none.status, 0) << none.output;
+    EXPECT_NE(none.output.find("no hair in view"), std::string::npos) << none.output;
+    const Outcome seen = run("--integrator single" + kTiny + " -o " + out_base("seen"));  // the negative control
+    EXPECT_EQ(seen.status, 0) << seen.output;
+    EXPECT_EQ(seen.output.find("no hair in view"), std::string::npos) << seen.output;
+}
+
+TEST(RenderCli, EveryModelRenders) {
+    for (const char* model : {"chiang", "farfield", "tabulated", "marschner"})
+        for (const char* integrator : {"single", "path"}) {
+            const std::string args = std::string("--model ") + model + " --integrator " + integrator + kTiny;
+            const Outcome r = run(args + " -o " + out_base(std::string("model_") + model));
+            EXPECT_EQ(r.status, 0) << args << "\n" << r.output;
+            EXPECT_NE(r.output.find(std::string(" model=") + model + " "), std::string::npos) << r.output;
+            EXPECT_NE(r.output.find(" dropped=0 nonfinite_pixels=0 "), std::string::npos) << r.output;
+        }
+    const Outcome r = run("--lobes R,TRT --integrator path" + kTiny + " -o " + out_base("lobes"));
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find(" lobes=R,TRT "), std::string::npos) << r.output;
+}
+
+}  // namespace
