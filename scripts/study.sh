@@ -1,18 +1,19 @@
 #!/usr/bin/env bash
-# The seed thesis's study with the example renderer (issue 5), written to docs/results/:
-#   1. convergence (seed §4.3): error of dual scattering against spp and against seconds,
-#      uniform vs importance sampling of the dual-scattering BCSDF, over the hair pixels,
-#      under a white environment and under the preset's area light + dim environment;
-#   2. the variance between consecutive spp levels and where it drops below a threshold
-#      (seed §4.4);
-#   3. dual scattering (and single scattering) against the brute-force path tracer on hair
-#      blocks, blond and dark: error of the mean hair radiance, error images, times;
-#   4. scale: render time and peak memory against strand count, hair blocks of 1,500 to
-#      12,000 strands and scalps of 25,000 to 100,000, single and dual scattering and the
-#      path tracer (one process per run, so peak memory is per run);
-#   5. a gallery of the seed's scenes: the four hair blocks and the Cornell box.
+# The origin study's measurements with the example renderer, written to docs/results/:
+#   1. convergence: error of dual scattering against spp and against seconds, uniform vs
+#      importance sampling of the dual-scattering BCSDF, over the hair pixels, under a white
+#      environment and under the preset's area light + dim environment;
+#   2. the variance between consecutive spp levels and where it drops below a threshold;
+#   3. dual scattering (improved and Zinke 2008 formulations) and single scattering against
+#      the path tracer: white / blond / brown / dark × 400 / 1,500 / 6,000 / 12,000 hairs
+#      without ground, a scalp, and blocks with the ground plane: error of the mean hair
+#      radiance, mean per-pixel error, error images, times;
+#   4. time to equal error: seconds for dual scattering and for the path tracer to reach a
+#      relative RMSE over the hair pixels against a converged path-traced reference;
+#   5. scale: render time and peak memory against strand count;
+#   6. a gallery of the origin study's scenes: the four hair blocks and the Cornell box.
 # Tables (CSV), plots (PNG, gnuplot) and docs/results/README.md with the commands, the
-# machine and the date. About 15 minutes on the 2-core machine.
+# machine and the date; the page holds measured tables only. About 30 minutes on 2 cores.
 #
 #   scripts/study.sh [--tiny] [--out DIR] [--build DIR] [--no-deps]
 #
@@ -34,7 +35,7 @@ while [[ $# -gt 0 ]]; do
         --out) out="$2"; shift ;;
         --build) BUILD="$2"; shift ;;   # an existing build tree with examples on (test.sh's)
         --no-deps) install_deps=0 ;;
-        -h | --help) sed -n '2,20p' "$0"; exit 0 ;;
+        -h | --help) source "$ROOT/scripts/lib.sh"; hs_usage; exit 0 ;;
         *) echo "study.sh: unknown option '$1'" >&2; exit 2 ;;
     esac
     shift
@@ -69,18 +70,26 @@ run() {
 if [[ $tiny == 1 ]]; then
     size=(--width 48 --height 36)
     conv=(--max-spp 16 --reference-spp 64 --threshold 0.01)
-    dvp=(--dual-spp 4 --path-spp 16 --hair-counts 1500)
-    dvp_sweep=(--dual-spp 4 --path-spp 16 --hair-counts 1500 --colours blond dark)
+    dvp_counts=(1500)
+    dvp_colours=(blond dark)
+    dvp_spp=(--dual-spp 4 --path-spp 16)
+    scalp_counts=(2000)
+    tte=(--reference-spp 64 --dual-max-spp 8 --path-max-spp 16)
+    tte_size=(--width 32 --height 24)
     scale_blocks=(1500 3000)
     scale_scalps=()
     scale_size=(--width 64 --height 48 --spp 1)
 else
-    size=(--width 160 --height 120)
-    conv=(--max-spp 512 --reference-spp 4096 --threshold 0.01)
-    dvp=(--dual-spp 256 --path-spp 512 --hair-counts 1500 6000)
-    dvp_sweep=(--dual-spp 256 --path-spp 512 --hair-counts 400 1500 6000 --colours white blond brown dark)
-    scale_blocks=(1500 3000 6000 12000)
-    scale_scalps=(25000 50000 100000)
+    size=(--width 80 --height 60)
+    conv=(--max-spp 128 --reference-spp 1024 --threshold 0.01)
+    dvp_counts=(400 1500 6000 12000)
+    dvp_colours=(white blond brown dark)
+    dvp_spp=(--dual-spp 64 --path-spp 512)
+    scalp_counts=(20000)
+    tte=(--reference-spp 8192 --dual-max-spp 1024 --path-max-spp 4096)
+    tte_size=(--width 48 --height 36)
+    scale_blocks=(1500 6000 12000)
+    scale_scalps=(25000 100000)
     scale_size=(--width 320 --height 240 --spp 8)
 fi
 
@@ -91,10 +100,16 @@ for lighting in env both; do
 done
 
 # ---- 3: dual scattering against path tracing ------------------------------------------
-run "$STUDY" dual-vs-path --lighting both --no-ground "${size[@]}" "${dvp_sweep[@]}" --out "$out"
-run "$STUDY" dual-vs-path --lighting both "${size[@]}" "${dvp[@]}" --colours blond dark --out "$out"
+run "$STUDY" dual-vs-path --lighting both --no-ground "${size[@]}" "${dvp_spp[@]}" --hair-counts "${dvp_counts[@]}" \
+    --colours "${dvp_colours[@]}" --out "$out"
+run "$STUDY" dual-vs-path --scene scalp --lighting both --no-ground "${size[@]}" "${dvp_spp[@]}" \
+    --hair-counts "${scalp_counts[@]}" --colours blond brown --out "$out"
+run "$STUDY" dual-vs-path --lighting both "${size[@]}" "${dvp_spp[@]}" --hair-counts 1500 --colours blond dark --out "$out"
 
-# ---- 4: scale --------------------------------------------------------------------------
+# ---- 4: time to equal error -----------------------------------------------------------
+run "$STUDY" time-to-error --no-ground --colour blond --hairs 1500 --lighting both "${tte_size[@]}" "${tte[@]}" --out "$out"
+
+# ---- 5: scale --------------------------------------------------------------------------
 scale_csv="$out/scale.csv"
 echo "scene,strands,segments,integrator,render_s,build_s,peak_rss_mb,embree_mb,grid_mb,tables_kb" >"$scale_csv"
 field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" <<<" $2"; }
@@ -109,13 +124,13 @@ scale_run() {  # scene-args...
 for n in "${scale_blocks[@]}"; do scale_run --scene block --hairs "$n"; done
 for n in "${scale_scalps[@]+"${scale_scalps[@]}"}"; do scale_run --scene scalp --scalp-hairs "$n"; done
 
-# ---- 5: the seed's scenes ----------------------------------------------------------------
+# ---- 6: the origin study's scenes ----------------------------------------------------------------
 gallery=()
 if [[ $tiny == 1 ]]; then
     gallery_size=(--width 64 --height 48 --spp 2)
     gallery_blocks=(1500)
 else
-    gallery_size=(--width 320 --height 240 --spp 64)
+    gallery_size=(--width 240 --height 180 --spp 32)
     gallery_blocks=(1500 3000 6000 12000)
 fi
 for n in "${gallery_blocks[@]}"; do
@@ -127,7 +142,7 @@ gallery+=("scene_cornell")
 
 # ---- checks (always; they are what --tiny is for) -------------------------------------
 fail=0
-for f in "$out"/convergence_env_reference.exr "$out"/convergence_both_reference.exr "$out"/scene_cornell.exr; do
+for f in "$out"/convergence_env_reference.exr "$out"/convergence_both_reference.exr "$out"/scene_cornell.exr "$out"/time_to_error.csv "$out"/dual_vs_path_scalp_both_noground.csv; do
     [[ -s "$f" ]] || { echo "study: missing $f" >&2; fail=1; }
 done
 for lighting in env both; do
@@ -156,8 +171,18 @@ table() {  # csv → markdown table
     awk -F, 'NR == 1 { h = "|"; s = "|"; for (i = 1; i <= NF; i++) { h = h " " $i " |"; s = s "---|" } print h; print s; next }
              { r = "|"; for (i = 1; i <= NF; i++) r = r " " $i " |"; print r }' "$1"
 }
+# The seconds to reach a relative RMSE (log-log interpolation between levels; "not reached"
+# when the largest level is still above it).
+reach() {  # csv integrator target
+    awk -F, -v n="$2" -v t="$3" '
+        $1 == n { if (prev != "" && $4 <= t && pe > t) { f = (log(pe) - log(t)) / (log(pe) - log($4));
+                      printf "%.3g", exp(log(ps) + f * (log($3) - log(ps))); done = 1; exit }
+                  if ($4 <= t && prev == "") { printf "%.3g", $3; done = 1; exit }
+                  prev = 1; pe = $4; ps = $3 }
+        END { if (!done) printf "not reached" }' "$1"
+}
 {
-    echo "# Results of the seed thesis's study"
+    echo "# Results of the origin study's measurements"
     echo
     echo "Made by \`scripts/study.sh$([[ $tiny == 1 ]] && echo " --tiny")\` on $(date -u +%Y-%m-%d), commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown),"
     echo "${cpu:-unknown CPU}, $(nproc) cores; $elapsed s in all. Renderer: \`examples/render\`; study program:"
@@ -165,14 +190,13 @@ table() {  # csv → markdown table
     echo
     for c in "${commands[@]}"; do echo "    ${c//$ROOT\//}"; done
     echo
-    echo "## 1. Convergence: uniform against importance sampling (seed §4.3)"
+    echo "Errors are over the pixels whose primary ray hits hair. Seconds are wall-clock on the"
+    echo "machine above. The theory behind the columns is in [../theory.md](../theory.md) §5."
     echo
-    echo "Dual scattering on the 1,500-hair block, ${size[*]}; errors over the pixels whose primary"
-    echo "ray hits hair. The reference is importance-sampled at the --reference-spp above (the seed's"
-    echo "ground truth is uniform sampling at 1024 spp; both estimate the same integral, and the"
-    echo "reference's own variance is 8× below the largest level's). Seconds are wall-clock"
-    echo "on 2 threads. \`env\`: white environment only; \`both\`: the small area light plus a dim"
-    echo "environment, with BCSDF sampling alone (no light sampling) in both samplers."
+    echo "## 1. Convergence: uniform against importance sampling"
+    echo
+    echo "Dual scattering on the 1,500-hair block, ${size[*]}. \`env\`: white environment only;"
+    echo "\`both\`: the small area light plus a dim environment, BCSDF sampling alone in both samplers."
     echo
     for lighting in env both; do
         echo "### Lighting: $lighting"
@@ -182,14 +206,7 @@ table() {  # csv → markdown table
         table "$out/convergence_$lighting.csv"
         echo
     done
-    echo "Under the white environment importance sampling wins, as the seed expected. Under the small"
-    echo "area light with BCSDF sampling alone it loses: all of its second moment sits in the rare"
-    echo "samples that hit the light, the light lies in the backward half where blond hair's dual"
-    echo "BCSDF is 0.38× its mean over the sphere, and the sampling density toward it is below half of"
-    echo "uniform's for 88 % of the hair pixels (even a pdf exactly ∝ F would only match uniform"
-    echo "there). The renderer's default therefore combines BCSDF sampling with light sampling by MIS."
-    echo
-    echo "## 2. Variance between consecutive spp levels (seed §4.4)"
+    echo "## 2. Variance between consecutive spp levels"
     echo
     echo "consecutive_var = mean over the hair pixels of (I_spp − I_spp/2)²; consecutive_var_rel divides by"
     echo "the reference's mean square. The first spp level below the threshold:"
@@ -204,40 +221,48 @@ table() {  # csv → markdown table
     echo
     echo "## 3. Dual scattering against path tracing"
     echo
-    echo "The path tracer (\`--integrator path\`, MIS, Russian roulette) through \`ChiangFiber\` is the"
-    echo "multiple-scattering ground truth. rel_error_mean is (mean − mean_path)/mean_path of the channel"
-    echo "sum over the hair pixels; mean_abs_pixel_rel_error the mean of |x − path|/(path + 0.01)."
-    echo "Without the ground plane the only difference is the hair's own multiple scattering; with it"
-    echo "the path tracer also has the light the ground bounces onto the hair, which dual and single"
-    echo "scattering (direct light only) do not."
+    echo "The path tracer (MIS, Russian roulette only, no depth cut) through \`ChiangFiber\` is the"
+    echo "reference, rendered as two independent halves: path_noise is half their difference in mean,"
+    echo "relative. rel_error_mean = (mean − mean_path)/mean_path of the hair pixels' mean radiance;"
+    echo "mean_abs_pixel_rel_error = mean of |x − path|/(path + 0.01). dual_improved is the library's"
+    echo "default formulation, dual_zinke Zinke et al. 2008 as written (theory.md §5.3, §5.5)."
     echo
-    echo "### No ground plane: hair colour (white = lossless, blond, brown, dark) and density"
+    echo "### Blocks without the ground plane: colour and density"
     echo
-    table "$out/dual_vs_path_both_noground.csv"
+    table "$out/dual_vs_path_block_both_noground.csv"
     echo
-    echo "### With the ground plane"
+    echo "### A scalp without the ground plane"
     echo
-    table "$out/dual_vs_path_both.csv"
+    table "$out/dual_vs_path_scalp_both_noground.csv"
     echo
-    echo "Reading the no-ground table: dual scattering is close for dark hair (little multiple"
-    echo "scattering to approximate) and for sparse hair, and its error changes sign with absorption:"
-    echo "too bright for lossless hair, too dark for blond and brown, and more so as the block gets"
-    echo "denser. This is the approximation, not a bug (checked: the sampling modes agree with each"
-    echo "other, the path tracer's importance and MIS estimates agree, a lossless fiber's dual"
-    echo "BCSDF satisfies the energy identities of \`tests/dual_bcsdf_test.cpp\`). Zinke's backscatter"
-    echo "A_b is a one-dimensional forward/backward series that falls 45× from lossless to blond"
-    echo "hair's blue channel while the path tracer's multiple scattering falls ~13×: the broad"
-    echo "transmission lobe and the white surface reflection turn light around through several"
-    echo "'forward' events that the 1D series does not count, and with light and camera on the same"
-    echo "side a shadowed point receives only the backscatter term. No choice of d_f, d_b fixes both"
-    echo "ends (d_f = d_b = 1 gets blond's mean right with the wrong colour)."
-    echo "Images (no ground plane, 1,500 hairs): path, dual, single, dual's error (black 0 → white ≥ 50 %):"
+    echo "### Blocks with the ground plane (its bounce light reaches only the path tracer)"
     echo
-    for colour in blond dark; do
-        echo "![path](dvp_both_noground_${colour}_1500_path.png) ![dual](dvp_both_noground_${colour}_1500_dual.png) ![single](dvp_both_noground_${colour}_1500_single.png) ![dual error](dvp_both_noground_${colour}_1500_dual_error.png)"
-        echo
+    table "$out/dual_vs_path_block_both.csv"
+    echo
+    echo "Images (blocks without ground, 1,500 hairs): path, dual (improved), dual (Zinke), and the"
+    echo "improved dual's error (black 0 → white ≥ 50 %):"
+    echo
+    for colour in "${dvp_colours[@]}"; do
+        b="dvp_block_both_noground_${colour}_1500"
+        [[ -f "$out/${b}_path.png" ]] && echo "![path](${b}_path.png) ![dual](${b}_dual_improved.png) ![zinke](${b}_dual_zinke.png) ![error](${b}_dual_improved_error.png)" && echo
     done
-    echo "## 4. Scale: time and memory against strand count"
+    echo "## 4. Time to equal error"
+    echo
+    echo "Blond 1,500-hair block without ground, ${tte_size[*]}, MIS for both; relative RMSE ="
+    echo "√(mean (x − ref)²) / mean ref over the hair pixels against the path-traced reference of"
+    echo "the --reference-spp above (its own relative RMSE in the last column)."
+    echo
+    echo "| target | dual scattering (s) | path tracing (s) |"
+    echo "|---|---|---|"
+    for t in 0.10 0.05; do
+        echo "| ${t} | $(reach "$out/time_to_error.csv" dual "$t") | $(reach "$out/time_to_error.csv" path "$t") |"
+    done
+    echo
+    echo "![relative RMSE against seconds](time_to_error.png)"
+    echo
+    table "$out/time_to_error.csv"
+    echo
+    echo "## 5. Scale: time and memory against strand count"
     echo
     echo "One process per run (${scale_size[*]}); peak_rss_mb is the process's VmHWM, embree_mb what"
     echo "Embree allocated (BVH and buffers), grid_mb the density grid, tables_kb the dual tables."
@@ -246,11 +271,10 @@ table() {  # csv → markdown table
     echo
     echo "![time against strands](scale_time.png) ![memory against strands](scale_memory.png)"
     echo
-    echo "## 5. The seed's scenes"
+    echo "## 6. The origin study's scenes"
     echo
     echo "Dual scattering with MIS, ${gallery_size[*]}, blond hair: the 5 × 5 × 5 blocks of"
-    echo "${gallery_blocks[*]} hairs on the ground plane, and the Cornell box (red left wall,"
-    echo "green right wall, grey back and front walls, the hair block and a red diffuse sphere)."
+    echo "${gallery_blocks[*]} hairs on the ground plane, and the Cornell box."
     echo
     line=""
     for g in "${gallery[@]}"; do line+="![$g]($g.png) "; done

@@ -65,8 +65,14 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--seed", ro.seed, "random seed (each pixel's generator depends on it and the pixel only)")
         ->capture_default_str();
-    app.add_option("--d-f", ro.d_f, "dual: forward density factor")->capture_default_str();
-    app.add_option("--d-b", ro.d_b, "dual: backward density factor")->capture_default_str();
+    std::string dual_formulation = "improved";
+    float d_f = -1, d_b = -1;
+    app.add_option("--dual", dual_formulation,
+                   "dual: improved (the library's default) | zinke (Zinke et al. 2008 as written)")
+        ->check(CLI::IsMember({"improved", "zinke"}))
+        ->capture_default_str();
+    app.add_option("--d-f", d_f, "dual: forward density factor in [0, 1] (default 1 improved, 0.7 zinke)");
+    app.add_option("--d-b", d_b, "dual: backward density factor in [0, 1] (default 1 improved, 0.7 zinke)");
     app.add_option("--grid-cell", grid_cell, "dual: density grid cell size (0: 1/32 of the hair's extent)");
     app.add_option("--light-size", lighting.light_size, "side of the square area light")->capture_default_str();
     app.add_option("--light-power", lighting.light_power, "area light scale (0: no area light)")
@@ -113,6 +119,12 @@ int main(int argc, char** argv) {
         so.fiber = hs::FiberParams<float>{float(params.eta), float(params.beta_m), float(params.beta_n),
                                           float(params.alpha), glm::vec3(params.sigma_a)};
         so.dual_scattering = ro.integrator == render::Integrator::kDual;
+        so.dual = dual_formulation == "zinke" ? hs::DualScatteringSettings<float>::zinke2008()
+                                              : hs::DualScatteringSettings<float>::improved();
+        if (app.count("--d-f")) so.dual.d_f = d_f;
+        if (app.count("--d-b")) so.dual.d_b = d_b;
+        if (!(so.dual.d_f >= 0 && so.dual.d_f <= 1)) throw std::invalid_argument("--d-f must lie in [0, 1]");
+        if (!(so.dual.d_b >= 0 && so.dual.d_b <= 1)) throw std::invalid_argument("--d-b must lie in [0, 1]");
         so.grid_cell = grid_cell;
         out = ex::strip_image_extension(out);
         ex::prepare_output(out);

@@ -60,8 +60,6 @@ void validate(const RenderOptions& o) {
     require(o.spp >= 1, "--spp must be >= 1 (got " + std::to_string(o.spp) + ")");
     require(o.max_depth >= 1, "--max-depth must be >= 1 (got " + std::to_string(o.max_depth) + ")");
     require(o.tile >= 1, "the tile size must be >= 1");
-    require(o.d_f >= 0 && o.d_f <= 1, "--d-f must lie in [0, 1]");
-    require(o.d_b >= 0 && o.d_b <= 1, "--d-b must lie in [0, 1]");
 }
 
 RenderResult render(const Scene& scene, const ShadingSetup& shading, const RenderOptions& o) {

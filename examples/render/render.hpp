@@ -34,7 +34,6 @@ struct RenderOptions {
     int spp = 32;
     int max_depth = 4096;        // path: a safety cap only (paths end by Russian roulette)
     std::uint64_t seed = 1;      // pixel (x, y)'s generator depends on seed, x and y only
-    float d_f = 0.7f, d_b = 0.7f;  // dual: forward and backward density factors
     bool hair_only = false;      // render only pixels whose primary (centre) ray hits hair
     bool progress = false;       // progress bar with ETA on stderr (for runs over a second)
     int tile = 16;               // tile side in pixels (tiles are rendered in parallel)

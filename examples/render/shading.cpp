@@ -79,9 +79,12 @@ ShadingSetup::ShadingSetup(const Scene& scene, const ShadingOptions& options) : 
     const Hair& hair = scene.description().hair;
     if (o_.dual_scattering && scene.has_hair()) {
         const auto t_tables = Clock::now();
-        tables_ = hs::DualScatteringTables<float>::build<hs::ChiangFiber>(chiang());
+        hs::DualTableOptions<float> topt;
+        topt.settings = o_.dual;
+        tables_ = hs::DualScatteringTables<float>::build<hs::ChiangFiber<float>>(chiang(), topt);
         stats_.table_seconds = seconds_since(t_tables);
-        stats_.table_bytes = std::size_t(tables_.size()) * sizeof(hs::DualScatteringEntry<float>);
+        stats_.table_bytes = tables_.entries().size() * sizeof(hs::DualScatteringEntry<float>) +
+                             tables_.window_data().size() * sizeof(glm::vec3) + tables_.window_cdf_data().size() * sizeof(float);
 
         const float cell = check_grid(hair, o_);
         const auto t_grid = Clock::now();

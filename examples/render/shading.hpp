@@ -23,6 +23,9 @@ struct ShadingOptions {
     unsigned lobes = hairscatter_examples::LobeBits::kAll;  // Chiang only
     hairscatter::FiberParams<float> fiber;
     bool dual_scattering = true;  // build the dual-scattering tables and the density grid
+    // Dual scattering's formulation and density factors: the tables are built with them
+    // (their one owner); the integrator reads them back from the tables.
+    hairscatter::DualScatteringSettings<float> dual{};
     float grid_cell = 0.0f;       // density-grid cell size; 0: 1/32 of the hair's largest extent
     // The density grid is refused above this many bytes: it is dense (every cell of the
     // hair's bounding box is stored), so a small cell grows it with the cube of 1/cell.

@@ -1,16 +1,16 @@
-// study — the seed thesis's measurements with the example renderer (issue 5):
+// study — the origin study's measurements with the example renderer:
 //
-//   study convergence   seed §4.3–4.4: error against spp and against seconds for uniform
-//                       and importance sampling of the dual-scattering BCSDF, inside a
-//                       hair-only region of interest, and the variance between consecutive
-//                       spp levels;
-//   study dual-vs-path  dual scattering against the brute-force path-traced multiple
-//                       scattering reference on hair blocks, blond and dark: relative error
-//                       of the mean hair radiance, per-pixel error images, times.
+//   study convergence     error against spp and against seconds for uniform and importance
+//                         sampling of the dual-scattering BCSDF inside a hair-only region of
+//                         interest, and the variance between consecutive spp levels;
+//   study dual-vs-path    dual scattering (each formulation) and single scattering against
+//                         the path tracer on hair blocks or a scalp: relative error of the mean
+//                         hair radiance, mean per-pixel error, error images, times;
+//   study time-to-error   seconds for dual scattering and for the path tracer to reach a
+//                         relative RMSE over the hair pixels against a converged reference.
 //
-// Each writes CSV files and images into --out; scripts/study.sh runs both (and the scale
-// study through the render command line, one process per strand count so that peak memory
-// is per run), plots with gnuplot and writes docs/results/README.md.
+// Each writes CSV files and images into --out; scripts/study.sh runs them, plots with
+// gnuplot and writes docs/results/README.md.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -50,10 +50,11 @@ glm::vec3 melanin_sigma_a(const std::string& colour) {
     throw std::invalid_argument("study: unknown colour '" + colour + "' (white | blond | brown | dark)");
 }
 
-// The seed's hair block (5 × 5 × 5 on the ground plane). Lighting: "env" a white
+// The origin study's hair block (5 × 5 × 5 on the ground plane; or a scalp). Lighting: "env" a white
 // environment of radiance 1 only (where BCSDF sampling is the only strategy), "area" the
 // preset's small area light only, "both" the preset's area light and dim environment.
-render::SceneDescription block_scene(int hairs, const std::string& light, bool ground = true) {
+render::SceneDescription block_scene(int hairs, const std::string& light, bool ground = true,
+                                     const std::string& kind = "block") {
     render::BlockOptions block;
     block.count = hairs;
     render::LightingOptions lighting;
@@ -65,20 +66,34 @@ render::SceneDescription block_scene(int hairs, const std::string& light, bool g
     } else if (light != "both") {
         throw std::invalid_argument("study: unknown lighting '" + light + "' (env | area | both)");
     }
-    render::SceneDescription d = render::make_block_scene(block, lighting);
+    render::SceneDescription d;
+    if (kind == "scalp") {
+        render::ScalpOptions scalp;
+        scalp.count = hairs;
+        d = render::make_scalp_scene(scalp, lighting);
+    } else if (kind == "block") {
+        d = render::make_block_scene(block, lighting);
+    } else {
+        throw std::invalid_argument("study: unknown scene '" + kind + "' (block | scalp)");
+    }
     if (!ground) d.meshes.clear();
     return d;
 }
 
 // The hair's shading: the Chiang fiber of the colour, with the dual-scattering tables and grid.
-render::ShadingOptions shading_options(const std::string& colour) {
+render::ShadingOptions shading_options(const std::string& colour, const std::string& formulation = "improved") {
     render::ShadingOptions o;
     o.fiber.sigma_a = melanin_sigma_a(colour);
+    if (formulation == "zinke") o.dual = hairscatter::DualScatteringSettings<float>::zinke2008();
+    else if (formulation != "improved")
+        throw std::invalid_argument("study: unknown formulation '" + formulation + "' (improved | zinke)");
     return o;
 }
 
+// Relative RMSE over the region of interest: sqrt(mean (x - r)²) / mean r (channel mean).
+
 // Statistics over the region of interest: pixels whose primary ray hits hair in the
-// reference's mask (seed §4: the error is measured where the hair is, not the background).
+// reference's mask (Lemein 2019 §4: the error is measured where the hair is, not the background).
 struct Roi {
     std::vector<std::size_t> pixels;
     explicit Roi(const render::RenderResult& ref) {
@@ -163,7 +178,7 @@ render::RenderOptions options(const Common& c, render::Integrator integrator, re
     return o;
 }
 
-// ---- seed §4.3–4.4 ---------------------------------------------------------------------
+// ---- Lemein 2019 §4.3–4.4 ---------------------------------------------------------------------
 
 int convergence(const Common& c, int max_spp, int reference_spp, const std::string& reference_sampling,
                 double threshold) {
@@ -193,7 +208,7 @@ int convergence(const Common& c, int max_spp, int reference_spp, const std::stri
             const render::RenderResult r = render::render(scene, shading, options(c, render::Integrator::kDual, sampling, spp, 17));
             if (!all_finite(r.rgb)) throw std::runtime_error("study: non-finite pixels at " + std::to_string(spp) + " spp");
             const auto [mse, rel] = roi.mse(r.rgb, ref.rgb);
-            // Seed §4.4: the variance between consecutive levels, mean over the ROI of
+            // Lemein 2019 §4.4: the variance between consecutive levels, mean over the ROI of
             // (I_spp - I_spp/2)², and relative to the reference's mean square.
             double var = -1;
             if (!previous.empty()) var = roi.mse(r.rgb, previous).first;
@@ -212,37 +227,51 @@ int convergence(const Common& c, int max_spp, int reference_spp, const std::stri
 
 // ---- dual scattering against path tracing ------------------------------------------------
 
-int dual_vs_path(const Common& c, const std::vector<int>& hair_counts, const std::vector<std::string>& colours,
-                 int dual_spp, int path_spp) {
-    const std::string tag = c.lighting + (c.ground ? "" : "_noground");
+int dual_vs_path(const Common& c, const std::string& kind, const std::vector<int>& hair_counts,
+                 const std::vector<std::string>& colours, const std::vector<std::string>& formulations, int dual_spp,
+                 int path_spp) {
+    const std::string tag = kind + "_" + c.lighting + (c.ground ? "" : "_noground");
     std::ofstream csv(c.out + "/dual_vs_path_" + tag + ".csv");
-    csv << "colour,hairs,integrator,spp,seconds,ms_per_spp,mean_r,mean_g,mean_b,rel_error_mean,mean_abs_pixel_rel_error\n";
+    csv << "colour,hairs,integrator,spp,seconds,ms_per_spp,mean,rel_error_mean,mean_abs_pixel_rel_error,path_noise\n";
     for (const std::string& colour : colours)
         for (int hairs : hair_counts) {
-            const render::Scene scene(block_scene(hairs, c.lighting, c.ground));
-            const render::ShadingSetup shading(scene, shading_options(colour));
-            render::RenderOptions po = options(c, render::Integrator::kPath, render::Sampling::kMis, path_spp, 1);
+            const render::Scene scene(block_scene(hairs, c.lighting, c.ground, kind));
+            // The reference: two independent path-traced halves; their difference states its noise.
+            const render::ShadingSetup path_shading(scene, shading_options(colour));
+            render::RenderOptions po = options(c, render::Integrator::kPath, render::Sampling::kMis, path_spp / 2, 1);
             po.progress = true;
-            const render::RenderResult path = render::render(scene, shading, po);
-            render::RenderOptions dopt = options(c, render::Integrator::kDual, render::Sampling::kMis, dual_spp, 2);
-            const render::RenderResult dual = render::render(scene, shading, dopt);
-            render::RenderOptions so = options(c, render::Integrator::kSingle, render::Sampling::kMis, dual_spp, 3);
-            const render::RenderResult single = render::render(scene, shading, so);
-            if (!all_finite(path.rgb) || !all_finite(dual.rgb) || !all_finite(single.rgb))
-                throw std::runtime_error("study: non-finite pixels in dual-vs-path");
+            const render::RenderResult pa = render::render(scene, path_shading, po);
+            po.seed = 7;
+            const render::RenderResult pb = render::render(scene, path_shading, po);
+            render::RenderResult path = pa;
+            for (std::size_t i = 0; i < path.rgb.size(); ++i) path.rgb[i] = 0.5f * (pa.rgb[i] + pb.rgb[i]);
+            path.seconds = pa.seconds + pb.seconds;
             const Roi roi(path);
-            const glm::dvec3 mp = roi.mean(path.rgb);
+            const auto sum = [](const glm::dvec3& m) { return m.x + m.y + m.z; };
+            const double mp = sum(roi.mean(path.rgb));
+            const double noise = std::abs(sum(roi.mean(pa.rgb)) - sum(roi.mean(pb.rgb))) / 2 / mp;
             const std::string base = c.out + "/dvp_" + tag + "_" + colour + "_" + std::to_string(hairs);
             write_images(base + "_path", path, 1.0f);
-            write_images(base + "_dual", dual, 1.0f);
-            write_images(base + "_single", single, 1.0f);
-            write_error_png(base + "_dual_error.png", dual, path);
-            write_error_png(base + "_single_error.png", single, path);
-            for (const auto& [name, r, spp] : {std::tuple<const char*, const render::RenderResult&, int>{"path", path, path_spp},
-                                                {"dual", dual, dual_spp},
-                                                {"single", single, dual_spp}}) {
-                const glm::dvec3 m = roi.mean(r.rgb);
-                const double rel = (m.x + m.y + m.z - (mp.x + mp.y + mp.z)) / (mp.x + mp.y + mp.z);
+            std::vector<std::tuple<std::string, render::RenderResult, int>> rows;
+            rows.emplace_back("path", path, path_spp);
+            for (const std::string& f : formulations) {
+                const render::ShadingSetup shading(scene, shading_options(colour, f));
+                rows.emplace_back("dual_" + f, render::render(scene, shading, options(c, render::Integrator::kDual,
+                                                                                      render::Sampling::kMis, dual_spp, 2)),
+                                  dual_spp);
+            }
+            rows.emplace_back("single",
+                              render::render(scene, path_shading,
+                                             options(c, render::Integrator::kSingle, render::Sampling::kMis, dual_spp, 3)),
+                              dual_spp);
+            for (const auto& [name, r, spp] : rows) {
+                if (!all_finite(r.rgb)) throw std::runtime_error("study: non-finite pixels in " + name);
+                if (name != "path") {
+                    write_images(base + "_" + name, r, 1.0f);
+                    write_error_png(base + "_" + name + "_error.png", r, path);
+                }
+                const double m = sum(roi.mean(r.rgb));
+                const double rel = (m - mp) / mp;
                 double pix = 0;
                 for (std::size_t p : roi.pixels) {
                     double e = 0;
@@ -253,19 +282,57 @@ int dual_vs_path(const Common& c, const std::vector<int>& hair_counts, const std
                     pix += e / double(roi.pixels.size());
                 }
                 csv << colour << ',' << hairs << ',' << name << ',' << spp << ',' << r.seconds << ','
-                    << 1000 * r.seconds / spp << ',' << m.x << ',' << m.y << ',' << m.z << ',' << rel << ',' << pix
-                    << '\n';
-                std::fprintf(stderr, "study: %-6s %6d hairs %-6s %5d spp %8.2f s  mean %.4f  rel. error of mean %+.3f\n",
-                             colour.c_str(), hairs, name, spp, r.seconds, (m.x + m.y + m.z) / 3, rel);
+                    << 1000 * r.seconds / spp << ',' << m / 3 << ',' << rel << ',' << pix << ',' << noise << '\n';
+                csv.flush();
+                std::fprintf(stderr, "study: %-6s %6d hairs %-14s %5d spp %8.2f s  mean %.4f  rel. error of mean %+.3f\n",
+                             colour.c_str(), hairs, name.c_str(), spp, r.seconds, m / 3, rel);
             }
         }
+    return 0;
+}
+
+// ---- time to equal error ---------------------------------------------------------------------
+
+// Seconds for dual scattering (improved formulation) and the path tracer, both with MIS, to
+// reach each relative RMSE over the hair pixels against a converged path-traced reference
+// (rendered as two independent halves: their difference states its own RMSE).
+int time_to_error(const Common& c, int reference_spp, int dual_max_spp, int path_max_spp) {
+    const render::Scene scene(block_scene(c.hairs, c.lighting, c.ground));
+    const render::ShadingSetup shading(scene, shading_options(c.colour));
+    render::RenderOptions ro = options(c, render::Integrator::kPath, render::Sampling::kMis, reference_spp / 2, 1000003);
+    ro.progress = true;
+    const render::RenderResult ra = render::render(scene, shading, ro);
+    ro.seed = 2000003;
+    const render::RenderResult rb = render::render(scene, shading, ro);
+    render::RenderResult ref = ra;
+    for (std::size_t i = 0; i < ref.rgb.size(); ++i) ref.rgb[i] = 0.5f * (ra.rgb[i] + rb.rgb[i]);
+    const Roi roi(ref);
+    const glm::dvec3 mref = roi.mean(ref.rgb);
+    const double mean_ref = (mref.x + mref.y + mref.z) / 3;
+    // The reference's own relative RMSE: that of each half against the other, / 2.
+    const double ref_rmse = std::sqrt(roi.mse(ra.rgb, rb.rgb).first) / 2 / mean_ref;
+    write_images(c.out + "/tte_reference", ref, 1.0f);
+    std::ofstream csv(c.out + "/time_to_error.csv");
+    csv << "integrator,spp,seconds,rel_rmse,reference_rel_rmse\n";
+    for (const auto& [name, integrator, max_spp] :
+         {std::tuple<const char*, render::Integrator, int>{"dual", render::Integrator::kDual, dual_max_spp},
+          {"path", render::Integrator::kPath, path_max_spp}}) {
+        for (int spp = 1; spp <= max_spp; spp *= 2) {
+            const render::RenderResult r = render::render(scene, shading, options(c, integrator, render::Sampling::kMis, spp, 17));
+            const double rel = std::sqrt(roi.mse(r.rgb, ref.rgb).first) / mean_ref;
+            csv << name << ',' << spp << ',' << r.seconds << ',' << rel << ',' << ref_rmse << '\n';
+            csv.flush();
+            std::fprintf(stderr, "study: %-5s %5d spp %8.2f s  relative RMSE %.4f (reference %.4f)\n", name, spp, r.seconds,
+                         rel, ref_rmse);
+        }
+    }
     return 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"hairscatter study: the seed thesis's convergence study and dual scattering against path tracing"};
+    CLI::App app{"hairscatter study: the origin study's convergence study, dual scattering against path tracing, time to equal error"};
     app.require_subcommand(1);
     Common c;
     auto common = [&](CLI::App* s) {
@@ -276,7 +343,7 @@ int main(int argc, char** argv) {
         s->add_option("--lighting", c.lighting, "env | area | both")->capture_default_str();
     };
 
-    CLI::App* conv = app.add_subcommand("convergence", "seed §4.3–4.4: error and variance against spp, uniform vs importance");
+    CLI::App* conv = app.add_subcommand("convergence", "Lemein 2019 §4.3–4.4: error and variance against spp, uniform vs importance");
     common(conv);
     int max_spp = 256, reference_spp = 1024;
     std::string reference_sampling = "importance";
@@ -285,13 +352,15 @@ int main(int argc, char** argv) {
     conv->add_option("--max-spp", max_spp, "largest spp level (levels 1, 2, 4, …)")->capture_default_str();
     conv->add_option("--reference-spp", reference_spp, "spp of the reference image")->capture_default_str();
     conv->add_option("--reference-sampling", reference_sampling, "uniform | importance")->capture_default_str();
-    conv->add_option("--threshold", threshold, "relative consecutive-level variance to reach (seed §4.4)")
+    conv->add_option("--threshold", threshold, "relative consecutive-level variance to reach (Lemein 2019 §4.4)")
         ->capture_default_str();
 
     CLI::App* dvp = app.add_subcommand("dual-vs-path", "dual scattering against the path-traced reference");
     common(dvp);
     std::vector<int> hair_counts{1500};
     std::vector<std::string> colours{"blond", "dark"};
+    std::vector<std::string> formulations{"improved", "zinke"};
+    std::string kind = "block";
     int dual_spp = 64, path_spp = 256;
     dvp->add_option("--hair-counts", hair_counts, "block sizes")->capture_default_str();
     bool no_ground = false;
@@ -299,14 +368,30 @@ int main(int argc, char** argv) {
                   "remove the ground plane: the light it bounces onto the hair reaches only the path tracer, so "
                   "without it the difference is the hair's own multiple scattering");
     dvp->add_option("--colours", colours, "hair colours")->capture_default_str();
+    dvp->add_option("--formulations", formulations, "dual-scattering formulations: improved, zinke")->capture_default_str();
+    dvp->add_option("--scene", kind, "block | scalp (--hair-counts are strands on the scalp)")->capture_default_str();
     dvp->add_option("--dual-spp", dual_spp, "spp of the dual and single scattering images")->capture_default_str();
     dvp->add_option("--path-spp", path_spp, "spp of the path-traced reference")->capture_default_str();
+
+    CLI::App* tte = app.add_subcommand("time-to-error", "seconds to a relative RMSE: dual scattering vs path tracing");
+    common(tte);
+    int tte_ref = 4096, tte_dual = 256, tte_path = 2048;
+    bool tte_no_ground = false;
+    tte->add_option("--colour", c.colour, "white | blond | brown | dark")->capture_default_str();
+    tte->add_option("--reference-spp", tte_ref, "spp of the path-traced reference")->capture_default_str();
+    tte->add_option("--dual-max-spp", tte_dual, "largest dual-scattering spp level")->capture_default_str();
+    tte->add_option("--path-max-spp", tte_path, "largest path-tracing spp level")->capture_default_str();
+    tte->add_flag("--no-ground", tte_no_ground, "remove the ground plane");
 
     CLI11_PARSE(app, argc, argv);
     try {
         if (conv->parsed()) return convergence(c, max_spp, reference_spp, reference_sampling, threshold);
         c.ground = !no_ground;
-        if (dvp->parsed()) return dual_vs_path(c, hair_counts, colours, dual_spp, path_spp);
+        if (dvp->parsed()) return dual_vs_path(c, kind, hair_counts, colours, formulations, dual_spp, path_spp);
+        if (tte->parsed()) {
+            c.ground = !tte_no_ground;
+            return time_to_error(c, tte_ref, tte_dual, tte_path);
+        }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "study: %s\n", e.what());
         return 1;

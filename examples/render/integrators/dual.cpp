@@ -1,7 +1,11 @@
-// render — dual scattering (Zinke et al. 2008) at the camera ray's first hair hit, with
-// the library's tables, density grid and DualScatteringFiber over the Chiang fiber (dual
-// scattering is Chiang-only here whatever --model says). Self-contained on purpose: the
-// whole dual-scattering integrator is this file.
+// render — dual scattering at the camera ray's first hair hit: the library's tables,
+// density grid and DualScatteringBcsdf over the Chiang fiber (dual scattering is
+// Chiang-only here whatever --model says). Self-contained on purpose: the whole
+// dual-scattering integrator is this file.
+//
+// Per hit: the BCSDF bound to wo once (at), sampled without knowing the light state; per
+// light direction: a shadow ray for the direct fraction and two density queries, toward
+// the light (n) and beyond the point along the light's direction of travel (m).
 #include "integrator.hpp"
 
 namespace render {
@@ -11,6 +15,7 @@ namespace {
 namespace hs = hairscatter;
 using glm::vec3;
 using glm::vec4;
+using Dual = hs::DualScatteringBcsdf<hs::ChiangFiber<float>>;
 
 class DualIntegrator final : public PixelIntegrator {
   public:
@@ -21,7 +26,7 @@ class DualIntegrator final : public PixelIntegrator {
     }
 
   private:
-    // What the light arriving along wi from the hair point x looks like to dual scattering.
+    // What the light arriving along wi at the hair point looks like to dual scattering.
     struct Incoming {
         bool visible = false;  // no wall, ground or sphere in the way
         vec3 Le{0};
@@ -51,17 +56,22 @@ class DualIntegrator final : public PixelIntegrator {
             return in;
         }
         in.visible = true;
-        in.state.d_f = c_.options.d_f;
-        in.state.d_b = c_.options.d_b;
-        // A shadow ray decides the direct fraction; only shadowed points read the density
-        // grid for the number of fibers toward the light.
+        const hs::DensityGrid<float>& grid = *c_.shading.grid();
+        // A shadow ray decides the direct fraction; only shadowed points need the count
+        // toward the light. The improved formulation also asks how much hair lies beyond
+        // the point along the light's direction of travel.
         if (s.hair_occluded(sp.p, wi, dist, sp.strand)) {
             in.state.direct_fraction = 0;
-            in.state.n = c_.shading.grid()->fibers_crossed(sp.p, wi, std::isfinite(dist) ? dist : hs::kUnbounded<float>);
+            in.state.n = grid.fibers_crossed(sp.p, wi, std::isfinite(dist) ? dist : hs::kUnbounded<float>);
         } else {
             in.state.direct_fraction = 1;
             in.state.n = 0;
         }
+        // (a lit point seen from the far side reads only f_s: no query)
+        const bool forward = std::abs(hs::relative_azimuth(sp.wo(), sp.to_local(wi))) > 0.5f * kPi;
+        if (c_.shading.tables().settings().formulation == hs::DualFormulation::kImproved &&
+            !(in.state.direct_fraction == 1 && forward))
+            in.state.beyond = grid.fibers_crossed(sp.p, -wi, hs::kUnbounded<float>);
         return in;
     }
 
@@ -70,66 +80,43 @@ class DualIntegrator final : public PixelIntegrator {
         const Lights& lights = c_.lights;
         const RenderOptions& o = c_.options;
         if (!lights.any()) return vec3(0);
-        const vec3& wo_l = sp.wo();
         const hs::ChiangFiber<float> fiber(c_.shading.chiang(), sp.h());
-        const auto& tables = c_.shading.tables();
-        auto shade = [&](const hs::DualScatteringLight<float>& st, const vec3& wi) {
-            return hs::DualScatteringFiber<float>(fiber, tables, st).eval(wo_l, sp.to_local(wi));
-        };
+        const Dual dual(fiber, c_.shading.tables());
+        const bool uniform = o.sampling == Sampling::kUniform;
 
-        // The sampling density: an equal mixture of the dual BCSDF as seen by a directly lit
-        // point and as seen by a point in the hair's shadow (n toward the main light), since
-        // which applies is only known once a direction is chosen. Both cover the sphere.
-        hs::DualScatteringLight<float> lit, shadowed;
-        lit.d_f = shadowed.d_f = o.d_f;
-        lit.d_b = shadowed.d_b = o.d_b;
-        shadowed.direct_fraction = 0;
-        const vec3 toward = lights.area ? glm::normalize(lights.area->corner +
-                                                         0.5f * (lights.area->edge_u + lights.area->edge_v) - sp.p)
-                                        : vec3(0, 1, 0);
-        // (uniform sampling needs no mixture: skip the march)
-        if (o.sampling != Sampling::kUniform)
-            shadowed.n = c_.shading.grid()->fibers_crossed(sp.p, toward, hs::kUnbounded<float>);
-        const hs::DualScatteringFiber<float> f_lit(fiber, tables, lit), f_shadowed(fiber, tables, shadowed);
-        auto bcsdf_pdf = [&](const vec3& wi_l) {
-            if (o.sampling == Sampling::kUniform) return 1.0f / (4 * kPi);
-            return 0.5f * f_lit.pdf(wo_l, wi_l) + 0.5f * f_shadowed.pdf(wo_l, wi_l);
-        };
-
-        vec3 L(0);
+        // With MIS the light sample comes first: what its shadow ray and density query found
+        // is the sampler's hint for the forward spread of the light (it widens the global
+        // lobes; the sampler never needs the state of the direction it draws).
+        Incoming light_in;
+        Lights::Sample ls;
         if (o.sampling == Sampling::kMis) {
             const float u0 = rng.u(), u1 = rng.u(), u2 = rng.u();
-            const Lights::Sample ls = lights.sample(sp.p, u0, u1, u2);
-            if (ls.pdf > 0) {
-                const Incoming in = incoming(sp, ls.wi, ls.dist);
-                if (in.visible) {
-                    const float w = power_heuristic(ls.pdf, bcsdf_pdf(sp.to_local(ls.wi)));
-                    L += w * shade(in.state, ls.wi) * ls.Le / ls.pdf;
-                }
-            }
+            ls = lights.sample(sp.p, u0, u1, u2);
+            if (ls.pdf > 0) light_in = incoming(sp, ls.wi, ls.dist);
         }
-        // One BCSDF (or uniform) sample.
-        vec3 wi_l;
-        float pdf;
+        float spread = 0;
+        if (light_in.visible && light_in.state.direct_fraction < 1) {
+            const auto e = c_.shading.tables().view().lookup(sp.to_local(ls.wi).x);
+            spread = hs::dual_forward(light_in.state, e, c_.shading.tables().settings().formulation).spread;
+        }
+        const Dual::At at = dual.at(sp.wo(), spread);
+        auto bcsdf_pdf = [&](const vec3& wi_l) { return uniform ? 0.25f / kPi : at.pdf(wi_l); };
+        auto shade = [&](const Incoming& in, const vec3& wi) { return at.eval(sp.to_local(wi), in.state); };
+
+        vec3 L(0);
+        if (light_in.visible) {
+            const float w = power_heuristic(ls.pdf, bcsdf_pdf(sp.to_local(ls.wi)));
+            L += w * shade(light_in, ls.wi) * ls.Le / ls.pdf;
+        }
+        // One BCSDF (or uniform) sample: chosen before the light state is known.
         const vec4 u = rng.u4();
-        if (o.sampling == Sampling::kUniform) {
-            const hs::HairSample<float> s =
-                hs::UniformSphereSampling<hs::DualScatteringFiber<float>>(f_lit).sample(wo_l, u);
-            wi_l = s.wi;
-            pdf = s.pdf;
-        } else {
-            const bool first = u.x < 0.5f;
-            const vec4 v(first ? 2 * u.x : 2 * u.x - 1, u.y, u.z, u.w);
-            const hs::HairSample<float> s = first ? f_lit.sample(wo_l, v) : f_shadowed.sample(wo_l, v);
-            wi_l = s.wi;
-            pdf = bcsdf_pdf(wi_l);
-        }
-        if (!(pdf > 0)) return L;
-        const vec3 wi = sp.to_world(wi_l);
+        const hs::DualSample<float> s = uniform ? hs::uniform_sphere_sample(u.y, u.z) : at.sample(u);
+        if (!(s.pdf > 0)) return L;
+        const vec3 wi = sp.to_world(s.wi);
         const Incoming in = incoming(sp, wi, 0);
         if (!in.visible || max3(in.Le) <= 0) return L;
-        const float w = o.sampling == Sampling::kMis ? power_heuristic(pdf, in.light_pdf) : 1.0f;
-        L += w * shade(in.state, wi) * in.Le / pdf;
+        const float w = o.sampling == Sampling::kMis ? power_heuristic(s.pdf, in.light_pdf) : 1.0f;
+        L += w * shade(in, wi) * in.Le / s.pdf;
         return L;
     }
 
