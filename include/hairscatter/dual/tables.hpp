@@ -80,7 +80,7 @@ template <typename T> class DualScatteringTables {
 
     DualScatteringTables() = default;
     DualScatteringTables(std::vector<Entry> entries, T d_b, int h_nodes) : entries_(std::move(entries)), d_b_(d_b), h_nodes_(h_nodes) {
-        if (entries_.size() < 2) throw std::invalid_argument("hairscatter: dual-scattering tables need ≥ 2 θ samples");
+        if (entries_.size() < 2) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: dual-scattering tables need ≥ 2 θ samples"));
     }
 
     // Builds the tables of a single-fiber model. Material is a model's per-material
@@ -93,9 +93,9 @@ template <typename T> class DualScatteringTables {
     template <template <typename> class Fiber, typename Material>
     static DualScatteringTables build(const Material& material, const DualTableOptions<T>& opt = {}) {
         if (opt.theta_samples < 2 || opt.h_nodes < 1)
-            throw std::invalid_argument("hairscatter: DualTableOptions needs theta_samples ≥ 2 and h_nodes ≥ 1");
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DualTableOptions needs theta_samples ≥ 2 and h_nodes ≥ 1"));
         if (!(opt.d_b >= T(0) && opt.d_b <= T(1)))
-            throw std::invalid_argument("hairscatter: DualTableOptions d_b must lie in [0, 1]");
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DualTableOptions d_b must lie in [0, 1]"));
         using V3 = glm::vec<3, T>;
         constexpr int L = Fiber<T>::kLobes + 1;
         static_assert(L <= Entry::kLobes, "the model has more lobes than the tables hold");
@@ -182,43 +182,43 @@ template <typename T> class DualScatteringTables {
         const std::uint64_t sum = fnv1a(buf.data(), buf.size());
         put(buf, &sum, 8);
         std::ofstream f(path, std::ios::binary);
-        if (!f) throw std::runtime_error("hairscatter: cannot write dual-scattering tables to '" + path + "'");
+        if (!f) HAIRSCATTER_THROW(std::runtime_error("hairscatter: cannot write dual-scattering tables to '" + path + "'"));
         f.write(reinterpret_cast<const char*>(buf.data()), std::streamsize(buf.size()));
-        if (!f) throw std::runtime_error("hairscatter: failed writing dual-scattering tables to '" + path + "'");
+        if (!f) HAIRSCATTER_THROW(std::runtime_error("hairscatter: failed writing dual-scattering tables to '" + path + "'"));
     }
 
     static DualScatteringTables load(const std::string& path) {
         std::ifstream f(path, std::ios::binary);
-        if (!f) throw std::runtime_error("hairscatter: cannot open dual-scattering tables '" + path + "'");
+        if (!f) HAIRSCATTER_THROW(std::runtime_error("hairscatter: cannot open dual-scattering tables '" + path + "'"));
         const std::vector<unsigned char> buf((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
         auto fail = [&](const std::string& why) {
             return std::runtime_error("hairscatter: '" + path + "' is not a valid dual-scattering table file: " + why);
         };
         const std::size_t header = 4 + 4 * 4 + 8;
-        if (buf.size() < header + 8 || std::memcmp(buf.data(), "HSDT", 4) != 0) throw fail("bad magic or too short");
+        if (buf.size() < header + 8 || std::memcmp(buf.data(), "HSDT", 4) != 0) HAIRSCATTER_THROW(fail("bad magic or too short"));
         std::size_t at = 4;
         const std::uint32_t version = get_u32(buf, at), n = get_u32(buf, at), fields = get_u32(buf, at),
                             h_nodes = get_u32(buf, at);
         const double d_b = get_f64(buf, at);
         if (version != kFileVersion)
-            throw fail("version " + std::to_string(version) + ", this library reads version " + std::to_string(kFileVersion));
-        if (fields != std::uint32_t(Entry::kFields)) throw fail("unexpected number of fields per entry");
-        if (n < 2 || n > 1000000) throw fail("implausible number of θ samples");
+            HAIRSCATTER_THROW(fail("version " + std::to_string(version) + ", this library reads version " + std::to_string(kFileVersion)));
+        if (fields != std::uint32_t(Entry::kFields)) HAIRSCATTER_THROW(fail("unexpected number of fields per entry"));
+        if (n < 2 || n > 1000000) HAIRSCATTER_THROW(fail("implausible number of θ samples"));
         const std::size_t expected = header + std::size_t(n) * fields * 3 * 8 + 8;
         if (buf.size() != expected)
-            throw fail("size " + std::to_string(buf.size()) + " bytes, expected " + std::to_string(expected) + " (truncated?)");
+            HAIRSCATTER_THROW(fail("size " + std::to_string(buf.size()) + " bytes, expected " + std::to_string(expected) + " (truncated?)"));
         std::uint64_t sum;
         std::memcpy(&sum, buf.data() + expected - 8, 8);
-        if (sum != fnv1a(buf.data(), expected - 8)) throw fail("checksum mismatch (corrupt file)");
+        if (sum != fnv1a(buf.data(), expected - 8)) HAIRSCATTER_THROW(fail("checksum mismatch (corrupt file)"));
         std::vector<Entry> entries(n);
         for (Entry& e : entries)
             for (int k = 0; k < Entry::kFields; ++k)
                 for (int c = 0; c < 3; ++c) {
                     const double v = get_f64(buf, at);
-                    if (!std::isfinite(v)) throw fail("non-finite value");
+                    if (!std::isfinite(v)) HAIRSCATTER_THROW(fail("non-finite value"));
                     e.fields()[k][c] = T(v);
                 }
-        if (!(d_b >= 0 && d_b <= 1)) throw fail("d_b outside [0, 1]");
+        if (!(d_b >= 0 && d_b <= 1)) HAIRSCATTER_THROW(fail("d_b outside [0, 1]"));
         return DualScatteringTables(std::move(entries), T(d_b), int(h_nodes));
     }
 

@@ -71,9 +71,9 @@ template <typename T> class DeonFarFieldMaterial {
         : params_(params), nodes_(nodes) {
         require_valid(params);
         if (!(nodes >= 0 && nodes <= kMaxNodes))
-            throw std::invalid_argument("hairscatter: DeonFarFieldMaterial: nodes = " + std::to_string(nodes) +
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DeonFarFieldMaterial: nodes = " + std::to_string(nodes) +
                                         " is outside its range [1, " + std::to_string(kMaxNodes) +
-                                        "] (or 0 for the automatic choice)");
+                                        "] (or 0 for the automatic choice)"));
         if (nodes == kAutoNodes) nodes_ = nodes = auto_nodes(params.beta_n);
         const T v0 = longitudinal_variance(params.beta_m);
         const T v[kLobes + 1] = {v0, T(0.25) * v0, T(4) * v0, T(4) * v0};
@@ -163,6 +163,7 @@ template <typename T> class DeonFarFieldFiber {
     HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi) const { return eval_pdf(wo, wi).f; }
     HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return eval_pdf(wo, wi).pdf; }
     HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const {
+        if (!(is_finite(wo) && is_finite(wi))) return HairEvalPdf<T>{};  // non-finite input: 0 (see HairSample)
         const T sin_i = clamp(wi.x, T(-1), T(1));
         const T phi = relative_azimuth(wo, wi);
         return combine(outgoing(wo), sin_i, cos_from_sin(sin_i), phi);
@@ -202,6 +203,7 @@ template <typename T> class DeonFarFieldFiber {
     // from M_p, u.w the Box–Muller radius (or φ for the residual).
     HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const {
         using std::sqrt;
+        if (!(is_finite(wo) && is_finite(u))) return HairSample<T>{};  // non-finite input: pdf 0, weight 0
         const Outgoing o = outgoing(wo);
         const int n = mat_->half_nodes();
 
