@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -84,7 +85,7 @@ template <typename T> class DeonFarFieldMaterial {
         const GaussLegendre<double> gl(nodes);
         const double quarter_pi = 0.78539816339744830962;
         double total = 0;
-        for (int k = 0; k < nodes; ++k) total += quarter_pi * gl.weights[k] * std::cos(2 * quarter_pi * gl.nodes[k]);
+        for (int k = 0; k < nodes; ++k) total += quarter_pi * gl.weights[std::size_t(k)] * std::cos(2 * quarter_pi * gl.nodes[std::size_t(k)]);
         // gl.nodes is ascending and symmetric: the upper half (with the middle node h = 0
         // when n is odd, which has no mirror) holds the h ≥ 0 nodes.
         half_nodes_ = (nodes + 1) / 2;
@@ -92,11 +93,11 @@ template <typename T> class DeonFarFieldMaterial {
             const int k = nodes - half_nodes_ + j;
             // The middle node of an odd rule is 0 analytically; Newton leaves it at ~1e-17.
             const bool middle = nodes % 2 == 1 && j == 0;
-            const double gamma = middle ? 0.0 : 2 * quarter_pi * gl.nodes[k];
+            const double gamma = middle ? 0.0 : 2 * quarter_pi * gl.nodes[std::size_t(k)];
             gamma_[j] = T(gamma);
             h_[j] = T(std::sin(gamma));
             cos_gamma_[j] = T(std::cos(gamma));
-            weight_[j] = T(quarter_pi * gl.weights[k] * std::cos(gamma) / total);
+            weight_[j] = T(quarter_pi * gl.weights[std::size_t(k)] * std::cos(gamma) / total);
             mirrored_[j] = !middle;
         }
     }
