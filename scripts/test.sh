@@ -11,10 +11,15 @@
 #   gcc       GCC,   Release, -Werror: build + ctest            (build/test-gcc)
 #   clang     Clang, Release, -Werror: build + ctest            (build/test-clang)
 #   asan      GCC, -O1 -g, asserts on, ASan+UBSan: build + ctest (build/test-asan)
+#   fastmath  GCC, Release, -ffast-math -Werror: build + ctest (build/test-fastmath): the
+#             library must stay correct under a renderer's fast-math build
 #   consumer  install to build/prefix; consume via find_package and add_subdirectory
 #   cuda      nvcc compile check of tests/cuda/*.cu (skipped without nvcc)
 #   example   build examples/ and bench/ with -Werror, run the lobe explorer and the renderer
 #             small, and the seed study at a tiny size (scripts/study.sh --tiny)
+#   fuzz      libFuzzer targets of fuzz/ (clang -fsanitize=fuzzer,address,undefined), each
+#             run for FUZZ_SECONDS (default 60) from its committed corpus (skipped without
+#             a clang that links libFuzzer)
 #
 # Options: -j N / JOBS=N parallelism (default: nproc); --no-deps (or
 # HAIRSCATTER_SKIP_DEPS=1) skips the apt package check.
@@ -25,7 +30,7 @@ cd "$ROOT"
 # shellcheck source=SCRIPTDIR/lib.sh
 source "$ROOT/scripts/lib.sh"
 
-ALL_STEPS=(gcc clang asan consumer cuda example)
+ALL_STEPS=(gcc clang asan fastmath consumer cuda example fuzz)
 steps=("${ALL_STEPS[@]}")
 skip=()
 clang_ctest=1
@@ -164,6 +169,16 @@ step_asan() {
         -DHAIRSCATTER_SANITIZE=ON
 }
 
+step_fastmath() {
+    # -ffast-math implies -ffinite-math-only and -fassociative-math: the float exp/sincos
+    # rounding and every finiteness check must survive them (math/elementary.hpp,
+    # math/functions.hpp's is_finite); the whole suite runs under it.
+    build_and_test build/test-fastmath 1 \
+        -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=g++ -DHAIRSCATTER_WERROR=ON "-DCMAKE_CXX_FLAGS=-ffast-math"
+}
+
+step_fuzz() { FUZZ_SECONDS="${FUZZ_SECONDS:-60}" bash "$ROOT/fuzz/run.sh" --build "$ROOT/build/fuzz" -j "$JOBS"; }
+
 step_consumer() {
     local prefix="$ROOT/build/prefix"
     rm -rf "$prefix" build/consumer-find_package build/consumer-subdirectory
@@ -207,6 +222,8 @@ step_example() {
     local out="$ROOT/build/test-example/out/explorer"
     build/test-example/examples/lobe_explorer/lobe_explorer --width 90 --height 45 --eumelanin 0 -o "$out"
     [[ -s "$out.exr" && -s "$out.png" ]] || { echo "example: no EXR/PNG written" >&2; return 1; }
+    # Atomic image output (a failed or interrupted write keeps the previous EXR/PNG pair).
+    build/test-example/examples/image_io_test
     # The renderer: its .hair loader tests, then a tiny image per integrator whose EXR must
     # hold only finite values (the summary line reports dropped non-finite samples).
     ctest --test-dir build/test-example/examples/render --output-on-failure
@@ -239,6 +256,8 @@ fi
 run_step gcc      "GCC Release -Werror: build + ctest (build/test-gcc)"            step_gcc
 run_step clang    "Clang Release -Werror: build + ctest (build/test-clang)"        step_clang
 run_step asan     "GCC ASan+UBSan (-O1 -g, asserts on): build + ctest (build/test-asan)" step_asan
+run_step fastmath "GCC Release -ffast-math -Werror: build + ctest (build/test-fastmath)" step_fastmath
 run_step consumer "Install + downstream consumer (find_package, add_subdirectory)" step_consumer
 run_step cuda     "CUDA compile check (nvcc -c tests/cuda/*.cu)"                   step_cuda
 run_step example  "Example and benchmarks build (-Werror); the example runs small" step_example
+run_step fuzz     "libFuzzer targets, about a minute each (skipped without clang's libFuzzer)" step_fuzz

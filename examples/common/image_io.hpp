@@ -9,6 +9,11 @@
 
 namespace hairscatter_examples {
 
+// Every writer below is atomic: it writes a temporary file next to the target
+// (<path>.tmp-<pid>) and renames it over the target only once the whole image is written, so
+// a full disk, a write error or a SIGTERM leaves the previous file (or none) in place, never a
+// truncated or 0-byte one. A failed write removes its temporary file.
+
 // Writes an RGB image of width × height pixels, row-major from the top, 3 floats per pixel
 // (R, G, B), as 32-bit float channels with the given string attributes in the header.
 // Throws std::runtime_error naming the path on failure.
@@ -17,6 +22,15 @@ void write_exr_rgb(const std::string& path, int width, int height, const std::ve
 
 // Writes 8-bit RGB, 3 bytes per pixel, row-major from the top. Throws std::runtime_error.
 void write_png_rgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb);
+
+// The EXR and its PNG preview as a pair: both are written to temporary files first and
+// renamed only when both succeeded, so a failure of either leaves the previous pair as it
+// was (the EXR and the PNG always show the same render, up to the instant between the two
+// renames).
+void write_exr_png_pair(const std::string& exr_path, const std::string& png_path, int width, int height,
+                        const std::vector<float>& rgb,
+                        const std::vector<std::pair<std::string, std::string>>& attributes,
+                        const std::vector<std::uint8_t>& png_rgb);
 
 // Linear [0, 1] to the sRGB transfer curve, 8 bits (values outside are clamped).
 std::uint8_t srgb8(double linear);

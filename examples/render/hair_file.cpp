@@ -89,6 +89,19 @@ HairFile parse_hair(const std::vector<unsigned char>& bytes, const std::string& 
         throw fail("it has " + std::to_string(bytes.size() - expected) +
                    " bytes after the arrays its header announces (wrong counts?)");
 
+    // The strand count against the point count, before the segments array is allocated: a
+    // 128-byte header claiming 50 M strands of a default length but 0 points passed the
+    // size check above (no segments array, no points) and allocated 200 MB first.
+    if (flags & kSegmentsBit) {
+        if (strands > points)  // every strand has at least one point
+            throw fail("its header claims " + std::to_string(strands) + " strands but only " + std::to_string(points) +
+                       " points (each strand has at least one)");
+    } else if (std::uint64_t(strands) * (std::uint64_t(default_segments) + 1) != points) {
+        throw fail(std::to_string(strands) + " strands of " + std::to_string(default_segments) +
+                   " segments add up to " + std::to_string(std::uint64_t(strands) * (default_segments + 1ull)) +
+                   " points but the header says " + std::to_string(points));
+    }
+
     std::size_t at = kHeaderBytes;
     h.segments.resize(strands);
     std::uint64_t total = 0;

@@ -38,3 +38,31 @@
 #else
 #define HAIRSCATTER_DCHECK(cond) ((void)0)
 #endif
+
+// Exceptions. Host-side construction (materials, tables, grids, file loaders) reports bad
+// input by throwing std::invalid_argument / std::runtime_error. Built without exceptions
+// (-fno-exceptions: no __cpp_exceptions), or with HAIRSCATTER_NO_EXCEPTIONS defined, the
+// same sites print the exception's message to stderr and abort instead. Such programs check
+// their input first with the non-throwing validate() functions (fiber/params.hpp,
+// models/marschner.hpp), which return an empty string or the message.
+#if !defined(HAIRSCATTER_NO_EXCEPTIONS) && !defined(__cpp_exceptions) && !defined(__EXCEPTIONS) && \
+    !(defined(_MSC_VER) && defined(_CPPUNWIND))
+#define HAIRSCATTER_NO_EXCEPTIONS 1
+#endif
+
+#if defined(HAIRSCATTER_NO_EXCEPTIONS)
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+namespace hairscatter {
+namespace detail {
+[[noreturn]] inline void fail_fast(const std::exception& e) {
+    std::fprintf(stderr, "%s (built without exceptions: aborting)\n", e.what());
+    std::abort();
+}
+}  // namespace detail
+}  // namespace hairscatter
+#define HAIRSCATTER_THROW(exception) ::hairscatter::detail::fail_fast(exception)
+#else
+#define HAIRSCATTER_THROW(exception) throw exception
+#endif

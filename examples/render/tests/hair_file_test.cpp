@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <new>
 #include <limits>
 #include <string>
 #include <vector>
@@ -166,3 +168,58 @@ TEST(HairFile, MissingFileIsNamed) {
 }
 
 }  // namespace
+
+namespace {
+
+// The largest single allocation since the last reset (the operators below).
+std::size_t g_largest_allocation = 0;
+
+// A 128-byte header claiming 50 M strands (no segments array, default 3 segments) and no
+// points: the counts disagree, and the loader must say so before it allocates the 200 MB
+// segments array (it did so after). The replaced operator new records the largest block.
+TEST(HairFile, HeaderCountsAreCheckedAgainstEachOtherBeforeAllocating) {
+    HairFile empty;
+    std::vector<unsigned char> b = serialize_hair(empty);
+    ASSERT_EQ(b.size(), 128u);
+    set_u32(b, 4, render::kHairMaxStrands);  // strands
+    set_u32(b, 8, 0);                        // points
+    set_u32(b, 12, 2);                       // points array only: segments from the default
+    set_u32(b, 16, 3);
+    g_largest_allocation = 0;
+    const std::string msg = error_of(b);
+    EXPECT_LT(g_largest_allocation, std::size_t(1) << 20) << "parse_hair allocated " << g_largest_allocation << " bytes";
+    EXPECT_NE(msg.find("add up to"), std::string::npos) << msg;
+    // With a segments array, more strands than points is impossible (sizes consistent).
+    b = serialize_hair(empty);
+    set_u32(b, 4, 3);
+    set_u32(b, 8, 2);
+    set_u32(b, 12, 3);
+    b.resize(128 + 3 * 2 + 2 * 12, 0);
+    EXPECT_NE(error_of(b).find("at least one"), std::string::npos) << error_of(b);
+}
+
+// A file without a single point is a valid (empty) .hair file: it writes and reads back.
+TEST(HairFile, EmptyFileRoundTrips) {
+    HairFile empty;
+    empty.info = "no hair";
+    const HairFile r = parse_hair(serialize_hair(empty), "mem");
+    EXPECT_EQ(r.strand_count(), 0u);
+    EXPECT_TRUE(r.points.empty());
+    EXPECT_EQ(r.info, "no hair");
+    const std::string path = ::testing::TempDir() + "hairscatter_empty.hair";
+    render::write_hair_file(path, empty);
+    EXPECT_EQ(render::read_hair_file(path).strand_count(), 0u);
+    std::remove(path.c_str());
+}
+
+}  // namespace
+
+// Every allocation of this test program goes through here (so the test above can see the
+// largest one); plain malloc underneath, which the sanitizers still watch.
+void* operator new(std::size_t n) {
+    if (n > g_largest_allocation) g_largest_allocation = n;
+    if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
+    throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }

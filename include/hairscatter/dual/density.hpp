@@ -343,7 +343,7 @@ template <typename T> class DensityGrid {
             double(resolution.x) * double(resolution.y) * double(resolution.z) > double(kMaxCells))
             bad("resolution " + std::to_string(resolution.x) + " x " + std::to_string(resolution.y) + " x " +
                 std::to_string(resolution.z) + " exceeds " + std::to_string(kMaxCells) + " cells");
-        if (msg.tellp() > 0) throw std::invalid_argument("hairscatter: DensityGrid: " + msg.str());
+        if (msg.tellp() > 0) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DensityGrid: " + msg.str()));
 
         g_.lo_ = box_min;
         g_.hi_ = box_max;
@@ -365,8 +365,8 @@ template <typename T> class DensityGrid {
         using std::ceil;
         using std::isfinite;
         if (!(cell_size > T(0)) || !isfinite(cell_size))
-            throw std::invalid_argument("hairscatter: DensityGrid::from_strands: cell_size = " + num(cell_size) +
-                                        " is outside (0, inf)");
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DensityGrid::from_strands: cell_size = " + num(cell_size) +
+                                        " is outside (0, inf)"));
         V3 lo(std::numeric_limits<T>::max()), hi(std::numeric_limits<T>::lowest());
         bool any = false;
         for (const auto& strand : strands)
@@ -376,13 +376,13 @@ template <typename T> class DensityGrid {
                     hi = glm::max(hi, p);
                     any = true;
                 }
-        if (!any) throw std::invalid_argument("hairscatter: DensityGrid::from_strands: strands has no finite point");
+        if (!any) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DensityGrid::from_strands: strands has no finite point"));
         glm::ivec3 res;
         for (int a = 0; a < 3; ++a) {
             const T inner = ceil((hi[a] - lo[a]) / cell_size);
             if (!(inner <= T(kMaxCells)))
-                throw std::invalid_argument("hairscatter: DensityGrid::from_strands: cell_size = " + num(cell_size) +
-                                            " gives more than " + std::to_string(kMaxCells) + " cells");
+                HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DensityGrid::from_strands: cell_size = " + num(cell_size) +
+                                            " gives more than " + std::to_string(kMaxCells) + " cells"));
             res[a] = int(inner) + 2;  // one padding cell either side
         }
         const V3 box_min = lo - V3(cell_size);
@@ -456,9 +456,9 @@ template <typename T> class DensityGrid {
         using std::isfinite;
         const T diagonal = glm::length(g_.hi_ - g_.lo_);
         if (!(step > T(0)) || !isfinite(step) || !(diagonal / step <= T(kMaxMarchSteps)))
-            throw std::invalid_argument("hairscatter: DensityGrid: march step = " + num(step) +
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DensityGrid: march step = " + num(step) +
                                         " is outside [box diagonal / " + std::to_string(kMaxMarchSteps) + " = " +
-                                        num(diagonal / T(kMaxMarchSteps)) + ", inf)");
+                                        num(diagonal / T(kMaxMarchSteps)) + ", inf)"));
         g_.step_ = step;
     }
 

@@ -334,9 +334,9 @@ template <typename T> class DualScatteringTables {
         const std::uint64_t sum = fnv1a(buf.data(), buf.size());
         put(buf, &sum, 8);
         std::ofstream f(path, std::ios::binary);
-        if (!f) throw std::runtime_error("hairscatter: cannot write dual-scattering tables to '" + path + "'");
+        if (!f) HAIRSCATTER_THROW(std::runtime_error("hairscatter: cannot write dual-scattering tables to '" + path + "'"));
         f.write(reinterpret_cast<const char*>(buf.data()), std::streamsize(buf.size()));
-        if (!f) throw std::runtime_error("hairscatter: failed writing dual-scattering tables to '" + path + "'");
+        if (!f) HAIRSCATTER_THROW(std::runtime_error("hairscatter: failed writing dual-scattering tables to '" + path + "'"));
     }
 
     // Reads a file written by save(). Rejects, with a message, a wrong magic, version,
@@ -344,40 +344,40 @@ template <typename T> class DualScatteringTables {
     // produce (albedos outside [0, 1], negative variances, …).
     static DualScatteringTables load(const std::string& path) {
         std::ifstream f(path, std::ios::binary);
-        if (!f) throw std::runtime_error("hairscatter: cannot open dual-scattering tables '" + path + "'");
+        if (!f) HAIRSCATTER_THROW(std::runtime_error("hairscatter: cannot open dual-scattering tables '" + path + "'"));
         const std::vector<unsigned char> buf((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
         auto fail = [&](const std::string& why) {
             return std::runtime_error("hairscatter: '" + path + "' is not a valid dual-scattering table file: " + why);
         };
         const std::size_t header = 4 + 6 * 4 + 2 * 8 + 2 * kMaxLobes * 8;
-        if (buf.size() < header + 8 || std::memcmp(buf.data(), "HSDT", 4) != 0) throw fail("bad magic or too short");
+        if (buf.size() < header + 8 || std::memcmp(buf.data(), "HSDT", 4) != 0) HAIRSCATTER_THROW(fail("bad magic or too short"));
         std::size_t at = 4;
         std::uint32_t u[6];
         for (std::uint32_t& x : u) x = get<std::uint32_t>(buf, at);
         if (u[0] != kFileVersion)
-            throw fail("version " + std::to_string(u[0]) + ", this library reads version " + std::to_string(kFileVersion));
+            HAIRSCATTER_THROW(fail("version " + std::to_string(u[0]) + ", this library reads version " + std::to_string(kFileVersion)));
         DualScatteringTables t;
-        if (u[1] < 8 || u[1] > 65536) throw fail("implausible number of θ samples");
-        if (u[2] < 9 || u[2] > 65536) throw fail("implausible number of ψ samples");
-        if (u[3] < 1 || u[3] > std::uint32_t(kMaxLobes)) throw fail("number of lobes outside [1, 4]");
-        if (u[4] > 1000000) throw fail("implausible number of h nodes");
-        if (u[5] > 1) throw fail("unknown formulation");
+        if (u[1] < 8 || u[1] > 65536) HAIRSCATTER_THROW(fail("implausible number of θ samples"));
+        if (u[2] < 9 || u[2] > 65536) HAIRSCATTER_THROW(fail("implausible number of ψ samples"));
+        if (u[3] < 1 || u[3] > std::uint32_t(kMaxLobes)) HAIRSCATTER_THROW(fail("number of lobes outside [1, 4]"));
+        if (u[4] > 1000000) HAIRSCATTER_THROW(fail("implausible number of h nodes"));
+        if (u[5] > 1) HAIRSCATTER_THROW(fail("unknown formulation"));
         t.n_theta_ = int(u[1]), t.n_psi_ = int(u[2]), t.lobes_ = int(u[3]), t.h_nodes_ = int(u[4]);
         t.settings_.formulation = DualFormulation(u[5]);
         const std::size_t values = std::size_t(t.n_theta_) * (Entry::kFields + std::size_t(t.lobes_ * t.n_psi_)) * 3;
         const std::size_t expected = header + values * 8 + 8;
         if (buf.size() != expected)
-            throw fail("size " + std::to_string(buf.size()) + " bytes, expected " + std::to_string(expected) + " (truncated?)");
+            HAIRSCATTER_THROW(fail("size " + std::to_string(buf.size()) + " bytes, expected " + std::to_string(expected) + " (truncated?)"));
         std::uint64_t sum;
         std::memcpy(&sum, buf.data() + expected - 8, 8);
-        if (sum != fnv1a(buf.data(), expected - 8)) throw fail("checksum mismatch (corrupt file)");
+        if (sum != fnv1a(buf.data(), expected - 8)) HAIRSCATTER_THROW(fail("checksum mismatch (corrupt file)"));
         // Every value is checked after its conversion to T (1e300 is finite as a double,
         // not as a float) and against the range a fiber can produce.
         auto value = [&](double lo, double hi, const char* what) {
             const T v = T(get<double>(buf, at));
             if (!(std::isfinite(double(v)) && double(v) >= lo && double(v) <= hi))
-                throw fail(std::string(what) + " = " + std::to_string(double(v)) + " outside [" + std::to_string(lo) +
-                           ", " + std::to_string(hi) + "]");
+                HAIRSCATTER_THROW(fail(std::string(what) + " = " + std::to_string(double(v)) + " outside [" + std::to_string(lo) +
+                           ", " + std::to_string(hi) + "]"));
             return v;
         };
         t.settings_.d_f = value(0, 1, "d_f");
@@ -398,7 +398,7 @@ template <typename T> class DualScatteringTables {
             for (int k = 0; k < Entry::kFields; ++k)
                 for (int c = 0; c < 3; ++c) e.fields()[k][c] = value(kField[k][0], kField[k][1], kName[k]);
             for (int c = 0; c < 3; ++c)
-                if (double(e.a_f[c]) + double(e.a_b[c]) > 1.001) throw fail("a_f + a_b exceeds 1");
+                if (double(e.a_f[c]) + double(e.a_b[c]) > 1.001) HAIRSCATTER_THROW(fail("a_f + a_b exceeds 1"));
         }
         t.window_.resize(std::size_t(t.n_theta_) * std::size_t(t.lobes_) * std::size_t(t.n_psi_));
         for (V3& w : t.window_)
@@ -410,19 +410,19 @@ template <typename T> class DualScatteringTables {
   private:
     static void check(const DualTableOptions<T>& opt) {
         if (opt.theta_samples < 8 || opt.theta_samples > 65536)
-            throw std::invalid_argument("hairscatter: DualTableOptions::theta_samples must lie in [8, 65536]");
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DualTableOptions::theta_samples must lie in [8, 65536]"));
         if (opt.psi_samples < 9 || opt.psi_samples > 65536)
-            throw std::invalid_argument("hairscatter: DualTableOptions::psi_samples must lie in [9, 65536]");
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DualTableOptions::psi_samples must lie in [9, 65536]"));
         // One or two nodes in γ cannot integrate cos γ (1 node: a lossless albedo of π/2).
         if (opt.h_nodes < 8 || opt.h_nodes > 4096)
-            throw std::invalid_argument("hairscatter: DualTableOptions::h_nodes must lie in [8, 4096]");
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DualTableOptions::h_nodes must lie in [8, 4096]"));
         const DualScatteringSettings<T>& s = opt.settings;
         if (!(s.d_f >= T(0) && s.d_f <= T(1)))
-            throw std::invalid_argument("hairscatter: DualScatteringSettings::d_f must lie in [0, 1]");
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DualScatteringSettings::d_f must lie in [0, 1]"));
         if (!(s.d_b >= T(0) && s.d_b <= T(1)))
-            throw std::invalid_argument("hairscatter: DualScatteringSettings::d_b must lie in [0, 1]");
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DualScatteringSettings::d_b must lie in [0, 1]"));
         if (s.formulation != DualFormulation::kImproved && s.formulation != DualFormulation::kZinke2008)
-            throw std::invalid_argument("hairscatter: DualScatteringSettings::formulation is not a known formulation");
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DualScatteringSettings::formulation is not a known formulation"));
     }
 
     View shape_view() const {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -10,13 +11,14 @@
 
 #include "../config.hpp"
 #include "../math/constants.hpp"
+#include "../math/functions.hpp"
 
 namespace hairscatter {
 
 template <typename T> struct FiberParams {
     T eta = T(1.55);            // index of refraction of the cortex (keratin ≈ 1.55), > 1
-    T beta_m = T(0.3);          // longitudinal roughness, (0, 1]
-    T beta_n = T(0.3);          // azimuthal roughness, (0, 1]
+    T beta_m = T(0.3);          // longitudinal roughness, [kMinRoughness, 1]
+    T beta_n = T(0.3);          // azimuthal roughness, [kMinRoughness, 1]
     T alpha = radians(T(2));    // cuticle-scale tilt in radians, |α| ≤ kMaxCuticleTilt
     glm::vec<3, T> sigma_a{T(0)};  // absorption per unit fiber radius, RGB, ≥ 0 and finite
 };
@@ -24,34 +26,51 @@ template <typename T> struct FiberParams {
 // |α| above π/8 would rotate TRT's θo (by 4α) past the pole; real cuticles tilt 2°–10°.
 template <typename T> inline constexpr T kMaxCuticleTilt = kPi<T> / T(8);
 
+// The smallest accepted β_m and β_n (and Marschner's β_R and β_n). Every model stays finite
+// in float down to β ≈ 1e-18 (below it the float variance underflows: NaN everywhere) and in
+// double below 1e-40 (measured, docs/robustness.md); 1e-3 — a fiber far smoother than any
+// hair, whose R lobe is 0.04° wide — leaves that a wide margin, and scripts/stress.sh finds
+// no NaN, Inf, negative value or sample/pdf mismatch at it.
+template <typename T> inline constexpr T kMinRoughness = T(1e-3);
+
+namespace detail {
+// x ∈ [lo, hi] and finite, decided without relying on NaN comparisons (fast-math safe).
+template <typename T> bool in_range(T x, T lo, T hi) { return is_finite(x) && x >= lo && x <= hi; }
+}  // namespace detail
+
 // Checks every field; returns an empty string when the parameters are valid, else one
-// message per bad field naming the field, its value and the allowed range.
+// message per bad field naming the field, its value and the allowed range. Never throws
+// (the check for exception-free programs); finiteness is read from the bits, so it holds
+// under -ffast-math too.
 template <typename T> std::string validate(const FiberParams<T>& p) {
-    bool ok = p.eta > T(1) && std::isfinite(p.eta) && p.beta_m > T(0) && p.beta_m <= T(1) && p.beta_n > T(0) &&
-              p.beta_n <= T(1) && std::abs(p.alpha) <= kMaxCuticleTilt<T>;
-    for (int c = 0; c < 3; ++c) ok = ok && p.sigma_a[c] >= T(0) && std::isfinite(p.sigma_a[c]);
+    using detail::in_range;
+    const T inf = std::numeric_limits<T>::max();
+    const bool eta_ok = in_range(p.eta, T(1), inf) && p.eta != T(1);
+    bool ok = eta_ok && in_range(p.beta_m, kMinRoughness<T>, T(1)) && in_range(p.beta_n, kMinRoughness<T>, T(1)) &&
+              in_range(p.alpha, -kMaxCuticleTilt<T>, kMaxCuticleTilt<T>);
+    for (int c = 0; c < 3; ++c) ok = ok && in_range(p.sigma_a[c], T(0), inf);
     if (ok) return std::string();  // the common case builds no stream (materials may be made per strand)
     std::ostringstream msg;
     auto bad = [&](const char* name, double value, const char* range) {
         if (msg.tellp() > 0) msg << "; ";
         msg << name << " = " << value << " is outside its range " << range;
     };
-    if (!(p.eta > T(1)) || !std::isfinite(p.eta)) bad("eta", double(p.eta), "(1, inf) (finite)");
-    if (!(p.beta_m > T(0) && p.beta_m <= T(1))) bad("beta_m", double(p.beta_m), "(0, 1]");
-    if (!(p.beta_n > T(0) && p.beta_n <= T(1))) bad("beta_n", double(p.beta_n), "(0, 1]");
-    if (!(std::abs(p.alpha) <= kMaxCuticleTilt<T>))
+    if (!eta_ok) bad("eta", double(p.eta), "(1, inf) (finite)");
+    if (!in_range(p.beta_m, kMinRoughness<T>, T(1))) bad("beta_m", double(p.beta_m), "[1e-3, 1]");
+    if (!in_range(p.beta_n, kMinRoughness<T>, T(1))) bad("beta_n", double(p.beta_n), "[1e-3, 1]");
+    if (!in_range(p.alpha, -kMaxCuticleTilt<T>, kMaxCuticleTilt<T>))
         bad("alpha", double(p.alpha), "[-pi/8, pi/8] radians");
     const char* channel[3] = {"sigma_a.r", "sigma_a.g", "sigma_a.b"};
     for (int c = 0; c < 3; ++c)
-        if (!(p.sigma_a[c] >= T(0)) || !std::isfinite(p.sigma_a[c]))
-            bad(channel[c], double(p.sigma_a[c]), "[0, inf) (finite)");
+        if (!in_range(p.sigma_a[c], T(0), inf)) bad(channel[c], double(p.sigma_a[c]), "[0, inf) (finite)");
     return msg.str();
 }
 
-// Throws std::invalid_argument with validate()'s message when the parameters are bad.
+// Throws std::invalid_argument with validate()'s message when the parameters are bad
+// (without exceptions: prints it and aborts, config.hpp's HAIRSCATTER_THROW).
 template <typename T> void require_valid(const FiberParams<T>& p) {
     const std::string m = validate(p);
-    if (!m.empty()) throw std::invalid_argument("hairscatter: invalid fiber parameters: " + m);
+    if (!m.empty()) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: invalid fiber parameters: " + m));
 }
 
 // Absorption from eumelanin and pheomelanin concentrations (Chiang et al. 2016 §4.3,
@@ -67,13 +86,13 @@ HAIRSCATTER_HD glm::vec<3, T> sigma_a_from_melanin(T eumelanin, T pheomelanin) {
 // + 5.574βn⁴ + 0.245βn⁵))². Colour channels must lie in (0, 1].
 template <typename T> glm::vec<3, T> sigma_a_from_color(const glm::vec<3, T>& c, T beta_n) {
     for (int i = 0; i < 3; ++i)
-        if (!(c[i] > T(0) && c[i] <= T(1)))
-            throw std::invalid_argument("hairscatter: sigma_a_from_color: colour channel " +
+        if (!(detail::in_range(c[i], T(0), T(1)) && c[i] > T(0)))
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: sigma_a_from_color: colour channel " +
                                         std::to_string(i) + " = " + std::to_string(double(c[i])) +
-                                        " is outside (0, 1]");
-    if (!(beta_n > T(0) && beta_n <= T(1)))
-        throw std::invalid_argument("hairscatter: sigma_a_from_color: beta_n = " +
-                                    std::to_string(double(beta_n)) + " is outside (0, 1]");
+                                        " is outside (0, 1]"));
+    if (!detail::in_range(beta_n, kMinRoughness<T>, T(1)))
+        HAIRSCATTER_THROW(std::invalid_argument("hairscatter: sigma_a_from_color: beta_n = " +
+                                    std::to_string(double(beta_n)) + " is outside [1e-3, 1]"));
     const T b = beta_n;
     const T denom = T(5.969) - T(0.215) * b + T(2.532) * b * b - T(10.73) * b * b * b +
                     T(5.574) * b * b * b * b + T(0.245) * b * b * b * b * b;

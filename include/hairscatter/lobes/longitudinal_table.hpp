@@ -122,7 +122,7 @@ template <typename T> class DeonLongitudinalTable {
         c.sin_abs = sin_o < T(0) ? -sin_o : sin_o;
         const T th = (theta < T(0) ? -theta : theta) * T(1 / kHalfPi<double>);
         const T y = clamp(th * (T(1) + T(kRowK) * th) * row_scale_, T(0), T(rows_ - 1));
-        const int r = int(y) < rows_ - 2 ? int(y) : rows_ - 2;
+        const int r = table_cell(y, rows_ - 2);  // NaN-safe (v underflow, non-finite θo)
         c.t = y - T(r);
         c.row = data + offset_ + std::size_t(r) * std::size_t(2 * nodes_);
         c.w = sqrt(v_ * (cos_o * cos_o + v_));
@@ -139,7 +139,7 @@ template <typename T> class DeonLongitudinalTable {
     // M̂(sinθi | θo').
     HAIRSCATTER_HD T eval(const Conditioned& c, T sin_i) const {
         const T xi = clamp(c.a * sin_i + c.b, T(0), T(nodes_ - 1));
-        const int j = int(xi) < nodes_ - 2 ? int(xi) : nodes_ - 2;
+        const int j = table_cell(xi, nodes_ - 2);
         const T f = xi - T(j);
         const T* r0 = c.row + j;
         const T* r1 = r0 + 2 * nodes_;
@@ -169,7 +169,7 @@ template <typename T> class DeonLongitudinalTable {
     // C̃(x), clamped to the padded window.
     HAIRSCATTER_HD T mix_cdf(const Conditioned& c, T x) const {
         const T xi = clamp((x - xs_) * inv_h_, T(0), T(nodes_ - 1));
-        const int j = int(xi) < nodes_ - 2 ? int(xi) : nodes_ - 2;
+        const int j = table_cell(xi, nodes_ - 2);
         const T f = xi - T(j);
         const T* r0 = c.row + j;
         const T* r1 = r0 + 2 * nodes_;

@@ -18,21 +18,25 @@ namespace elem {
 
 namespace detail {
 
+// Rounds y (|y| < 2^30) to the nearest integer, halves away from zero, through a
+// float → int conversion. The classic (y + 1.5·2^23) - 1.5·2^23 trick is folded to y by
+// -ffast-math (-fassociative-math); a conversion cannot be.
+inline std::int32_t round_to_int(float y) { return std::int32_t(y + (y < 0.0f ? -0.5f : 0.5f)); }
+
 // e^x for x ≤ 88 (callers pass x ≤ 0): Cody–Waite reduction x = n ln2 + r, |r| ≤ ln2/2,
 // the degree-7 Taylor polynomial of e^r (truncation 5e-9 relative), and 2^n written into
-// the exponent bits. Below -87.3 (where e^x is subnormal) it returns 0.
+// the exponent bits. Below -87.3 (where e^x is subnormal) it returns 0; NaN returns NaN
+// (the clamp sends it to -87.3 first, so no NaN is ever converted to an integer).
 inline float exp_float(float x) {
-    const float xc = clamp(x, -87.3f, 88.0f);
-    // Round x·log2(e) to an integer with the 1.5·2^23 trick (no libm call, any rounding mode
-    // that is round-to-nearest, which is the default).
-    const float t = xc * 1.44269504088896341f + 12582912.0f;
-    const float n = t - 12582912.0f;
+    const float xc = x > -87.3f ? (x < 88.0f ? x : 88.0f) : -87.3f;
+    const std::int32_t ni = round_to_int(xc * 1.44269504088896341f);
+    const float n = float(ni);
     const float r = (xc - n * 0.693145751953125f) - n * 1.42860682030941723212e-6f;
     const float p = hairscatter::detail::horner(r, 1.0f, 1.0f, 0.5f, 1.0f / 6, 1.0f / 24, 1.0f / 120, 1.0f / 720, 1.0f / 5040);
-    const std::int32_t bits = (std::int32_t(n) + 127) << 23;
+    const std::int32_t bits = (ni + 127) * (1 << 23);
     float scale;
     std::memcpy(&scale, &bits, sizeof scale);
-    return x < -87.3f ? 0.0f : p * scale;
+    return x > -87.3f ? p * scale : (x <= -87.3f ? 0.0f : x);
 }
 
 // atan(a) for a ∈ [0, 1] as a·P(a²), P fitted for this library (Chebyshev interpolation
@@ -75,14 +79,21 @@ inline float log_float(float x) {
 
 // sin and cos of |x| ≲ 100: x = qπ/2 + r with |r| ≤ π/4 (three-part Cody–Waite), then the
 // Taylor series of sin r to r⁹ and cos r to r¹⁰ (truncation below 2e-9), rotated by q.
+// |x| > 8192, ±Inf and NaN go to the standard library (NaN results for the last two).
 inline void sincos_float(float x, float& s, float& c) {
-    const float q = (x * 0.636619772367581343f + 12582912.0f) - 12582912.0f;  // round, as in exp
+    if (!(std::fabs(x) <= 8192.0f)) {
+        s = std::sin(x);
+        c = std::cos(x);
+        return;
+    }
+    const std::int32_t qi = round_to_int(x * 0.636619772367581343f);
+    const float q = float(qi);
     const float r = ((x - q * 1.5703125f) - q * 4.83751296997070312e-4f) - q * 7.54978995489188216e-8f;
     const float z = r * r;
     const float sr = r + r * z * hairscatter::detail::horner(z, -1.0f / 6, 1.0f / 120, -1.0f / 5040, 1.0f / 362880);
     const float cr = 1.0f + z * hairscatter::detail::horner(z, -0.5f, 1.0f / 24, -1.0f / 720, 1.0f / 40320,
                                                             -1.0f / 3628800);
-    switch (std::int32_t(q) & 3) {
+    switch (qi & 3) {
         case 0: s = sr, c = cr; break;
         case 1: s = cr, c = -sr; break;
         case 2: s = -sr, c = -cr; break;

@@ -2,6 +2,10 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include <glm/glm.hpp>
 
 #include "../config.hpp"
 #include "constants.hpp"
@@ -12,6 +16,32 @@ template <typename T> HAIRSCATTER_HD constexpr T sqr(T x) { return x * x; }
 
 template <typename T> HAIRSCATTER_HD constexpr T clamp(T x, T lo, T hi) {
     return x < lo ? lo : (x > hi ? hi : x);
+}
+
+// x is neither NaN nor ±Inf, read from the exponent bits: -ffast-math (-ffinite-math-only)
+// folds std::isfinite and x == x to true, this test it cannot fold.
+HAIRSCATTER_HD inline bool is_finite(float x) {
+    std::uint32_t b;
+    std::memcpy(&b, &x, sizeof b);
+    return (b & 0x7f800000u) != 0x7f800000u;
+}
+HAIRSCATTER_HD inline bool is_finite(double x) {
+    std::uint64_t b;
+    std::memcpy(&b, &x, sizeof b);
+    return (b & 0x7ff0000000000000ull) != 0x7ff0000000000000ull;
+}
+template <int N, typename T> HAIRSCATTER_HD bool is_finite(const glm::vec<N, T>& v) {
+    bool ok = true;
+    for (int i = 0; i < N; ++i) ok = ok && is_finite(v[i]);
+    return ok;
+}
+
+// The cell of a table coordinate x ∈ [0, last + 1], in [0, last]: NaN and values below 0
+// give 0 and values past the end give last, so a bad coordinate never indexes outside.
+template <typename T> HAIRSCATTER_HD int table_cell(T x, int last) {
+    if (!(x > T(0))) return 0;  // also NaN
+    if (!(x < T(last))) return last;
+    return int(x);
 }
 
 // sqrt that tolerates arguments rounded slightly below zero (e.g. 1 - sin² at θ = ±90°).

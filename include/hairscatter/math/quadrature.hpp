@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "../config.hpp"
+
 namespace hairscatter {
 
 // n-point Gauss–Legendre rule on [-1, 1]: nodes are the roots of P_n, found by Newton's
@@ -14,7 +16,7 @@ template <typename T> struct GaussLegendre {
     std::vector<T> nodes, weights;
 
     explicit GaussLegendre(int n) {
-        if (n < 1 || n > 4096) throw std::invalid_argument("hairscatter: GaussLegendre needs 1 ≤ n ≤ 4096");
+        if (n < 1 || n > 4096) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: GaussLegendre needs 1 ≤ n ≤ 4096"));
         nodes.resize(std::size_t(n));
         weights.resize(std::size_t(n));
         const double pi = 3.14159265358979323846;
@@ -53,7 +55,7 @@ template <typename T> struct GaussHermite {
     std::vector<T> nodes, weights;
 
     explicit GaussHermite(int n) {
-        if (n < 1 || n > 64) throw std::invalid_argument("hairscatter: GaussHermite needs 1 ≤ n ≤ 64");
+        if (n < 1 || n > 64) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: GaussHermite needs 1 ≤ n ≤ 64"));
         const double pi = 3.14159265358979323846;
         // ψ_n(x) and ψ_{n-1}(x), orthonormal for the weight e^(-x²).
         auto psi = [n, pi](double x, double& prev) {
@@ -94,7 +96,7 @@ template <typename T> struct GaussHermite {
             a = b;
             fa = fb;
         }
-        if (int(roots.size()) != n) throw std::logic_error("hairscatter: GaussHermite lost a root");
+        if (int(roots.size()) != n) HAIRSCATTER_THROW(std::logic_error("hairscatter: GaussHermite lost a root"));
         nodes.resize(std::size_t(n));
         weights.resize(std::size_t(n));
         for (int i = 0; i < n; ++i) {

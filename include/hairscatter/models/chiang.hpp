@@ -29,6 +29,11 @@ enum HairLobe : int { kR = 0, kTT = 1, kTRT = 2, kResidual = 3 };
 
 // What sample() returns. pdf is in solid-angle measure, weight = eval / pdf. A sample
 // whose pdf is 0 (only from underflow in extreme parameters) carries weight 0.
+//
+// Non-finite input, every model: a NaN or ±Inf component in wo, wi or u makes eval 0, pdf
+// 0, eval_pdf {0, 0} and sample this default sample (wi 0, weight 0, pdf 0, lobe R): a
+// renderer ends the path, and neither a NaN nor an out-of-table read can follow (the test
+// reads the bits, so it holds under -ffast-math as well). docs/robustness.md.
 template <typename T> struct HairSample {
     glm::vec<3, T> wi{T(0)};
     glm::vec<3, T> weight{T(0)};
@@ -202,14 +207,15 @@ template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
 
     static ChiangMaterial<T> checked(const FiberParams<T>& params, T h) {
         if (!(h >= T(-1) && h <= T(1)))
-            throw std::invalid_argument("hairscatter: h = " + std::to_string(double(h)) +
-                                        " is outside its range [-1, 1]");
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: h = " + std::to_string(double(h)) +
+                                        " is outside its range [-1, 1]"));
         return ChiangMaterial<T>(params);
     }
 
     // eval, pdf and eval_pdf: f and/or pdf at (wo, wi).
     template <bool kF, bool kPdf>
     HAIRSCATTER_HD HAIRSCATTER_INLINE HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
+        if (!(is_finite(wo) && is_finite(wi))) return HairEvalPdf<T>{};  // non-finite input: 0 (see HairSample)
         const T sin_i = clamp(wi.x, T(-1), T(1));
         const T phi = relative_azimuth(wo, wi);
         return combine<kF, kPdf>(o, sin_i, cos_from_sin(sin_i), phi);
@@ -217,6 +223,7 @@ template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
 
     HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
         using std::sqrt;
+        if (!(is_finite(wo) && is_finite(u))) return HairSample<T>{};  // non-finite input: pdf 0, weight 0
         // The lobe ∝ w_p (normalised; 0 for dropped lobes). Counted from the first kept
         // lobe, so that all-zero weights (an opaque fiber without R) pick a kept lobe.
         const int p = kFirstKept + sample_discrete(o.w + kFirstKept, kLobes + 1 - kFirstKept, u.x, T(1)).index;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -71,9 +72,9 @@ template <typename T> class DeonFarFieldMaterial {
         : params_(params), nodes_(nodes) {
         require_valid(params);
         if (!(nodes >= 0 && nodes <= kMaxNodes))
-            throw std::invalid_argument("hairscatter: DeonFarFieldMaterial: nodes = " + std::to_string(nodes) +
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DeonFarFieldMaterial: nodes = " + std::to_string(nodes) +
                                         " is outside its range [1, " + std::to_string(kMaxNodes) +
-                                        "] (or 0 for the automatic choice)");
+                                        "] (or 0 for the automatic choice)"));
         if (nodes == kAutoNodes) nodes_ = nodes = auto_nodes(params.beta_n);
         const T v0 = longitudinal_variance(params.beta_m);
         const T v[kLobes + 1] = {v0, T(0.25) * v0, T(4) * v0, T(4) * v0};
@@ -84,7 +85,7 @@ template <typename T> class DeonFarFieldMaterial {
         const GaussLegendre<double> gl(nodes);
         const double quarter_pi = 0.78539816339744830962;
         double total = 0;
-        for (int k = 0; k < nodes; ++k) total += quarter_pi * gl.weights[k] * std::cos(2 * quarter_pi * gl.nodes[k]);
+        for (int k = 0; k < nodes; ++k) total += quarter_pi * gl.weights[std::size_t(k)] * std::cos(2 * quarter_pi * gl.nodes[std::size_t(k)]);
         // gl.nodes is ascending and symmetric: the upper half (with the middle node h = 0
         // when n is odd, which has no mirror) holds the h ≥ 0 nodes.
         half_nodes_ = (nodes + 1) / 2;
@@ -92,11 +93,11 @@ template <typename T> class DeonFarFieldMaterial {
             const int k = nodes - half_nodes_ + j;
             // The middle node of an odd rule is 0 analytically; Newton leaves it at ~1e-17.
             const bool middle = nodes % 2 == 1 && j == 0;
-            const double gamma = middle ? 0.0 : 2 * quarter_pi * gl.nodes[k];
+            const double gamma = middle ? 0.0 : 2 * quarter_pi * gl.nodes[std::size_t(k)];
             gamma_[j] = T(gamma);
             h_[j] = T(std::sin(gamma));
             cos_gamma_[j] = T(std::cos(gamma));
-            weight_[j] = T(quarter_pi * gl.weights[k] * std::cos(gamma) / total);
+            weight_[j] = T(quarter_pi * gl.weights[std::size_t(k)] * std::cos(gamma) / total);
             mirrored_[j] = !middle;
         }
     }
@@ -163,6 +164,7 @@ template <typename T> class DeonFarFieldFiber {
     HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi) const { return eval_pdf(wo, wi).f; }
     HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return eval_pdf(wo, wi).pdf; }
     HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const {
+        if (!(is_finite(wo) && is_finite(wi))) return HairEvalPdf<T>{};  // non-finite input: 0 (see HairSample)
         const T sin_i = clamp(wi.x, T(-1), T(1));
         const T phi = relative_azimuth(wo, wi);
         return combine(outgoing(wo), sin_i, cos_from_sin(sin_i), phi);
@@ -202,6 +204,7 @@ template <typename T> class DeonFarFieldFiber {
     // from M_p, u.w the Box–Muller radius (or φ for the residual).
     HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const {
         using std::sqrt;
+        if (!(is_finite(wo) && is_finite(u))) return HairSample<T>{};  // non-finite input: pdf 0, weight 0
         const Outgoing o = outgoing(wo);
         const int n = mat_->half_nodes();
 

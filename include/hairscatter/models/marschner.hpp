@@ -33,8 +33,8 @@ template <typename T> struct MarschnerParams {
     T eta = T(1.55);                      // index of refraction, > 1
     glm::vec<3, T> sigma_a{T(0)};         // absorption per unit fiber radius, RGB, ≥ 0
     T alpha_r = radians(T(-7.5));         // α_R, the R lobe's shift (Table 1: -10° to -5°)
-    T beta_r = radians(T(7.5));           // β_R, the R lobe's width (5° to 10°), (0, π/4]
-    T beta_n = T(0.3);                    // azimuthal roughness, (0, 1], Chiang's scale
+    T beta_r = radians(T(7.5));           // β_R, the R lobe's width (5° to 10°), [1e-4, π/4]
+    T beta_n = T(0.3);                    // azimuthal roughness, [1e-3, 1], Chiang's scale
     T eccentricity = T(1);                // a, major/minor axis ratio (0.85–1 for human hair), > 0
     T caustic_width = radians(T(15));     // w_c (10° to 25°), (0, π/2]
     T caustic_gain = T(0.5);              // k_G (0.5 to 5), ≥ 0
@@ -45,6 +45,9 @@ template <typename T> struct MarschnerParams {
 // |α_R| ≤ π/6 keeps TRT's shift -3α_R/2 within 45°; β_R ≤ π/4 keeps β_TRT = 2β_R ≤ 90°.
 template <typename T> inline constexpr T kMaxMarschnerShift = kPi<T> / T(6);
 template <typename T> inline constexpr T kMaxMarschnerWidth = kPi<T> / T(4);
+// β_R ≥ 1e-4 rad: finite in float and double far below (docs/robustness.md); a lobe 0.006°
+// wide is already far narrower than any fiber's.
+template <typename T> inline constexpr T kMinMarschnerWidth = T(1e-4);
 
 // Empty when valid, else one message per bad field naming it, its value and its range.
 template <typename T> std::string validate(const MarschnerParams<T>& p) {
@@ -54,23 +57,28 @@ template <typename T> std::string validate(const MarschnerParams<T>& p) {
         if (msg.tellp() > 0) msg << "; ";
         msg << name << " = " << value << " is outside its range " << range;
     };
-    auto finite = [](T x) { return std::isfinite(x); };
-    check(p.eta > T(1) && finite(p.eta), "eta", double(p.eta), "(1, inf) (finite)");
+    // Every test is false for NaN and ±Inf, read from the bits (fast-math safe).
+    auto finite = [](T x) { return is_finite(x); };
+    auto within = [](T x, T lo, T hi) { return is_finite(x) && x >= lo && x <= hi; };
+    check(finite(p.eta) && p.eta > T(1), "eta", double(p.eta), "(1, inf) (finite)");
     const char* channel[3] = {"sigma_a.r", "sigma_a.g", "sigma_a.b"};
     for (int c = 0; c < 3; ++c)
-        check(p.sigma_a[c] >= T(0) && finite(p.sigma_a[c]), channel[c], double(p.sigma_a[c]), "[0, inf) (finite)");
-    check(std::abs(p.alpha_r) <= kMaxMarschnerShift<T>, "alpha_r", double(p.alpha_r), "[-pi/6, pi/6] radians");
-    check(p.beta_r > T(0) && p.beta_r <= kMaxMarschnerWidth<T>, "beta_r", double(p.beta_r), "(0, pi/4] radians");
-    check(p.beta_n > T(0) && p.beta_n <= T(1), "beta_n", double(p.beta_n), "(0, 1]");
-    check(p.eccentricity > T(0) && finite(p.eccentricity), "eccentricity", double(p.eccentricity),
+        check(finite(p.sigma_a[c]) && p.sigma_a[c] >= T(0), channel[c], double(p.sigma_a[c]), "[0, inf) (finite)");
+    check(within(p.alpha_r, -kMaxMarschnerShift<T>, kMaxMarschnerShift<T>), "alpha_r", double(p.alpha_r),
+          "[-pi/6, pi/6] radians");
+    check(within(p.beta_r, kMinMarschnerWidth<T>, kMaxMarschnerWidth<T>), "beta_r", double(p.beta_r),
+          "[1e-4, pi/4] radians");
+    check(within(p.beta_n, kMinRoughness<T>, T(1)), "beta_n", double(p.beta_n), "[1e-3, 1]");
+    check(finite(p.eccentricity) && p.eccentricity > T(0), "eccentricity", double(p.eccentricity),
           "(0, inf) (finite)");
-    check(p.caustic_width > T(0) && p.caustic_width <= kHalfPi<T>, "caustic_width", double(p.caustic_width),
-          "(0, pi/2] radians");
-    check(p.caustic_gain >= T(0) && finite(p.caustic_gain), "caustic_gain", double(p.caustic_gain),
+    check(finite(p.caustic_width) && p.caustic_width > T(0) && p.caustic_width <= kHalfPi<T>, "caustic_width",
+          double(p.caustic_width), "(0, pi/2] radians");
+    check(finite(p.caustic_gain) && p.caustic_gain >= T(0), "caustic_gain", double(p.caustic_gain),
           "[0, inf) (finite)");
-    check(p.caustic_fade > T(0) && finite(p.caustic_fade), "caustic_fade", double(p.caustic_fade),
+    check(finite(p.caustic_fade) && p.caustic_fade > T(0), "caustic_fade", double(p.caustic_fade),
           "(0, inf) (finite)");
-    check(p.caustic_dh_max > T(0) && p.caustic_dh_max <= T(1), "caustic_dh_max", double(p.caustic_dh_max), "(0, 1]");
+    check(finite(p.caustic_dh_max) && p.caustic_dh_max > T(0) && p.caustic_dh_max <= T(1), "caustic_dh_max",
+          double(p.caustic_dh_max), "(0, 1]");
     return msg.str();
 }
 
@@ -96,11 +104,11 @@ template <typename T> class MarschnerMaterial {
     explicit MarschnerMaterial(const MarschnerParams<T>& params, int azimuthal_nodes = kDefaultNodes)
         : params_(params), nodes_(azimuthal_nodes) {
         const std::string m = validate(params);
-        if (!m.empty()) throw std::invalid_argument("hairscatter: invalid Marschner parameters: " + m);
+        if (!m.empty()) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: invalid Marschner parameters: " + m));
         if (!(azimuthal_nodes >= 1 && azimuthal_nodes <= kMaxNodes))
-            throw std::invalid_argument("hairscatter: MarschnerMaterial: azimuthal_nodes = " +
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: MarschnerMaterial: azimuthal_nodes = " +
                                         std::to_string(azimuthal_nodes) + " is outside its range [1, " +
-                                        std::to_string(kMaxNodes) + "]");
+                                        std::to_string(kMaxNodes) + "]"));
         // Table 1: α_TT = -α_R/2, α_TRT = -3α_R/2; β_TT = β_R/2, β_TRT = 2β_R.
         const T alpha[kLobes] = {params.alpha_r, T(-0.5) * params.alpha_r, T(-1.5) * params.alpha_r};
         const T beta[kLobes] = {params.beta_r, T(0.5) * params.beta_r, T(2) * params.beta_r};
@@ -199,6 +207,7 @@ template <typename T> class MarschnerFiber {
     HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const { return query<true, true>(wo, wi); }
 
     HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const {
+        if (!(is_finite(wo) && is_finite(u))) return HairSample<T>{};  // non-finite input: pdf 0, weight 0
         const Outgoing o = outgoing<true>(wo);
         // The lobe ∝ w_p (normalised, w_R > 0); the leftover of u.x is h.
         const DiscreteChoice<T> lobe = sample_discrete(o.w, kLobes, u.x, T(1));
@@ -318,6 +327,7 @@ template <typename T> class MarschnerFiber {
     }
 
     template <bool kF, bool kPdf> HAIRSCATTER_HD HairEvalPdf<T> query(const V3& wo, const V3& wi) const {
+        if (!(is_finite(wo) && is_finite(wi))) return HairEvalPdf<T>{};  // non-finite input: 0 (see HairSample)
         const T sin_i = clamp(wi.x, T(-1), T(1));
         return combine<kF, kPdf>(outgoing<kPdf>(wo), sin_i, cos_from_sin(sin_i), relative_azimuth(wo, wi));
     }

@@ -236,14 +236,14 @@ template <typename T> class TabulatedView {
     // ≤ rows - 2, fraction). Clamped, so rounding never extrapolates.
     HAIRSCATTER_HD void phi_cell(T abs_phi, int& i, T& frac) const {
         const T x = clamp(abs_phi * phi_scale_, T(0), T(n_phi_ - 1));
-        i = int(x) < n_phi_ - 2 ? int(x) : n_phi_ - 2;
+        i = table_cell(x, n_phi_ - 2);  // NaN-safe: cell 0
         frac = x - T(i);
     }
     HAIRSCATTER_HD void theta_cell(T cos_o, int& row, T& frac) const {
         using std::sqrt;
         // y = the root of y(1 + 2y)/3 = cosθo in [0, 1] (tabulated_row_cos).
         const T y = clamp((sqrt(T(1) + T(24) * cos_o) - T(1)) * T(0.25) * T(n_theta_ - 1), T(0), T(n_theta_ - 1));
-        row = int(y) < n_theta_ - 2 ? int(y) : n_theta_ - 2;
+        row = table_cell(y, n_theta_ - 2);
         frac = y - T(row);
     }
 
@@ -388,9 +388,9 @@ template <typename T> class TabulatedMaterial {
   private:
     static void check(const TabulatedOptions& o) {
         auto bad = [](const char* name, int value, int lo, int hi) {
-            throw std::invalid_argument(std::string("hairscatter: TabulatedOptions::") + name + " = " +
+            HAIRSCATTER_THROW(std::invalid_argument(std::string("hairscatter: TabulatedOptions::") + name + " = " +
                                         std::to_string(value) + " is outside its range [" + std::to_string(lo) +
-                                        ", " + std::to_string(hi) + "]");
+                                        ", " + std::to_string(hi) + "]"));
         };
         if (!(o.phi_samples >= 2 && o.phi_samples <= TabulatedOptions::kMaxPhiSamples))
             bad("phi_samples", o.phi_samples, 2, TabulatedOptions::kMaxPhiSamples);
@@ -543,6 +543,7 @@ template <typename T> class TabulatedFiber {
     }
 
     HAIRSCATTER_HD HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
+        if (!(is_finite(wo) && is_finite(wi))) return HairEvalPdf<T>{};  // non-finite input: 0 (see HairSample)
         const T sin_i = clamp(wi.x, T(-1), T(1));
         const T phi = relative_azimuth(wo, wi);
         return combine(o, sin_i, cos_from_sin(sin_i), phi);
@@ -579,6 +580,7 @@ template <typename T> class TabulatedFiber {
 
     HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
         using std::sqrt;
+        if (!(is_finite(wo) && is_finite(u))) return HairSample<T>{};  // non-finite input: pdf 0, weight 0
         // Lobe ∝ s_p; the leftover of u.x picks the row below.
         const DiscreteChoice<T> lobe = sample_discrete(o.s, kLobes + 1, u.x, o.total);
         const int p = lobe.index;

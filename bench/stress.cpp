@@ -1,0 +1,364 @@
+// stress — random and adversarial calls of every model in float and double (not CI; run by
+// scripts/stress.sh, which writes docs/stress.md). Per model and precision it cycles over
+// materials at the documented parameter limits and in between, and per call draws:
+//   wo, wi: uniform on the sphere (most calls), or an edge direction — along the fiber axis
+//           (±x exactly), within 1e-6 of it, grazing (x = 0), with a 1e-7 azimuthal part;
+//   h (Chiang): uniform in [-1, 1], or exactly ±1 or 0;
+//   u: uniform, or components at 0, 1 and 1 - ulp;
+//   1 call in 64: one non-finite component (NaN, ±Inf) in wo, wi or u.
+// Counted: calls (each eval, pdf, eval_pdf and sample), NaN, Inf and negative values among
+// f, pdf and the sample's weight, pdf and direction, non-finite inputs that do not give the
+// zero result (contract), and sample/pdf mismatches: a sample with pdf > 0 whose direction's
+// pdf(wo, wi) differs by more than kRelTolerance · max + kAbsTolerance (below); samples
+// exactly on the fiber axis are counted apart (no azimuth: nothing to compare), and so are
+// differences that moving wi by 4 ulps explains (within_rounding).
+//
+//   stress [--calls N] [--slow-calls N] [--seed S] [--out FILE]
+//
+// N (default 1e8) is the number of calls per fast model (Chiang, tabulated, tabulated fast())
+// and precision; the far field and Marschner, 10–20× slower per call, get --slow-calls
+// (default N / 10). Prints one Markdown table row per (model, precision) and writes the table.
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <hairscatter/hairscatter.hpp>
+
+namespace hs = hairscatter;
+
+namespace {
+
+// xoshiro128+-style generator, cheap enough not to dominate a 100 ns model call.
+struct Rng {
+    std::uint64_t s;
+    std::uint64_t next() {
+        s += 0x9e3779b97f4a7c15ull;
+        std::uint64_t z = s;
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+        return z ^ (z >> 31);
+    }
+    double uniform() { return double(next() >> 11) * (1.0 / 9007199254740992.0); }
+    int below(int n) { return int(next() % std::uint64_t(n)); }
+};
+
+struct Counts {
+    std::uint64_t calls = 0, nan = 0, inf = 0, negative = 0, mismatch = 0, contract = 0, pole = 0, ulp = 0;
+    double max_rel_mismatch = 0;  // among the mismatches
+};
+
+// A sample's pdf and pdf(wo, its wi) agree when |Δ| ≤ 1e-2 · max + 1e-3: relative, plus an
+// absolute 1e-3 (1/80 of the uniform sphere's density) for the edges of a lobe's support,
+// where the density falls linearly to 0 and the rounding of wi (float: 6e-8) moves it.
+constexpr double kRelTolerance = 1e-2, kAbsTolerance = 1e-3;
+
+template <typename T> void tally(Counts& c, T x) {
+    if (x != x) {
+        ++c.nan;
+    } else if (!hs::is_finite(x)) {
+        ++c.inf;
+    } else if (x < T(0)) {
+        ++c.negative;
+    }
+}
+template <typename T> void tally(Counts& c, const glm::vec<3, T>& v) {
+    for (int i = 0; i < 3; ++i) tally(c, v[i]);
+}
+// A direction may be negative; only NaN / Inf count.
+template <typename T> void tally_dir(Counts& c, const glm::vec<3, T>& v) {
+    for (int i = 0; i < 3; ++i) {
+        if (v[i] != v[i])
+            ++c.nan;
+        else if (!hs::is_finite(v[i]))
+            ++c.inf;
+    }
+}
+
+template <typename T> glm::vec<3, T> sphere(Rng& r) {
+    const double z = 2 * r.uniform() - 1, phi = 6.283185307179586 * r.uniform();
+    const double s = std::sqrt(std::fmax(0.0, 1 - z * z));
+    return glm::vec<3, T>(T(z), T(s * std::cos(phi)), T(s * std::sin(phi)));
+}
+
+template <typename T> glm::vec<3, T> direction(Rng& r) {
+    const int k = r.below(16);
+    if (k >= 6) return sphere<T>(r);
+    const double sign = r.uniform() < 0.5 ? -1.0 : 1.0, phi = 6.283185307179586 * r.uniform();
+    switch (k) {
+        case 0: return glm::vec<3, T>(T(sign), T(0), T(0));  // along the axis
+        case 1: {                                             // within 1e-6 of it
+            const double e = 1e-6 * r.uniform();
+            return glm::vec<3, T>(T(sign * std::sqrt(1 - e * e)), T(e * std::cos(phi)), T(e * std::sin(phi)));
+        }
+        case 2: return glm::vec<3, T>(T(0), T(std::cos(phi)), T(std::sin(phi)));  // grazing
+        case 3: return glm::vec<3, T>(T(sign), T(1e-7), T(0));                     // unnormalised by 1e-14
+        case 4: return glm::vec<3, T>(T(0), T(sign), T(0));
+        default: return glm::vec<3, T>(T(0), T(0), T(sign));
+    }
+}
+
+template <typename T> T unit_number(Rng& r) {
+    switch (r.below(12)) {
+        case 0: return T(0);
+        case 1: return T(1);
+        case 2: return T(1) - std::numeric_limits<T>::epsilon() / T(2);  // 1 - ulp
+        default: return T(r.uniform());
+    }
+}
+
+template <typename T> T poison(Rng& r) {
+    switch (r.below(3)) {
+        case 0: return std::numeric_limits<T>::quiet_NaN();
+        case 1: return std::numeric_limits<T>::infinity();
+        default: return -std::numeric_limits<T>::infinity();
+    }
+}
+
+// The sample's pdf lies within the tolerance of the range that pdf takes when wi moves by
+// 4 ulps of 1 along each axis: where the density is steep (the edge of a narrow lobe's
+// support, φ = ±π with β_n = 1e-3: 100 per radian), the rounding of the sampled angles
+// into wi moves the pdf by more than the tolerance; that is rounding, not a mismatch.
+template <typename T, typename Fiber>
+bool within_rounding(const Fiber& fiber, const glm::vec<3, T>& wo, const glm::vec<3, T>& wi, T pdf) {
+    const T e = T(4) * std::numeric_limits<T>::epsilon();
+    double lo = std::numeric_limits<double>::max(), hi = 0;
+    for (int axis = 0; axis < 3; ++axis)
+        for (T sign : {T(-1), T(1)}) {
+            glm::vec<3, T> w = wi;
+            w[axis] += sign * e;
+            const double p = double(fiber.pdf(wo, glm::normalize(w)));
+            lo = std::fmin(lo, p);
+            hi = std::fmax(hi, p);
+        }
+    return double(pdf) >= lo * (1 - kRelTolerance) - kAbsTolerance && double(pdf) <= hi * (1 + kRelTolerance) + kAbsTolerance;
+}
+
+// One round of calls on one fiber: eval_pdf, eval, pdf, sample and the pdf of the sample.
+template <typename T, typename Fiber> void round(const Fiber& fiber, Rng& r, Counts& c) {
+    using V3 = glm::vec<3, T>;
+    using V4 = glm::vec<4, T>;
+    V3 wo = direction<T>(r), wi = direction<T>(r);
+    V4 u(unit_number<T>(r), unit_number<T>(r), unit_number<T>(r), unit_number<T>(r));
+    const bool bad = r.below(64) == 0;
+    if (bad) {
+        const int which = r.below(10);
+        if (which < 3)
+            wo[which] = poison<T>(r);
+        else if (which < 6)
+            wi[which - 3] = poison<T>(r);
+        else
+            u[which - 6] = poison<T>(r);
+    }
+    const hs::HairEvalPdf<T> e = fiber.eval_pdf(wo, wi);
+    const V3 f = fiber.eval(wo, wi);
+    const T pdf = fiber.pdf(wo, wi);
+    const hs::HairSample<T> s = fiber.sample(wo, u);
+    c.calls += 4;
+    if (bad) {
+        const bool wi_bad = !hs::is_finite(wi), uo_bad = !hs::is_finite(wo) || !hs::is_finite(u);
+        bool ok = true;
+        if (wi_bad || !hs::is_finite(wo)) ok = ok && e.f == V3(T(0)) && e.pdf == T(0) && f == V3(T(0)) && pdf == T(0);
+        if (uo_bad) ok = ok && s.pdf == T(0) && s.weight == V3(T(0));
+        if (!ok) ++c.contract;
+        return;
+    }
+    tally(c, e.f);
+    tally(c, e.pdf);
+    tally(c, f);
+    tally(c, pdf);
+    tally(c, s.pdf);
+    tally(c, s.weight);
+    tally_dir(c, s.wi);
+    // A sample exactly on the fiber axis (u.y at 0 or 1 puts sinθi at ±1) has no azimuth:
+    // the density there depends on the direction of approach, so it is counted, not compared.
+    if (s.wi.y == T(0) && s.wi.z == T(0)) {
+        ++c.pole;
+    } else if (s.pdf > T(0) && hs::is_finite(s.pdf) && hs::is_finite(s.wi)) {
+        const T back = fiber.pdf(wo, s.wi);
+        ++c.calls;
+        const double diff = std::fabs(double(back) - double(s.pdf)), scale = std::fmax(double(back), double(s.pdf));
+        const double rel = diff / scale;
+        if (!(diff <= kRelTolerance * scale + kAbsTolerance)) {
+            if (within_rounding(fiber, wo, s.wi, s.pdf)) {
+                ++c.ulp;
+            } else {
+                ++c.mismatch;
+                if (rel > c.max_rel_mismatch) c.max_rel_mismatch = rel;
+            }
+        }
+    }
+}
+
+// The parameter sets every model cycles through: defaults, both roughnesses at the lower
+// limit, at 1, one at each end, the extreme tilts, no and strong absorption, η near 1 and 3.
+template <typename T> std::vector<hs::FiberParams<T>> fiber_params() {
+    const T lo = hs::kMinRoughness<T>;
+    std::vector<hs::FiberParams<T>> v;
+    auto add = [&](T bm, T bn, T alpha, T sigma, T eta) {
+        hs::FiberParams<T> p;
+        p.beta_m = bm;
+        p.beta_n = bn;
+        p.alpha = alpha;
+        p.sigma_a = glm::vec<3, T>(sigma, T(0.5) * sigma, T(2) * sigma);
+        p.eta = eta;
+        v.push_back(p);
+    };
+    const T tilt = hs::kMaxCuticleTilt<T>;
+    add(T(0.3), T(0.3), hs::radians(T(2)), T(0.5), T(1.55));
+    add(lo, lo, hs::radians(T(2)), T(0.5), T(1.55));
+    add(T(1), T(1), T(0), T(0), T(1.55));
+    add(lo, T(1), tilt, T(0.2), T(1.55));
+    add(T(1), lo, -tilt, T(2), T(1.55));
+    add(T(0.05), T(0.1), tilt, T(0), T(1.0001));
+    add(T(0.3), T(0.05), T(0), T(50), T(3));
+    add(T(0.7), T(0.9), -tilt, T(1e-3), T(1.2));
+    return v;
+}
+
+template <typename T> std::vector<hs::MarschnerParams<T>> marschner_params() {
+    const T lo = hs::kMinRoughness<T>;
+    std::vector<hs::MarschnerParams<T>> v;
+    hs::MarschnerParams<T> p;
+    p.sigma_a = glm::vec<3, T>(T(0.5), T(0.3), T(0.2));
+    v.push_back(p);
+    p.beta_r = hs::kMinMarschnerWidth<T>;
+    p.beta_n = lo;
+    v.push_back(p);
+    p.beta_r = hs::kMaxMarschnerWidth<T>;
+    p.beta_n = T(1);
+    p.alpha_r = hs::kMaxMarschnerShift<T>;
+    v.push_back(p);
+    p = hs::MarschnerParams<T>();
+    p.eccentricity = T(0.85);
+    p.caustic_gain = T(5);
+    p.alpha_r = -hs::kMaxMarschnerShift<T>;
+    v.push_back(p);
+    p.eta = T(1.0001);
+    p.sigma_a = glm::vec<3, T>(T(40));
+    v.push_back(p);
+    return v;
+}
+
+struct Row {
+    std::string model, precision;
+    Counts c;
+    double seconds;
+    int materials;
+};
+
+template <typename T, typename MakeRound>
+Row run(const char* model, std::uint64_t calls, int materials, std::uint64_t seed, const MakeRound& per_material) {
+    Row row{model, sizeof(T) == 4 ? "float" : "double", {}, 0, materials};
+    Rng r{seed};
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int m = 0; m < materials; ++m) {
+        const std::uint64_t target = calls * std::uint64_t(m + 1) / std::uint64_t(materials);
+        per_material(m, [&](auto&& one_round) {
+            while (row.c.calls < target) one_round(r, row.c);
+        });
+    }
+    row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::fprintf(stderr, "%-18s %-6s %12" PRIu64 " calls  %6.1f s\n", model, row.precision.c_str(), row.c.calls,
+                 row.seconds);
+    return row;
+}
+
+template <typename T> void models(std::vector<Row>& rows, std::uint64_t calls, std::uint64_t slow, std::uint64_t seed) {
+    const auto fp = fiber_params<T>();
+    const int nf = int(fp.size());
+    rows.push_back(run<T>("Chiang", calls, nf, seed + 1, [&](int m, auto&& loop) {
+        const hs::ChiangMaterial<T> mat(fp[std::size_t(m)]);
+        loop([&](Rng& r, Counts& c) {
+            const int k = r.below(8);
+            const T h = k == 0 ? T(1) : k == 1 ? T(-1) : k == 2 ? T(0) : T(2 * r.uniform() - 1);
+            round<T>(hs::ChiangFiber<T>(mat, h), r, c);
+        });
+    }));
+    rows.push_back(run<T>("tabulated", calls, nf, seed + 2, [&](int m, auto&& loop) {
+        const hs::TabulatedMaterial<T> mat(fp[std::size_t(m)]);
+        const hs::TabulatedFiber<T> fiber(mat);
+        loop([&](Rng& r, Counts& c) { round<T>(fiber, r, c); });
+    }));
+    rows.push_back(run<T>("tabulated fast()", calls, nf, seed + 3, [&](int m, auto&& loop) {
+        const hs::TabulatedMaterial<T> mat(fp[std::size_t(m)], hs::TabulatedOptions::fast());
+        const hs::TabulatedFiber<T> fiber(mat);
+        loop([&](Rng& r, Counts& c) { round<T>(fiber, r, c); });
+    }));
+    rows.push_back(run<T>("far field", slow, nf, seed + 4, [&](int m, auto&& loop) {
+        const hs::DeonFarFieldMaterial<T> mat(fp[std::size_t(m)]);
+        const hs::DeonFarFieldFiber<T> fiber(mat);
+        loop([&](Rng& r, Counts& c) { round<T>(fiber, r, c); });
+    }));
+    const auto mp = marschner_params<T>();
+    rows.push_back(run<T>("Marschner", slow, int(mp.size()), seed + 5, [&](int m, auto&& loop) {
+        const hs::MarschnerMaterial<T> mat(mp[std::size_t(m)]);
+        const hs::MarschnerFiber<T> fiber(mat);
+        loop([&](Rng& r, Counts& c) { round<T>(fiber, r, c); });
+    }));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::uint64_t calls = 100000000, slow = 0, seed = 1;
+    std::string out;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto value = [&]() -> const char* {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "stress: %s needs a value\n", a.c_str());
+                std::exit(2);
+            }
+            return argv[++i];
+        };
+        if (a == "--calls")
+            calls = std::uint64_t(std::atof(value()));
+        else if (a == "--slow-calls")
+            slow = std::uint64_t(std::atof(value()));
+        else if (a == "--seed")
+            seed = std::uint64_t(std::atoll(value()));
+        else if (a == "--out")
+            out = value();
+        else {
+            std::fprintf(stderr, "usage: stress [--calls N] [--slow-calls N] [--seed S] [--out FILE]\n");
+            return 2;
+        }
+    }
+    if (slow == 0) slow = calls / 10;
+    std::vector<Row> rows;
+    models<float>(rows, calls, slow, seed);
+    models<double>(rows, calls, slow, seed + 100);
+
+    std::string table =
+        "| model | precision | materials | calls | NaN | Inf | negative | non-finite input not 0 | sample/pdf "
+        "mismatch | largest mismatch (relative) | within 4 ulps of wi | samples on the axis | seconds |\n"
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    std::uint64_t failures = 0;
+    for (const Row& w : rows) {
+        char line[512];
+        std::snprintf(line, sizeof line,
+                      "| %s | %s | %d | %" PRIu64 " | %" PRIu64 " | %" PRIu64 " | %" PRIu64 " | %" PRIu64 " | %" PRIu64
+                      " | %.2g | %" PRIu64 " | %" PRIu64 " | %.1f |\n",
+                      w.model.c_str(), w.precision.c_str(), w.materials, w.c.calls, w.c.nan, w.c.inf, w.c.negative,
+                      w.c.contract, w.c.mismatch, w.c.max_rel_mismatch, w.c.ulp, w.c.pole, w.seconds);
+        table += line;
+        failures += w.c.nan + w.c.inf + w.c.negative + w.c.contract + w.c.mismatch;
+    }
+    std::fputs(table.c_str(), stdout);
+    if (!out.empty()) {
+        std::FILE* f = std::fopen(out.c_str(), "w");
+        if (!f || std::fputs(table.c_str(), f) < 0 || std::fclose(f) != 0) {
+            std::fprintf(stderr, "stress: cannot write %s\n", out.c_str());
+            return 2;
+        }
+    }
+    std::printf("stress: %" PRIu64 " failures\n", failures);
+    return failures == 0 ? 0 : 1;
+}

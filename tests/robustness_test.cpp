@@ -1,0 +1,321 @@
+// Robustness: hostile inputs never crash and never give silent garbage. Non-finite wo, wi
+// or u give 0 (eval, pdf) and the empty sample (pdf 0, weight 0) in every model; validate()
+// rejects the roughness values that underflow (and NaN/Inf, also under -ffast-math: every
+// finiteness check here reads the bits, as the library does); the float elementary
+// functions handle NaN, ±Inf and large arguments without converting them to integers; the
+// tabulated fiber's sample and pdf agree near the fiber axis. This file is also built with
+// -ffast-math (scripts/test.sh step fastmath), where std::isfinite would fold to true.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <hairscatter/hairscatter.hpp>
+
+namespace hs = hairscatter;
+
+namespace {
+
+template <typename T> T quiet_nan() { return std::numeric_limits<T>::quiet_NaN(); }
+template <typename T> T infinity() { return std::numeric_limits<T>::infinity(); }
+
+template <typename T> bool finite3(const glm::vec<3, T>& v) { return hs::is_finite(v); }
+
+template <typename T> glm::vec<3, T> unit(double theta, double phi) {
+    return glm::vec<3, T>(T(std::sin(theta)), T(std::cos(theta) * std::cos(phi)), T(std::cos(theta) * std::sin(phi)));
+}
+
+// The non-finite inputs: NaN and ±Inf in each component of a unit vector.
+template <typename T, int N> std::vector<glm::vec<N, T>> poisoned(const glm::vec<N, T>& good) {
+    std::vector<glm::vec<N, T>> r;
+    for (int i = 0; i < N; ++i)
+        for (T bad : {quiet_nan<T>(), infinity<T>(), -infinity<T>()}) {
+            glm::vec<N, T> v = good;
+            v[i] = bad;
+            r.push_back(v);
+        }
+    return r;
+}
+
+// Chiang and the tabulated fiber also have at(wo); the far field and Marschner do not.
+template <typename F, typename = void> struct has_at : std::false_type {};
+template <typename F>
+struct has_at<F, std::void_t<decltype(std::declval<const F&>().at(std::declval<typename F::V3>()))>> : std::true_type {};
+
+// The contract of models/chiang.hpp's HairSample comment, for one fiber (any model).
+template <typename T, typename Fiber> void expect_zero_on_nonfinite(const Fiber& fiber, const char* name) {
+    using V3 = glm::vec<3, T>;
+    using V4 = glm::vec<4, T>;
+    const V3 wo = unit<T>(0.3, 0.2), wi = unit<T>(-0.4, 2.5);
+    const V4 u(T(0.3), T(0.6), T(0.2), T(0.7));
+    // The good inputs give a non-zero answer (so the zeros below are the guard's).
+    ASSERT_GT(fiber.pdf(wo, wi), T(0)) << name;
+    for (const V3& bad : poisoned<T, 3>(wo)) {
+        EXPECT_EQ(fiber.eval(bad, wi), V3(T(0))) << name << " wo " << bad.x << " " << bad.y << " " << bad.z;
+        EXPECT_EQ(fiber.pdf(bad, wi), T(0)) << name;
+        const hs::HairEvalPdf<T> ep = fiber.eval_pdf(bad, wi);
+        EXPECT_EQ(ep.f, V3(T(0))) << name;
+        EXPECT_EQ(ep.pdf, T(0)) << name;
+        const hs::HairSample<T> s = fiber.sample(bad, u);
+        EXPECT_EQ(s.pdf, T(0)) << name;
+        EXPECT_EQ(s.weight, V3(T(0))) << name;
+        EXPECT_TRUE(finite3(s.wi)) << name;
+        if constexpr (has_at<Fiber>::value) {
+            const auto at = fiber.at(bad);
+            EXPECT_EQ(at.eval(wi), V3(T(0))) << name;
+            EXPECT_EQ(at.pdf(wi), T(0)) << name;
+            EXPECT_EQ(at.sample(u).pdf, T(0)) << name;
+        }
+    }
+    for (const V3& bad : poisoned<T, 3>(wi)) {
+        EXPECT_EQ(fiber.eval(wo, bad), V3(T(0))) << name << " wi " << bad.x << " " << bad.y << " " << bad.z;
+        EXPECT_EQ(fiber.pdf(wo, bad), T(0)) << name;
+        if constexpr (has_at<Fiber>::value) {
+            EXPECT_EQ(fiber.at(wo).eval(bad), V3(T(0))) << name;
+            EXPECT_EQ(fiber.at(wo).pdf(bad), T(0)) << name;
+        }
+    }
+    for (const V4& bad : poisoned<T, 4>(u)) {
+        const hs::HairSample<T> s = fiber.sample(wo, bad);
+        EXPECT_EQ(s.pdf, T(0)) << name << " u " << bad.x << " " << bad.y << " " << bad.z << " " << bad.w;
+        EXPECT_EQ(s.weight, V3(T(0))) << name;
+        if constexpr (has_at<Fiber>::value) EXPECT_EQ(fiber.at(wo).sample(bad).pdf, T(0)) << name;
+    }
+}
+
+template <typename T> hs::FiberParams<T> brown() {
+    hs::FiberParams<T> p;
+    p.sigma_a = hs::sigma_a_from_melanin(T(1.3), T(0));
+    return p;
+}
+
+// Calls check(fiber, name) for a fiber of every model made from p (Marschner's from its
+// defaults with p's absorption).
+template <typename T, typename Check> void for_each_model(const hs::FiberParams<T>& p, const Check& check) {
+    const hs::ChiangMaterial<T> chiang(p);
+    check(hs::ChiangFiber<T>(chiang, T(0.3)), "chiang");
+    const hs::DeonFarFieldMaterial<T> far(p);
+    check(hs::DeonFarFieldFiber<T>(far), "far field");
+    const hs::TabulatedMaterial<T> tab(p);
+    check(hs::TabulatedFiber<T>(tab), "tabulated");
+    const hs::TabulatedMaterial<T> fast(p, hs::TabulatedOptions::fast());
+    check(hs::TabulatedFiber<T>(fast), "tabulated fast()");
+    hs::MarschnerParams<T> mp;
+    mp.sigma_a = p.sigma_a;
+    const hs::MarschnerMaterial<T> marschner(mp);
+    check(hs::MarschnerFiber<T>(marschner), "marschner");
+}
+
+template <typename T> void every_model_nonfinite() {
+    for_each_model<T>(brown<T>(), [](const auto& fiber, const char* name) { expect_zero_on_nonfinite<T>(fiber, name); });
+}
+
+TEST(NonFiniteInput, EveryModelReturnsZeroFloat) { every_model_nonfinite<float>(); }
+TEST(NonFiniteInput, EveryModelReturnsZeroDouble) { every_model_nonfinite<double>(); }
+
+// The table coordinates themselves: a NaN never becomes an index (the old clamp let it
+// through to int(NaN)).
+TEST(NonFiniteInput, TableCellIsNanSafe) {
+    EXPECT_EQ(hs::table_cell(quiet_nan<float>(), 10), 0);
+    EXPECT_EQ(hs::table_cell(-infinity<float>(), 10), 0);
+    EXPECT_EQ(hs::table_cell(infinity<double>(), 10), 10);
+    EXPECT_EQ(hs::table_cell(3.7f, 10), 3);
+    EXPECT_EQ(hs::table_cell(10.5, 10), 10);
+}
+
+TEST(Finite, BitsNotComparisons) {
+    EXPECT_FALSE(hs::is_finite(quiet_nan<float>()));
+    EXPECT_FALSE(hs::is_finite(-infinity<float>()));
+    EXPECT_FALSE(hs::is_finite(quiet_nan<double>()));
+    EXPECT_FALSE(hs::is_finite(infinity<double>()));
+    EXPECT_TRUE(hs::is_finite(std::numeric_limits<float>::max()));
+    EXPECT_TRUE(hs::is_finite(std::numeric_limits<double>::denorm_min()));
+    EXPECT_FALSE(hs::is_finite(glm::vec3(1.0f, quiet_nan<float>(), 0.0f)));
+}
+
+// The float exp and sincos: NaN stays NaN and ±Inf / huge arguments are handled without a
+// float → int conversion out of range (UBSan's float-cast-overflow); and the rounding of
+// the argument reduction survives -ffast-math (the 1.5·2^23 trick did not).
+TEST(Elementary, FloatExpSpecialAndRounding) {
+    EXPECT_FALSE(hs::is_finite(hs::elem::exp(quiet_nan<float>())));
+    EXPECT_EQ(hs::elem::exp(-infinity<float>()), 0.0f);
+    EXPECT_EQ(hs::elem::exp(-1000.0f), 0.0f);
+    EXPECT_TRUE(hs::is_finite(hs::elem::exp(infinity<float>())));
+    // Every x whose x·log2(e) sits at a rounding midpoint or near one: the reduction
+    // must keep |r| ≤ ln2/2, or the polynomial's error grows by orders of magnitude.
+    double worst = 0;
+    for (int k = -1740; k <= 0; ++k) {
+        const float x = float(k) * 0.05f;
+        const double ref = std::exp(double(x));
+        if (ref < 1e-37) continue;
+        worst = std::max(worst, std::abs(double(hs::elem::exp(x)) - ref) / ref);
+    }
+    EXPECT_LT(worst, 1e-6);
+}
+
+TEST(Elementary, FloatSincosSpecialAndLarge) {
+    float s = 0, c = 0;
+    hs::elem::sincos(quiet_nan<float>(), s, c);
+    EXPECT_FALSE(hs::is_finite(s));
+    EXPECT_FALSE(hs::is_finite(c));
+    hs::elem::sincos(infinity<float>(), s, c);
+    EXPECT_FALSE(hs::is_finite(s));
+    for (float x : {1e4f, -3e5f, 1e9f, 3e38f}) {
+        hs::elem::sincos(x, s, c);
+        EXPECT_NEAR(s, std::sin(double(x)), 1e-6) << x;
+        EXPECT_NEAR(c, std::cos(double(x)), 1e-6) << x;
+    }
+    double worst = 0;
+    for (int k = -4000; k <= 4000; ++k) {
+        const float x = float(k) * 0.0251f;
+        hs::elem::sincos(x, s, c);
+        worst = std::max({worst, std::abs(double(s) - std::sin(double(x))), std::abs(double(c) - std::cos(double(x)))});
+    }
+    EXPECT_LT(worst, 1e-6);
+}
+
+// validate(): the roughness limits, NaN and Inf, in float and double.
+template <typename T> void validation_limits() {
+    hs::FiberParams<T> p;
+    EXPECT_EQ(hs::validate(p), "");
+    for (T beta : {T(1e-19), T(1e-37), T(9e-4), T(0), quiet_nan<T>(), infinity<T>(), -infinity<T>()}) {
+        hs::FiberParams<T> q;
+        q.beta_m = beta;
+        EXPECT_NE(hs::validate(q).find("beta_m"), std::string::npos) << double(beta);
+        q = hs::FiberParams<T>();
+        q.beta_n = beta;
+        EXPECT_NE(hs::validate(q).find("beta_n"), std::string::npos) << double(beta);
+        hs::MarschnerParams<T> m;
+        m.beta_r = beta == T(9e-4) ? T(9e-5) : beta;  // β_R's limit is 1e-4 rad
+        EXPECT_NE(hs::validate(m).find("beta_r"), std::string::npos) << double(beta);
+        m = hs::MarschnerParams<T>();
+        m.beta_n = beta;
+        EXPECT_NE(hs::validate(m).find("beta_n"), std::string::npos) << double(beta);
+    }
+    for (T bad : {quiet_nan<T>(), infinity<T>()}) {
+        hs::FiberParams<T> q;
+        q.eta = bad;
+        EXPECT_NE(hs::validate(q).find("eta"), std::string::npos);
+        q = hs::FiberParams<T>();
+        q.alpha = bad;
+        EXPECT_NE(hs::validate(q).find("alpha"), std::string::npos);
+        q = hs::FiberParams<T>();
+        q.sigma_a.g = bad;
+        EXPECT_NE(hs::validate(q).find("sigma_a.g"), std::string::npos);
+    }
+    hs::FiberParams<T> at_limit;
+    at_limit.beta_m = at_limit.beta_n = hs::kMinRoughness<T>;
+    EXPECT_EQ(hs::validate(at_limit), "");
+    hs::MarschnerParams<T> m_limit;
+    m_limit.beta_r = hs::kMinMarschnerWidth<T>;
+    m_limit.beta_n = hs::kMinRoughness<T>;
+    EXPECT_EQ(hs::validate(m_limit), "");
+}
+
+TEST(Validation, RoughnessLimitsAndNonFiniteFloat) { validation_limits<float>(); }
+TEST(Validation, RoughnessLimitsAndNonFiniteDouble) { validation_limits<double>(); }
+
+// TabulatedOptions::fast() with β_m = 1e-19 in float: the variance underflowed, a NaN
+// became a table index and the first eval segfaulted. Now refused when the material is made.
+TEST(Validation, FastTableTinyBetaIsRejected) {
+    hs::FiberParams<float> p;
+    p.beta_m = 1e-19f;
+    EXPECT_THROW(hs::TabulatedMaterial<float>(p, hs::TabulatedOptions::fast()), std::invalid_argument);
+    p.beta_m = 0.3f;
+    p.beta_n = 1e-37f;
+    EXPECT_THROW(hs::TabulatedMaterial<float>(p, hs::TabulatedOptions::fast()), std::invalid_argument);
+}
+
+// Every model at the smallest accepted roughness (both β at the limit, then one at a
+// time), float and double: finite, non-negative eval, pdf and sample over random pairs.
+template <typename T, typename Fiber> void expect_finite_over_sphere(const Fiber& fiber, const char* name, int n) {
+    using V3 = glm::vec<3, T>;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u01(0, 1);
+    int bad = 0;
+    for (int i = 0; i < n; ++i) {
+        const V3 wo = unit<T>(std::asin(2 * u01(rng) - 1), 6.283 * u01(rng));
+        const V3 wi = unit<T>(std::asin(2 * u01(rng) - 1), 6.283 * u01(rng));
+        const hs::HairEvalPdf<T> e = fiber.eval_pdf(wo, wi);
+        const hs::HairSample<T> s =
+            fiber.sample(wo, glm::vec<4, T>(T(u01(rng)), T(u01(rng)), T(u01(rng)), T(u01(rng))));
+        const bool ok = finite3(e.f) && hs::is_finite(e.pdf) && e.pdf >= T(0) && e.f.x >= T(0) && e.f.y >= T(0) &&
+                        e.f.z >= T(0) && hs::is_finite(s.pdf) && s.pdf >= T(0) && finite3(s.weight) &&
+                        finite3(s.wi) && s.weight.x >= T(0);
+        bad += ok ? 0 : 1;
+    }
+    EXPECT_EQ(bad, 0) << name << " (" << n << " pairs)";
+}
+
+template <typename T> void every_model_at_limit() {
+    const T lim = hs::kMinRoughness<T>;
+    for (int which = 0; which < 3; ++which) {
+        hs::FiberParams<T> p = brown<T>();
+        if (which != 1) p.beta_m = lim;
+        if (which != 2) p.beta_n = lim;
+        const hs::ChiangMaterial<T> chiang(p);
+        expect_finite_over_sphere<T>(hs::ChiangFiber<T>(chiang, T(-1)), "chiang h = -1", 2000);
+        expect_finite_over_sphere<T>(hs::ChiangFiber<T>(chiang, T(0.5)), "chiang", 2000);
+        const hs::DeonFarFieldMaterial<T> far(p);
+        expect_finite_over_sphere<T>(hs::DeonFarFieldFiber<T>(far), "far field", 100);
+        const hs::TabulatedMaterial<T> tab(p, hs::TabulatedOptions::coarse());
+        expect_finite_over_sphere<T>(hs::TabulatedFiber<T>(tab), "tabulated", 2000);
+        const hs::TabulatedMaterial<T> fast(p, hs::TabulatedOptions::fast());
+        expect_finite_over_sphere<T>(hs::TabulatedFiber<T>(fast), "tabulated fast()", 2000);
+        hs::MarschnerParams<T> mp;
+        mp.sigma_a = p.sigma_a;
+        if (which != 1) mp.beta_r = hs::kMinMarschnerWidth<T>;
+        if (which != 2) mp.beta_n = lim;
+        const hs::MarschnerMaterial<T> marschner(mp);
+        expect_finite_over_sphere<T>(hs::MarschnerFiber<T>(marschner), "marschner", 200);
+    }
+}
+
+TEST(Limits, EveryModelFiniteAtMinimumRoughnessFloat) { every_model_at_limit<float>(); }
+TEST(Limits, EveryModelFiniteAtMinimumRoughnessDouble) { every_model_at_limit<double>(); }
+
+// wo on the fiber axis (exactly, and within 1e-6 of it): sample()'s pdf is the pdf of
+// its direction. Exactly on the axis wo has no azimuth; sample measured φ from the y axis
+// while pdf took atan2(0, 0) = 0 for every wi, so the two disagreed for every model.
+template <typename T, typename Fiber> void expect_axis_agreement(const Fiber& fiber, const char* name) {
+    using V3 = glm::vec<3, T>;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u01(0.001, 0.999);
+    const V3 wos[] = {V3(T(1), T(0), T(0)), V3(T(-1), T(0), T(0)), V3(T(1), T(7e-7), T(-3e-7)),
+                      V3(T(-1), T(-2e-7), T(9e-7))};
+    for (const V3& wo : wos) {
+        int bad = 0, compared = 0;
+        double worst = 0;
+        for (int i = 0; i < 400; ++i) {
+            const hs::HairSample<T> s =
+                fiber.sample(wo, glm::vec<4, T>(T(u01(rng)), T(u01(rng)), T(u01(rng)), T(u01(rng))));
+            if (!(s.pdf > T(0)) || (s.wi.y == T(0) && s.wi.z == T(0))) continue;
+            const double back = double(fiber.pdf(wo, s.wi)), diff = std::abs(back - double(s.pdf));
+            ++compared;
+            if (diff > 1e-2 * std::max(back, double(s.pdf)) + 1e-3) {
+                ++bad;
+                worst = std::max(worst, diff / std::max(back, double(s.pdf)));
+            }
+        }
+        EXPECT_GT(compared, 300) << name;
+        EXPECT_EQ(bad, 0) << name << " wo (" << wo.x << ", " << wo.y << ", " << wo.z << "): worst relative " << worst;
+    }
+}
+
+template <typename T> void every_model_on_axis() {
+    for_each_model<T>(brown<T>(), [](const auto& fiber, const char* name) { expect_axis_agreement<T>(fiber, name); });
+}
+
+TEST(Axis, SampleAndPdfAgreeAlongTheFiberFloat) { every_model_on_axis<float>(); }
+TEST(Axis, SampleAndPdfAgreeAlongTheFiberDouble) { every_model_on_axis<double>(); }
+
+}  // namespace
