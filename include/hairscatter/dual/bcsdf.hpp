@@ -50,7 +50,7 @@ template <typename T> struct DualForward {
 };
 template <typename T>
 HAIRSCATTER_HD glm::vec<3, T> dual_below_reflectance(const DualScatteringEntry<T>& e, T beyond) {
-    const T m = beyond >= T(0) ? beyond : T(0);  // NaN → 0
+    const T m = is_finite(beyond) ? (beyond > T(0) ? beyond : T(0)) : (beyond > T(0) ? T(1e12) : T(0));  // NaN → 0
     glm::vec<3, T> r;
     for (int c = 0; c < 3; ++c) r[c] = layered_stack(e.a_f[c], e.a_b[c], m + T(1)).R;
     return r;
@@ -69,7 +69,7 @@ HAIRSCATTER_HD DualForward<T> dual_forward(const DualScatteringLight<T>& light, 
         return r;
     }
     // NaN → 0; beyond a million fibers nothing gets through, and the spread stays finite.
-    const T n0 = light.n > T(0) ? (light.n < T(1e6) ? light.n : T(1e6)) : T(0);
+    const T n0 = !is_finite(light.n) ? (light.n > T(0) ? T(1e6) : T(0)) : clamp(light.n, T(0), T(1e6));
     if (formulation == DualFormulation::kZinke2008) {
         for (int c = 0; c < 3; ++c) r.transmittance[c] = pow(e.a_f[c], n0);
         r.spread = n0 * beta2;
@@ -157,7 +157,7 @@ template <typename Fiber> class DualScatteringBcsdf {
         // Non-finite u (or wo) gives no sample (pdf 0).
         HAIRSCATTER_HD DualSample<T> sample(const V4& u) const {
             DualSample<T> r;
-            if (!(valid_ && finite(V3(u.x, u.y, u.z)) && u.w == u.w)) return r;
+            if (!(valid_ && is_finite(u))) return r;
             const DiscreteChoice<T> c = sample_discrete(w_, 5, clamp(u.x, T(0), T(1)), T(1));
             r.component = DualComponent(c.index);
             T sin_i, phi;
@@ -213,16 +213,14 @@ template <typename Fiber> class DualScatteringBcsdf {
         friend class DualScatteringBcsdf;
         HAIRSCATTER_HD bool improved() const { return t_.settings.formulation == DualFormulation::kImproved; }
         static HAIRSCATTER_HD T mean(const V3& v) { return (v.x + v.y + v.z) * T(1.0 / 3.0); }
-        static HAIRSCATTER_HD bool finite(const V3& v) {
-            const T s = v.x + v.y + v.z;
-            return s - s == T(0);  // false for NaN and ±Inf
-        }
+        // Read from the bits (math/functions.hpp), so that -ffast-math cannot fold it away.
+        static HAIRSCATTER_HD bool finite(const V3& v) { return is_finite(v); }
 
         // with_mixture: also the sampler's mixture (pdf and sample need it, eval not).
         HAIRSCATTER_HD At(const DualScatteringBcsdf& d, const V3& wo, T spread, bool with_mixture = true)
             : t_(d.tables_), single_(d.fiber_.at(wo)), wo_(wo), valid_(finite(wo)) {
             const T so = clamp(wo.x, T(-1), T(1));
-            sin_o_ = so == so ? so : T(0);
+            sin_o_ = is_finite(so) ? so : T(0);
             cos_o_ = cos_from_sin(sin_o_);
             theta_o_ = elem::asin(sin_o_);
             cell_o_ = t_.cell(sin_o_);
@@ -313,8 +311,7 @@ template <typename Fiber> class DualScatteringBcsdf {
             const T sin_i = clamp(wi.x, T(-1), T(1)), cos_i = cos_from_sin(sin_i);
             const T a = psi < T(0) ? -psi : psi;
             const bool backward = a < kHalfPi<T>;
-            const T dfr = light.direct_fraction;
-            const T df = dfr > T(0) ? (dfr < T(1) ? dfr : T(1)) : T(0);  // NaN → 0
+            const T df = is_finite(light.direct_fraction) ? clamp(light.direct_fraction, T(0), T(1)) : T(0);
             const Entry ei = t_.lookup(sin_i);
             T sb, cb;
             elem::sincos(theta_o_ - mean(ei.delta_b), sb, cb);

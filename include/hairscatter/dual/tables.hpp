@@ -88,7 +88,7 @@ template <typename T> HAIRSCATTER_HD LayerStack<T> layered_stack(T a_f, T a_b, T
     using std::log1p;
     using std::sqrt;
     LayerStack<T> r;
-    const T n = layers > T(0) ? (layers < T(1e12) ? layers : T(1e12)) : T(0);  // NaN → 0
+    const T n = is_finite(layers) ? clamp(layers, T(0), T(1e12)) : (layers > T(0) ? T(1e12) : T(0));  // NaN → 0
     if (!(a_f > T(0))) {  // an opaque layer: the first one reflects, nothing passes
         r.R = n >= T(1) ? a_b : n * a_b;
         r.T_ = n >= T(1) ? T(0) : T(1) - n;
@@ -162,7 +162,7 @@ template <typename T> struct DualTablesView {
     // The θ cell of inclination sinθ (clamped; NaN reads the first cell).
     HAIRSCATTER_HD Cell cell(T sin_theta) const {
         const T s = clamp(sin_theta, T(-1), T(1));
-        const T theta = elem::asin(s == s ? s : T(-1));
+        const T theta = elem::asin(is_finite(s) ? s : T(-1));
         const T u = clamp(elem::asin(clamp(theta * (T(2) * kInvPi<T>), T(-1), T(1))) * (T(2) * kInvPi<T>), T(-1), T(1));
         const T x = (u + T(1)) * T(0.5) * T(n_theta - 1);
         int i = int(x);
