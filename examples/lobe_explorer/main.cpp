@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -187,12 +188,14 @@ std::string strip_image_extension(std::string base) {
 
 int run(const Options& o) {
     Setup setup;
+    std::optional<hs::ChiangMaterial<double>> material;  // the fibers refer to it
     std::vector<hs::ChiangFiber<double>> fibers;
     try {
         make_setup(o, setup);
-        // The host constructor validates the parameters and h, throwing
+        // The material validates the parameters and checked() the offset h, throwing
         // std::invalid_argument with a message that names the bad one.
-        for (double h : setup.offsets) fibers.emplace_back(setup.params, h);
+        material.emplace(setup.params);
+        for (double h : setup.offsets) fibers.push_back(hs::ChiangFiber<double>::checked(*material, h));
     } catch (const std::invalid_argument& e) {
         std::fprintf(stderr, "lobe_explorer: invalid parameters: %s\n", e.what());
         if (std::string(e.what()).find("alpha") != std::string::npos)
