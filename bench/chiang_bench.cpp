@@ -208,14 +208,14 @@ template <typename T> void BM_RefHit(benchmark::State& state) {
 // The same (wo, wi, h) inputs at β_m = 0.3, wi drawn by the full sampler, through fibers
 // that keep only some lobes (lobes/lobe_set.hpp). A dropped lobe is compiled out, so R
 // alone skips the refracted path (no exp, no asin of γt) as well as three M_p·N_p terms.
-template <typename T, unsigned kSet> std::vector<hairscatter::BasicChiangFiber<T, kSet>> subset_fibers() {
+template <typename T, hairscatter::LobeSet kSet> std::vector<hairscatter::BasicChiangFiber<T, kSet>> subset_fibers() {
     const auto& in = inputs<T>();
     std::vector<hairscatter::BasicChiangFiber<T, kSet>> f;
     for (std::size_t i = 0; i < bench_ref::kInputs; ++i) f.emplace_back(in.materials[1], in.h[i]);
     return f;
 }
 
-std::string lobe_label(unsigned set) {
+std::string lobe_label(hairscatter::LobeSet set) {
     std::string s;
     const char* names[] = {"R", "TT", "TRT", "res"};
     for (int p = 0; p < 4; ++p)
@@ -223,7 +223,7 @@ std::string lobe_label(unsigned set) {
     return "lobes=" + s;
 }
 
-template <typename T, unsigned kSet> void BM_LobesEval(benchmark::State& state) {
+template <typename T, hairscatter::LobeSet kSet> void BM_LobesEval(benchmark::State& state) {
     const auto& in = inputs<T>();
     const auto fibers = subset_fibers<T, kSet>();
     std::size_t i = 0;
@@ -234,7 +234,7 @@ template <typename T, unsigned kSet> void BM_LobesEval(benchmark::State& state) 
     state.SetLabel(lobe_label(kSet));
 }
 
-template <typename T, unsigned kSet> void BM_LobesSample(benchmark::State& state) {
+template <typename T, hairscatter::LobeSet kSet> void BM_LobesSample(benchmark::State& state) {
     const auto& in = inputs<T>();
     const auto fibers = subset_fibers<T, kSet>();
     std::size_t i = 0;
@@ -267,17 +267,17 @@ BENCHMARK_TEMPLATE(BM_AtSample, double)->Apply(beta_args);
 BENCHMARK_TEMPLATE(BM_Hit, float)->Apply(beta_args);
 BENCHMARK_TEMPLATE(BM_Hit, double)->Apply(beta_args);
 BENCHMARK_TEMPLATE(BM_RefHit, float)->Apply(beta_args);
-using hairscatter::Lobes;
-BENCHMARK_TEMPLATE(BM_LobesEval, float, Lobes::kR);
-BENCHMARK_TEMPLATE(BM_LobesEval, float, Lobes::kR | Lobes::kTT);
-BENCHMARK_TEMPLATE(BM_LobesEval, float, Lobes::kPrimary);
-BENCHMARK_TEMPLATE(BM_LobesEval, float, Lobes::kAll);
-BENCHMARK_TEMPLATE(BM_LobesSample, float, Lobes::kR);
-BENCHMARK_TEMPLATE(BM_LobesSample, float, Lobes::kR | Lobes::kTT);
-BENCHMARK_TEMPLATE(BM_LobesSample, float, Lobes::kPrimary);
-BENCHMARK_TEMPLATE(BM_LobesSample, float, Lobes::kAll);
-BENCHMARK_TEMPLATE(BM_LobesEval, double, Lobes::kR);
-BENCHMARK_TEMPLATE(BM_LobesEval, double, Lobes::kAll);
+using hairscatter::LobeSet;
+BENCHMARK_TEMPLATE(BM_LobesEval, float, LobeSet::kR);
+BENCHMARK_TEMPLATE(BM_LobesEval, float, LobeSet::kR | LobeSet::kTT);
+BENCHMARK_TEMPLATE(BM_LobesEval, float, LobeSet::kPrimary);
+BENCHMARK_TEMPLATE(BM_LobesEval, float, LobeSet::kAll);
+BENCHMARK_TEMPLATE(BM_LobesSample, float, LobeSet::kR);
+BENCHMARK_TEMPLATE(BM_LobesSample, float, LobeSet::kR | LobeSet::kTT);
+BENCHMARK_TEMPLATE(BM_LobesSample, float, LobeSet::kPrimary);
+BENCHMARK_TEMPLATE(BM_LobesSample, float, LobeSet::kAll);
+BENCHMARK_TEMPLATE(BM_LobesEval, double, LobeSet::kR);
+BENCHMARK_TEMPLATE(BM_LobesEval, double, LobeSet::kAll);
 BENCHMARK_TEMPLATE(BM_FiberCtor, float)->Apply(beta_args);
 BENCHMARK_TEMPLATE(BM_FiberCtor, double)->Apply(beta_args);
 BENCHMARK_TEMPLATE(BM_MaterialCtor, float)->Apply(beta_args);

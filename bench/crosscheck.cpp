@@ -114,7 +114,7 @@ int main() {
             if (rp > 0.0) sw.add3(s.weight, ra.fsum(wo, s.wi) / rp, i);
             // Same u, same direction, except where the two samplers map u differently on
             // purpose (residual lobe's φ; u1 < 1e-5, which pbrt clamps).
-            if (s.lobe < hairscatter::kResidual && u.y >= 1e-5) {
+            if (s.lobe < hairscatter::SampledLobe::kResidual && u.y >= 1e-5) {
                 const bench_ref::Sample<double> rs = ra.Sample_f(wo, u);
                 const double dist = glm::length(rs.wi - s.wi);
                 sdir.d.push_back(dist);

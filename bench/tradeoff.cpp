@@ -280,7 +280,7 @@ void add(const std::string& model, const std::string& knob, Family family,
 
 // ---- the settings ----------------------------------------------------------------------
 
-template <typename T, unsigned kSet> void add_chiang(const std::string& knob, bool quick) {
+template <typename T, hairscatter::LobeSet kSet> void add_chiang(const std::string& knob, bool quick) {
     using Fiber = hs::BasicChiangFiber<T, kSet>;
     add<T, Fiber>("chiang", knob, Family::kNearField,
                   [](const hs::FiberParams<T>& p) {
@@ -378,12 +378,12 @@ template <typename T> void add_marschner(int nodes, bool quick) {
 }
 
 void add_settings(bool quick) {
-    using hs::Lobes;
-    add_chiang<float, Lobes::kAll>("all lobes", quick);
-    add_chiang<double, Lobes::kAll>("all lobes", quick);
-    add_chiang<float, Lobes::kPrimary>("R+TT+TRT", quick);
-    add_chiang<float, Lobes::kR | Lobes::kTT>("R+TT", quick);
-    add_chiang<float, Lobes::kR>("R only", quick);
+    using hs::LobeSet;
+    add_chiang<float, LobeSet::kAll>("all lobes", quick);
+    add_chiang<double, LobeSet::kAll>("all lobes", quick);
+    add_chiang<float, LobeSet::kPrimary>("R+TT+TRT", quick);
+    add_chiang<float, LobeSet::kR | LobeSet::kTT>("R+TT", quick);
+    add_chiang<float, LobeSet::kR>("R only", quick);
     add_chiang_bound<float>(quick);
     add_pbrt<float>(quick);
     for (int n : {4, 8, 16, 32, 64}) add_far_field<float>(n, quick);

@@ -259,7 +259,7 @@ TEST(DualBcsdf, FloatSamplerMatchesPdfAndAgreesWithQuery) {
 TEST(DualBcsdf, AnyModelBehindTheContract) {
     // A lobe subset builds its own tables (the dropped lobes are absent from them) and
     // samples consistently.
-    using RTT = hs::BasicChiangFiber<double, hs::Lobes::kR | hs::Lobes::kTT>;
+    using RTT = hs::BasicChiangFiber<double, hs::LobeSet::kR | hs::LobeSet::kTT>;
     const hs::ChiangMaterial<double> mat(params_of(kHairs[1]));
     const auto t = hs::DualScatteringTables<double>::build<RTT>(mat);
     const auto full = hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(mat);

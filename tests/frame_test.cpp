@@ -48,7 +48,8 @@ TEST(FiberFrame, RLobePeaksAtGeometricMirrorDirection) {
     const hs::FiberFrame<double> frame(tangent, wo_world);
     const glm::dvec3 wo = frame.to_local(wo_world);
     for (double h : {-0.8, -0.3, 0.4, 0.7}) {
-        const hs::ChiangFiber<double> fiber(p, h);
+        const hs::ChiangMaterial<double> fiber_material(p);
+        const hs::ChiangFiber<double> fiber(fiber_material, h);
         const glm::dvec3 n(0, h, std::sqrt(1 - h * h));
         // Mirror of wo in the plane perpendicular to the fiber: flip the azimuthal part about
         // n, and the longitudinal part: θi = -θo.

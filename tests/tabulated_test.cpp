@@ -18,18 +18,15 @@
 
 #include <hairscatter/models/tabulated.hpp>
 
-#include "support/checks.hpp"
 #include "support/chi2.hpp"
+#include "support/model_specs.hpp"
 
 namespace hs = hairscatter;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-glm::dvec3 dir(double theta, double phi) {
-    return {std::sin(theta), std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi)};
-}
+using contract::dir;
+using contract::kPi;
 
 struct Config {
     double beta_m, beta_n, alpha_deg;
@@ -37,12 +34,7 @@ struct Config {
 };
 
 template <typename T> hs::FiberParams<T> params(const Config& c) {
-    hs::FiberParams<T> p;
-    p.beta_m = T(c.beta_m);
-    p.beta_n = T(c.beta_n);
-    p.alpha = T(c.alpha_deg * kPi / 180);
-    p.sigma_a = glm::vec<3, T>(c.sigma_a);
-    return p;
+    return specs::fiber_params<T>(c.beta_m, c.beta_n, c.alpha_deg, c.sigma_a);
 }
 
 const char* type_name(bool is_float) { return is_float ? "float" : "double"; }
@@ -251,92 +243,19 @@ TEST(TabulatedAccuracy, TableNodesAreTheFarFieldModel) {
 
 namespace {
 
-struct Chi2Case {
-    double beta_m, beta_n, alpha_deg, theta_o_deg, sigma_a;
-    hs::TabulatedOptions o;
-};
-
-// 12 cases over βm, βn, α, θo (0 to ±89°), σa 0 to 20 and the resolutions (including a
-// 2 × 2 table and odd sizes): the sampler must invert the interpolant exactly at any size.
-const std::vector<Chi2Case>& chi2_grid() {
-    static const std::vector<Chi2Case> g = {
-        {0.3, 0.3, 2, 30, 0.5, {}},
-        {0.05, 0.3, 2, 20, 0.0, {}},
-        {1.0, 0.3, 0, -45, 0.5, hs::TabulatedOptions::coarse()},
-        {0.3, 0.15, 2, 10, 0.0, hs::TabulatedOptions::fine()},
-        {0.3, 1.0, 5, 60, 0.5, {}},
-        {0.05, 0.2, -2, 89, 0.0, {}},
-        {1.0, 1.0, 0, -89, 20.0, hs::TabulatedOptions::coarse()},
-        {0.2, 0.5, 2, -80, 0.0, {7, 5, 9}},
-        {0.5, 0.2, 10, 75, 20.0, {}},
-        {0.1, 0.7, -5, 0, 0.0, {2, 2, 1}},
-        {0.3, 0.3, 22.5, 45, 0.0, {33, 3, 4}},
-        {0.4, 0.4, 2, 50, 0.5, hs::TabulatedOptions::fine()},
-    };
-    return g;
-}
-
-template <typename T> hs::FiberParams<T> chi2_params(const Chi2Case& c) {
-    return params<T>({c.beta_m, c.beta_n, c.alpha_deg, glm::dvec3(c.sigma_a, 0.6 * c.sigma_a, 0.3 * c.sigma_a)});
-}
-
-chi2::Options chi2_options(int num_tests) {
-    chi2::Options o;
-    o.num_tests = num_tests;
-    o.samples = 200000;
-    o.theta_bins = 16;
-    o.phi_bins = 32;
-    o.min_depth = 1;
-    // The pdf has kinks in φ at every table node: 5 levels (cells of 0.004 in sinθ and
-    // 0.006 rad in φ) resolve a cell's integral far below the counts' noise.
-    o.max_depth = 5;
-    return o;
-}
-
-template <typename T> void run_chi2_grid() {
-    using V3 = glm::vec<3, T>;
-    const int n = int(chi2_grid().size());
-    double min_p = 1;
-    for (int k = 0; k < n; ++k) {
-        const Chi2Case& c = chi2_grid()[k];
-        const hs::TabulatedMaterial<T> mat(chi2_params<T>(c), c.o);
-        const hs::TabulatedFiber<T> fiber(mat);
-        const V3 wo(dir(c.theta_o_deg * kPi / 180, 0.7));
-        const auto r = chi2::test(
-            [&](const glm::dvec4& u) { return glm::dvec3(fiber.sample(wo, glm::vec<4, T>(u)).wi); },
-            [&](const glm::dvec3& wi) { return double(fiber.pdf(wo, V3(wi))); }, chi2_options(2 * n));
-        min_p = std::min(min_p, r.p_value);
-        EXPECT_TRUE(r.passed) << "case " << k << " (βm " << c.beta_m << ", βn " << c.beta_n << ", α " << c.alpha_deg
-                              << "°, θo " << c.theta_o_deg << "°, σa " << c.sigma_a << ", table " << c.o.phi_samples
-                              << "×" << c.o.theta_samples << ")\n"
-                              << r.report;
-        EXPECT_NEAR(r.expected_total, 1.0, 1e-3) << "case " << k << ": ∫ pdf dω";
-    }
-    std::printf("[ chi2     ] %d cases (%s), smallest p-value %.3g, Bonferroni threshold %.3g\n", n,
-                type_name(sizeof(T) == 4), min_p, 0.01 / (2 * n));
-}
+using Spec = specs::TabulatedSpec<double>;
 
 }  // namespace
 
-TEST(TabulatedChi2, SampleMatchesPdfDouble) { run_chi2_grid<double>(); }
-TEST(TabulatedChi2, SampleMatchesPdfFloat) { run_chi2_grid<float>(); }
-
-// Negative controls at the grid's significance: the harness must reject a pdf scaled by
-// 1.05, and a sampler whose φ CDFs (of both rows wo interpolates) are another row's while
-// the lobe values and the pdf are right.
+// Negative control at the grid's significance (the contract suite passes this case's
+// sampler and rejects its pdf × 1.05): a sampler whose φ CDFs (of both rows wo
+// interpolates) are another row's while the lobe values and the pdf are right.
 TEST(TabulatedChi2, NegativeControlsAreRejected) {
-    const int num_tests = 2 * int(chi2_grid().size());
-    const Chi2Case c{0.3, 0.3, 2, 30, 0.5, {}};
-    const hs::TabulatedMaterial<double> mat(chi2_params<double>(c), c.o);
+    const Spec::Case c{0.3, 0.3, 2, 30, 0.5, {}};
+    const hs::TabulatedMaterial<double> mat(c.params<double>(), c.setting);
     const hs::TabulatedFiber<double> fiber(mat);
     const glm::dvec3 wo = dir(c.theta_o_deg * kPi / 180, 0.7);
     auto pdf = [&](const glm::dvec3& wi) { return fiber.pdf(wo, wi); };
-    auto sample = [&](const glm::dvec4& u) { return fiber.sample(wo, u).wi; };
-
-    const auto good = chi2::test(sample, pdf, chi2_options(num_tests));
-    EXPECT_TRUE(good.passed) << good.report;
-    const auto scaled = chi2::test(sample, [&](const glm::dvec3& wi) { return 1.05 * pdf(wi); }, chi2_options(num_tests));
-    EXPECT_FALSE(scaled.passed) << "pdf × 1.05 was accepted (p = " << scaled.p_value << ")";
 
     // θo = 30° interpolates rows 24 and 25 (cosθo = 0.866); row 10 is cosθo = 0.22 (θo = 77°).
     const hs::TabulatedView<double> view = mat.view();
@@ -345,67 +264,22 @@ TEST(TabulatedChi2, NegativeControlsAreRejected) {
     for (int row : {24, 25})
         for (int p = 0; p < 3; ++p)
             std::copy(view.cdf(10, p), view.cdf(10, p) + n, data.begin() + (view.cdf(row, p) - view.data()));
-    const hs::TabulatedFiber<double> wrong(mat.view(data.data()));
+    const hs::TabulatedView<double> wrong_view = mat.view(data.data());
+    const hs::TabulatedFiber<double> wrong(wrong_view);
     const auto other = chi2::test([&](const glm::dvec4& u) { return wrong.sample(wo, u).wi; }, pdf,
-                                  chi2_options(num_tests));
+                                  Spec::chi2_options());
     EXPECT_FALSE(other.passed) << "another row's CDF was accepted (p = " << other.p_value << ")";
-    std::printf("[ chi2     ] negative controls: p = %.3g (pdf × 1.05), %.3g (another row's CDF);"
-                " the unmodified sampler p = %.3g\n",
-                scaled.p_value, other.p_value, good.p_value);
+    std::printf("[ chi2     ] negative control: p = %.3g (another row's CDF)\n", other.p_value);
 }
 
-namespace {
-
-// sample's pdf is pdf(wo, wi) and its weight eval/pdf: 1e-9 relative in double; 1e-4 in
-// float (pdf() recomputes φ by atan2 from the rounded wi).
-template <typename T> void check_sample_consistency(double tol) {
-    std::mt19937_64 rng(23);
-    std::uniform_real_distribution<double> uni(0, 1);
-    const hs::TabulatedOptions res[3] = {hs::TabulatedOptions::coarse(), hs::TabulatedOptions(), {9, 4, 3}};
-    double worst_pdf = 0, worst_w = 0;
-    int lobes[4] = {};
-    for (int k = 0; k < 30; ++k) {
-        const double sa = (k % 2) * 2 * uni(rng);
-        const Config c{0.05 + 0.95 * uni(rng), 0.1 + 0.9 * uni(rng), -5 + 10 * uni(rng), glm::dvec3(sa, 0.5 * sa, 2 * sa)};
-        const hs::TabulatedMaterial<T> mat(params<T>(c), res[k % 3]);
-        const hs::TabulatedFiber<T> fiber(mat);
-        for (int j = 0; j < 200; ++j) {
-            const glm::vec<3, T> wo(dir(std::asin(-1 + 2 * uni(rng)), 2 * kPi * uni(rng)));
-            const auto s = fiber.sample(wo, glm::vec<4, T>(T(uni(rng)), T(uni(rng)), T(uni(rng)), T(uni(rng))));
-            ASSERT_GT(s.pdf, T(0));
-            ++lobes[s.lobe];
-            EXPECT_NEAR(double(glm::length(s.wi)), 1.0, 10 * std::numeric_limits<T>::epsilon());
-            const auto e = fiber.eval_pdf(wo, s.wi);
-            EXPECT_EQ(e.pdf, fiber.pdf(wo, s.wi));
-            EXPECT_EQ(e.f, fiber.eval(wo, s.wi));
-            const auto at = fiber.at(wo);
-            EXPECT_EQ(at.eval(s.wi), e.f);
-            EXPECT_EQ(at.pdf(s.wi), e.pdf);
-            const glm::vec<4, T> u2(T(0.3), T(0.6), T(0.2), T(0.9));
-            EXPECT_EQ(at.sample(u2).wi, fiber.sample(wo, u2).wi);
-            worst_pdf = std::max(worst_pdf, std::abs(double(e.pdf / s.pdf) - 1));
-            for (int ch = 0; ch < 3; ++ch)
-                if (e.f[ch] > T(1e-20)) worst_w = std::max(worst_w, std::abs(double(s.weight[ch] * e.pdf / e.f[ch]) - 1));
-        }
-    }
-    std::printf("[ worst    ] sample pdf vs pdf(): %.3g, weight vs eval/pdf: %.3g (%s); lobes drawn %d %d %d %d\n",
-                worst_pdf, worst_w, type_name(sizeof(T) == 4), lobes[0], lobes[1], lobes[2], lobes[3]);
-    EXPECT_LT(worst_pdf, tol);
-    EXPECT_LT(worst_w, tol);
-    for (int p = 0; p < 4; ++p) EXPECT_GT(lobes[p], 0) << "lobe " << p << " never sampled";
-}
-
-}  // namespace
-
-TEST(TabulatedSample, PdfAndWeightAgreeWithQueriesDouble) { check_sample_consistency<double>(1e-9); }
-TEST(TabulatedSample, PdfAndWeightAgreeWithQueriesFloat) { check_sample_consistency<float>(1e-4); }
 
 // A view over a copy of the data (as a renderer uploads it to a GPU) answers exactly as the
 // material's own.
 TEST(TabulatedMaterial, ViewOverCopiedDataIsIdentical) {
     const hs::TabulatedMaterial<float> mat(params<float>({0.3, 0.3, 2.0, {0.4, 0.8, 1.6}}));
     const std::vector<float> copy = mat.data();
-    const hs::TabulatedFiber<float> own(mat), copied(mat.view(copy.data()));
+    const hs::TabulatedView<float> copied_view = mat.view(copy.data());
+    const hs::TabulatedFiber<float> own(mat), copied(copied_view);
     std::mt19937_64 rng(5);
     std::uniform_real_distribution<double> uni(0, 1);
     for (int k = 0; k < 200; ++k) {
@@ -418,108 +292,16 @@ TEST(TabulatedMaterial, ViewOverCopiedDataIsIdentical) {
     EXPECT_EQ(mat.bytes(), sizeof(float) * std::size_t(12 * 96 + 16) * 28);
 }
 
-namespace {
 
-// Edge-case inputs: eval, pdf and sample never give NaN or Inf, f and pdf are
-// non-negative, sampled directions are unit vectors.
-template <typename T> void sweep_extremes() {
-    using V3 = glm::vec<3, T>;
-    const T one_minus = std::nextafter(T(1), T(0));
-    std::vector<V3> dirs = {V3(1, 0, 0), V3(-1, 0, 0), V3(0, 1, 0), V3(0, 0, -1), V3(0, -1, 0),
-                            V3(one_minus, 0, std::sqrt(1 - one_minus * one_minus))};
-    std::mt19937_64 rng(29);
-    std::uniform_real_distribution<double> uni(0, 1);
-    for (int k = 0; k < 10; ++k) dirs.push_back(V3(dir(std::asin(-1 + 2 * uni(rng)), 2 * kPi * uni(rng))));
-    const std::vector<T> us = {T(0), T(1e-30), T(1e-7), T(0.5), one_minus, T(1)};
-    long checked = 0;
-    for (double bm : {0.01, 0.3, 1.0})
-        for (double bn : {0.001, 0.3, 1.0})
-            for (double al : {-22.5, 22.5})
-                for (double sa : {0.0, 50.0})
-                    for (const hs::TabulatedOptions& o : {hs::TabulatedOptions{2, 2, 1}, hs::TabulatedOptions::coarse()}) {
-                        auto p = params<T>({bm, bn, 0, glm::dvec3(sa)});
-                        p.alpha = T(al * kPi / 180) * T(0.9999);
-                        const hs::TabulatedMaterial<T> mat(p, o);
-                        const hs::TabulatedFiber<T> fiber(mat);
-                        for (const V3& wo : dirs) {
-                            const V3 a = fiber.albedo(wo);
-                            for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(a[c]) && a[c] > T(0));
-                            for (const V3& wi : {wo, -wo, dirs[0], dirs[1], dirs[(checked + 3) % dirs.size()]}) {
-                                const auto e = fiber.eval_pdf(wo, wi);
-                                for (int c = 0; c < 3; ++c)
-                                    ASSERT_TRUE(std::isfinite(e.f[c]) && e.f[c] >= T(0)) << bm << " " << bn;
-                                ASSERT_TRUE(std::isfinite(e.pdf) && e.pdf >= T(0));
-                                ++checked;
-                            }
-                            for (T u0 : us)
-                                for (T u3 : {us[0], us[2], us[3], us[5]}) {
-                                    const auto s = fiber.sample(wo, glm::vec<4, T>(u0, us[(checked + 1) % us.size()],
-                                                                                   us[(checked + 2) % us.size()], u3));
-                                    ++checked;
-                                    ASSERT_TRUE(valid_sample(s)) << bm << " " << bn << " " << sa;
-                                }
-                        }
-                    }
-    std::printf("[ sweep    ] %ld edge-case calls without NaN/Inf (%s)\n", checked, type_name(sizeof(T) == 4));
-}
-
-}  // namespace
-
-TEST(TabulatedExtremes, NoNaNOrInfDouble) { sweep_extremes<double>(); }
-TEST(TabulatedExtremes, NoNaNOrInfFloat) { sweep_extremes<float>(); }
-
-// Bad options and fiber parameters throw std::invalid_argument naming the culprit.
-TEST(TabulatedMaterial, ValidatesOptionsAndParameters) {
+// Options at their limits are accepted (the rejections are the contract suite's), and
+// h_nodes = 0 (the default) is DeonFarFieldMaterial's automatic count, reported by options().
+TEST(TabulatedMaterial, AcceptsOptionsAndReportsAutomaticNodes) {
     const hs::FiberParams<double> p;
     EXPECT_NO_THROW(hs::TabulatedMaterial<double>(p, {2, 2, 1}));
     EXPECT_NO_THROW(hs::TabulatedMaterial<double>(p, {2, 2, 64}));
-    // h_nodes = 0 (the default) is DeonFarFieldMaterial's automatic count, reported by options().
     EXPECT_EQ(hs::TabulatedOptions().h_nodes, hs::DeonFarFieldMaterial<double>::kAutoNodes);
     EXPECT_EQ(hs::TabulatedMaterial<double>(p, {2, 2, 0}).options().h_nodes,
               hs::DeonFarFieldMaterial<double>::auto_nodes(p.beta_n));
-    auto expect_throw = [&](const hs::TabulatedOptions& o, const char* name) {
-        try {
-            hs::TabulatedMaterial<double> m(p, o);
-            ADD_FAILURE() << name << " accepted";
-        } catch (const std::invalid_argument& e) {
-            EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
-        }
-    };
-    expect_throw({1, 16, 32}, "phi_samples");
-    expect_throw({0, 16, 32}, "phi_samples");
-    expect_throw({hs::TabulatedOptions::kMaxPhiSamples + 1, 16, 32}, "phi_samples");
-    expect_throw({96, 1, 32}, "theta_samples");
-    expect_throw({96, -4, 32}, "theta_samples");
-    expect_throw({96, hs::TabulatedOptions::kMaxThetaSamples + 1, 32}, "theta_samples");
-    expect_throw({96, 16, -1}, "h_nodes");
-    expect_throw({96, 16, hs::DeonFarFieldMaterial<double>::kMaxNodes + 1}, "h_nodes");
-
-    auto expect_param_throw = [](hs::FiberParams<float> q, const char* name) {
-        try {
-            hs::TabulatedMaterial<float> m(q);
-            ADD_FAILURE() << name << " accepted";
-        } catch (const std::invalid_argument& e) {
-            EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
-        }
-    };
-    hs::FiberParams<float> q;
-    q.beta_n = 0;
-    expect_param_throw(q, "beta_n");
-    q = {};
-    q.beta_m = 1.5f;
-    expect_param_throw(q, "beta_m");
-    q = {};
-    q.eta = 1;
-    expect_param_throw(q, "eta");
-    q = {};
-    q.sigma_a.b = -1;
-    expect_param_throw(q, "sigma_a.b");
-    q = {};
-    q.alpha = 1;
-    expect_param_throw(q, "alpha");
-    q = {};
-    q.sigma_a.r = std::numeric_limits<float>::quiet_NaN();
-    expect_param_throw(q, "sigma_a.r");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -635,47 +417,16 @@ TEST(TabulatedTableAccuracy, MatchesTheExactFarFieldModel) {
                 narrow.max_abs_rel);
 }
 
-// The chi-square grid with M_p tabulated (the same cases and significance as the exact M_p),
-// and negative controls: pdf × 1.05, and a sampler whose M_p CDF rows (the two rows θo'
-// interpolates, every lobe) are another row's while the values and the pdf are right.
-template <typename T> void run_chi2_grid_table() {
-    using V3 = glm::vec<3, T>;
-    const int n = int(chi2_grid().size());
-    double min_p = 1;
-    int ran = 0;
-    for (int k = 0; k < n; k += 3) {  // a third of the grid: the kinks of M̂ make the cubature slow
-        ++ran;
-        const Chi2Case& c = chi2_grid()[k];
-        hs::TabulatedOptions o = with_table(c.o);
-        if (k % 6 == 3) o.m_rows = 5, o.m_nodes = 11;  // coarse M tables are inverted exactly too
-        const hs::TabulatedMaterial<T> mat(chi2_params<T>(c), o);
-        const hs::TabulatedFiber<T> fiber(mat);
-        const V3 wo(dir(c.theta_o_deg * kPi / 180, 0.7));
-        const auto r = chi2::test(
-            [&](const glm::dvec4& u) { return glm::dvec3(fiber.sample(wo, glm::vec<4, T>(u)).wi); },
-            [&](const glm::dvec3& wi) { return double(fiber.pdf(wo, V3(wi))); }, chi2_options(2 * n));
-        min_p = std::min(min_p, r.p_value);
-        EXPECT_TRUE(r.passed) << "case " << k << " θo " << c.theta_o_deg << "\n" << r.report;
-        EXPECT_NEAR(r.expected_total, 1.0, 1e-3) << "case " << k << ": ∫ pdf dω";
-    }
-    std::printf("[ chi2     ] M table: %d cases (%s), smallest p-value %.3g\n", ran, type_name(sizeof(T) == 4), min_p);
-}
-
-TEST(TabulatedTableChi2, SampleMatchesPdfDouble) { run_chi2_grid_table<double>(); }
-TEST(TabulatedTableChi2, SampleMatchesPdfFloat) { run_chi2_grid_table<float>(); }
+// Negative control with M_p tabulated, at the grid's significance (the contract suite runs
+// the grid with M_p tabulated): a sampler whose M_p CDF rows (the two rows θo' interpolates,
+// every lobe) are another row's while the values and the pdf are right must be rejected.
 
 TEST(TabulatedTableChi2, NegativeControlsAreRejected) {
-    const int num_tests = 2 * int(chi2_grid().size());
-    const Chi2Case c{0.3, 0.3, 2, 30, 0.5, {}};
-    const hs::TabulatedMaterial<double> mat(chi2_params<double>(c), hs::TabulatedOptions::fast());
+    const Spec::Case c{0.3, 0.3, 2, 30, 0.5, {}};
+    const hs::TabulatedMaterial<double> mat(c.params<double>(), hs::TabulatedOptions::fast());
     const hs::TabulatedFiber<double> fiber(mat);
     const glm::dvec3 wo = dir(c.theta_o_deg * kPi / 180, 0.7);
     auto pdf = [&](const glm::dvec3& wi) { return fiber.pdf(wo, wi); };
-    auto sample = [&](const glm::dvec4& u) { return fiber.sample(wo, u).wi; };
-    const auto good = chi2::test(sample, pdf, chi2_options(num_tests));
-    EXPECT_TRUE(good.passed) << good.report;
-    const auto scaled = chi2::test(sample, [&](const glm::dvec3& wi) { return 1.05 * pdf(wi); }, chi2_options(num_tests));
-    EXPECT_FALSE(scaled.passed) << "pdf × 1.05 was accepted (p = " << scaled.p_value << ")";
 
     // Every row's CDF replaced by that of the row 8 further on (θ 15–25° larger).
     const hs::TabulatedView<double> view = mat.view();
@@ -688,109 +439,15 @@ TEST(TabulatedTableChi2, NegativeControlsAreRejected) {
                       mat.data().begin() + std::ptrdiff_t(tab.offset() + std::size_t((r + 8) * 2 * k2 + 2 * k2)),
                       data.begin() + std::ptrdiff_t(tab.offset() + std::size_t(r * 2 * k2 + k2)));
     }
-    const hs::TabulatedFiber<double> wrong(mat.view(data.data()));
+    const hs::TabulatedView<double> wrong_view = mat.view(data.data());
+    const hs::TabulatedFiber<double> wrong(wrong_view);
     const auto other = chi2::test([&](const glm::dvec4& u) { return wrong.sample(wo, u).wi; }, pdf,
-                                  chi2_options(num_tests));
+                                  Spec::chi2_options());
     EXPECT_FALSE(other.passed) << "another row's M CDF was accepted (p = " << other.p_value << ")";
-    std::printf("[ chi2     ] M table negative controls: p = %.3g (pdf × 1.05), %.3g (another row's CDF);"
-                " the unmodified sampler p = %.3g\n",
-                scaled.p_value, other.p_value, good.p_value);
+    std::printf("[ chi2     ] M table negative control: p = %.3g (another row's CDF)\n", other.p_value);
 }
 
-namespace {
 
-template <typename T> void check_sample_consistency_table(double tol) {
-    std::mt19937_64 rng(31);
-    std::uniform_real_distribution<double> uni(0, 1);
-    double worst_pdf = 0, worst_w = 0;
-    for (int k = 0; k < 20; ++k) {
-        const double sa = (k % 2) * 2 * uni(rng);
-        const Config c{0.05 + 0.95 * uni(rng), 0.1 + 0.9 * uni(rng), -5 + 10 * uni(rng), glm::dvec3(sa, 0.5 * sa, 2 * sa)};
-        const hs::TabulatedMaterial<T> mat(params<T>(c), k % 2 ? hs::TabulatedOptions::fast() : with_table({9, 4, 3}));
-        const hs::TabulatedFiber<T> fiber(mat);
-        for (int j = 0; j < 200; ++j) {
-            const glm::vec<3, T> wo(dir(std::asin(-1 + 2 * uni(rng)), 2 * kPi * uni(rng)));
-            const auto s = fiber.sample(wo, glm::vec<4, T>(T(uni(rng)), T(uni(rng)), T(uni(rng)), T(uni(rng))));
-            ASSERT_GT(s.pdf, T(0));
-            const auto e = fiber.eval_pdf(wo, s.wi);
-            const auto at = fiber.at(wo);
-            EXPECT_EQ(at.eval(s.wi), e.f);
-            EXPECT_EQ(at.pdf(s.wi), e.pdf);
-            worst_pdf = std::max(worst_pdf, std::abs(double(e.pdf / s.pdf) - 1));
-            for (int ch = 0; ch < 3; ++ch)
-                if (e.f[ch] > T(1e-20)) worst_w = std::max(worst_w, std::abs(double(s.weight[ch] * e.pdf / e.f[ch]) - 1));
-        }
-    }
-    std::printf("[ worst    ] M table: sample pdf vs pdf(): %.3g, weight vs eval/pdf: %.3g (%s)\n", worst_pdf, worst_w,
-                type_name(sizeof(T) == 4));
-    EXPECT_LT(worst_pdf, tol);
-    EXPECT_LT(worst_w, tol);
-}
-
-template <typename T> void sweep_extremes_table() {
-    using V3 = glm::vec<3, T>;
-    const T one_minus = std::nextafter(T(1), T(0));
-    const std::vector<V3> dirs = {V3(1, 0, 0), V3(-1, 0, 0), V3(0, 1, 0), V3(0, 0, -1),
-                                  V3(one_minus, 0, std::sqrt(1 - one_minus * one_minus)), V3(dir(0.3, 1.0))};
-    const std::vector<T> us = {T(0), T(1e-30), T(0.5), one_minus, T(1)};
-    long checked = 0;
-    for (double bm : {0.01, 0.3, 1.0})
-        for (double bn : {0.001, 1.0})
-            for (double al : {-22.5, 22.5})
-                for (const hs::TabulatedOptions& o : {with_table({2, 2, 1}), hs::TabulatedOptions::fast()}) {
-                    auto p = params<T>({bm, bn, 0, glm::dvec3(bm > 0.5 ? 50.0 : 0.0)});
-                    p.alpha = T(al * kPi / 180) * T(0.9999);
-                    const hs::TabulatedMaterial<T> mat(p, o);
-                    const hs::TabulatedFiber<T> fiber(mat);
-                    for (const V3& wo : dirs) {
-                        for (const V3& wi : {wo, -wo, dirs[0], dirs[1], dirs[3]}) {
-                            const auto e = fiber.eval_pdf(wo, wi);
-                            for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(e.f[c]) && e.f[c] >= T(0)) << bm;
-                            ASSERT_TRUE(std::isfinite(e.pdf) && e.pdf >= T(0));
-                            ++checked;
-                        }
-                        for (T u0 : us)
-                            for (T u1 : us) {
-                                const auto s = fiber.sample(wo, glm::vec<4, T>(u0, u1, us[std::size_t(checked % 5)], u1));
-                                ++checked;
-                                ASSERT_TRUE(valid_sample(s)) << bm << " " << bn;
-                            }
-                    }
-                }
-    std::printf("[ sweep    ] M table: %ld edge-case calls without NaN/Inf (%s)\n", checked, type_name(sizeof(T) == 4));
-}
-
-}  // namespace
-
-TEST(TabulatedTableSample, PdfAndWeightAgreeWithQueriesDouble) { check_sample_consistency_table<double>(1e-9); }
-TEST(TabulatedTableSample, PdfAndWeightAgreeWithQueriesFloat) { check_sample_consistency_table<float>(1e-4); }
-TEST(TabulatedTableExtremes, NoNaNOrInfDouble) { sweep_extremes_table<double>(); }
-TEST(TabulatedTableExtremes, NoNaNOrInfFloat) { sweep_extremes_table<float>(); }
-
-TEST(TabulatedTableMaterial, ValidatesOptions) {
-    const hs::FiberParams<double> p;
-    EXPECT_NO_THROW(hs::TabulatedMaterial<double>(p, with_table({2, 2, 1})));
-    auto expect_throw = [&](hs::TabulatedOptions o, const char* name) {
-        try {
-            hs::TabulatedMaterial<double> m(p, o);
-            ADD_FAILURE() << name << " accepted";
-        } catch (const std::invalid_argument& e) {
-            EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
-        }
-    };
-    hs::TabulatedOptions o = hs::TabulatedOptions::fast();
-    o.m_rows = 1;
-    expect_throw(o, "m_rows");
-    o = hs::TabulatedOptions::fast();
-    o.m_rows = hs::TabulatedOptions::kMaxLongitudinalRows + 1;
-    expect_throw(o, "m_rows");
-    o = hs::TabulatedOptions::fast();
-    o.m_nodes = 1;
-    expect_throw(o, "m_nodes");
-    o = hs::TabulatedOptions::fast();
-    o.m_nodes = hs::TabulatedOptions::kMaxLongitudinalNodes + 1;
-    expect_throw(o, "m_nodes");
-    o = hs::TabulatedOptions::fast();
-    o.longitudinal = static_cast<hs::TabulatedLongitudinal>(7);
-    expect_throw(o, "longitudinal");
+TEST(TabulatedTableMaterial, AcceptsTheSmallestTables) {
+    EXPECT_NO_THROW(hs::TabulatedMaterial<double>(hs::FiberParams<double>(), with_table({2, 2, 1})));
 }

@@ -41,14 +41,13 @@ std::vector<unsigned> each_lobe(unsigned lobes);  // the set's lobes one by one
 // Nothing else in the examples names the library's lobe-set type, so a change of that
 // type is a change of this function only.
 template <unsigned kBits = 1u, class F> decltype(auto) with_chiang_lobes(unsigned bits, F&& f) {
-    using Set = unsigned;  // the library's lobe-set type (hairscatter::Lobes' bits)
+    using Set = hairscatter::LobeSet;  // the library's lobe-set type
     if constexpr (kBits > LobeBits::kAll) {
         throw std::invalid_argument("--lobes: empty or unknown lobe set " + std::to_string(bits));
-        return f(std::integral_constant<Set, Set(hairscatter::Lobes::kAll)>{});  // the return type
+        return f(std::integral_constant<Set, Set::kAll>{});  // the return type
     } else {
-        static_assert(Set(hairscatter::Lobes::kR) == LobeBits::kR && Set(hairscatter::Lobes::kTT) == LobeBits::kTT &&
-                      Set(hairscatter::Lobes::kTRT) == LobeBits::kTRT &&
-                      Set(hairscatter::Lobes::kResidual) == LobeBits::kResidual);
+        static_assert(unsigned(Set::kR) == LobeBits::kR && unsigned(Set::kTT) == LobeBits::kTT &&
+                      unsigned(Set::kTRT) == LobeBits::kTRT && unsigned(Set::kResidual) == LobeBits::kResidual);
         if (bits == kBits) return f(std::integral_constant<Set, Set(kBits)>{});
         return with_chiang_lobes<kBits + 1u>(bits, std::forward<F>(f));
     }

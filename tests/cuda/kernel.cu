@@ -87,7 +87,7 @@ __global__ void evaluate_r_only(hairscatter::ChiangMaterial<T> mat, const glm::v
                                 const glm::vec<3, T>* wi, const glm::vec<4, T>* u, glm::vec<3, T>* f, T* pdf, int n) {
     const int i = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
     if (i >= n) return;
-    const hairscatter::BasicChiangFiber<T, hairscatter::Lobes::kR> fiber(mat, T(0.3));
+    const hairscatter::BasicChiangFiber<T, hairscatter::LobeSet::kR> fiber(mat, T(0.3));
     f[i] = fiber.eval(wo[i], wi[i]);
     pdf[i] = fiber.pdf(wo[i], wi[i]) + fiber.sample(wo[i], u[i]).pdf + fiber.at(wo[i]).eval(wi[i]).x;
 }

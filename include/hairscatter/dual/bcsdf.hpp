@@ -18,7 +18,7 @@
 #include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
 #include "../math/functions.hpp"
-#include "../models/chiang.hpp"
+#include "../models/contract.hpp"
 #include "settings.hpp"
 #include "tables.hpp"
 
@@ -383,34 +383,6 @@ template <typename Fiber> class DualScatteringBcsdf {
   private:
     Fiber fiber_;
     View tables_;
-};
-
-// Uniform directions on the sphere for any model with eval(wo, wi): the baseline the
-// origin study measures importance sampling against.
-template <typename Model> class UniformSphereSampling {
-  public:
-    explicit UniformSphereSampling(const Model& model) : model_(model) {}
-    template <typename V3> auto eval(const V3& wo, const V3& wi) const { return model_.eval(wo, wi); }
-    template <typename V3> auto pdf(const V3&, const V3&) const -> typename V3::value_type {
-        using T = typename V3::value_type;
-        return T(0.25) * kInvPi<T>;
-    }
-    template <typename V3, typename V4> auto sample(const V3& wo, const V4& u) const {
-        using T = typename V3::value_type;
-        const T z = T(1) - T(2) * u.y;
-        const T r = cos_from_sin(z);
-        T s, c;
-        elem::sincos(kTwoPi<T> * u.z, s, c);
-        HairSample<T> out;
-        out.wi = V3(z, r * c, r * s);
-        out.pdf = T(0.25) * kInvPi<T>;
-        out.weight = model_.eval(wo, out.wi) / out.pdf;
-        out.lobe = -1;
-        return out;
-    }
-
-  private:
-    Model model_;
 };
 
 // A uniform direction on the sphere and its density 1/4π, for the uniform baseline of the

@@ -73,6 +73,12 @@ template <typename T> void require_valid(const FiberParams<T>& p) {
     if (!m.empty()) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: invalid fiber parameters: " + m));
 }
 
+// The parameters, after require_valid: for a material's member-initialiser list.
+template <typename T> const FiberParams<T>& validated(const FiberParams<T>& p) {
+    require_valid(p);
+    return p;
+}
+
 // Absorption from eumelanin and pheomelanin concentrations (Chiang et al. 2016 §4.3,
 // the coefficients pbrt uses): σa = ce (0.419, 0.697, 1.37) + cp (0.187, 0.4, 1.05).
 template <typename T>

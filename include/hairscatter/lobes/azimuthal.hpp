@@ -1,6 +1,8 @@
 // hairscatter — azimuthal scattering: the exit azimuth Φ(p, h) and Chiang's N_p.
 #pragma once
 
+#include <cmath>
+
 #include "../config.hpp"
 #include "../math/constants.hpp"
 #include "../math/distributions.hpp"
@@ -35,6 +37,21 @@ template <typename T> HAIRSCATTER_HD T exit_azimuth(int p, T gamma_o, T gamma_t)
 template <typename T>
 HAIRSCATTER_HD T azimuthal_logistic(const TrimmedLogistic<T>& d, T phi, T phi_p) {
     return d.pdf(wrap_pi(phi - phi_p));
+}
+
+// The mass of the wrapped Gaussian of width σ centred on μ that falls in the backward half
+// |φ| < π/2: Σ_k ½[erf((π/2 - μ + 2πk)/σ√2) - erf((-π/2 - μ + 2πk)/σ√2)], k = -3 … 3 (the
+// images beyond lie ≥ 5π from the half, over 8σ for every σ that β_n ≤ 1 maps to).
+template <typename T> HAIRSCATTER_HD T wrapped_gaussian_backward_mass(T sigma, T mu) {
+    using std::erf;
+    const T scale = T(0.70710678118654752440) / sigma;
+    const T c = wrap_pi(mu);
+    T mass = T(0);
+    for (int k = -3; k <= 3; ++k) {
+        const T shift = T(k) * kTwoPi<T> - c;
+        mass += erf((kHalfPi<T> + shift) * scale) - erf((-kHalfPi<T> + shift) * scale);
+    }
+    return T(0.5) * mass;
 }
 
 }  // namespace hairscatter

@@ -2,22 +2,31 @@
 // residual (all orders p ≥ 3, Chiang et al. 2016 §4.1). A lobe that is off is compiled
 // out: its A_p, tilt, Φ(p, h), M_p and N_p are never computed, and sampling picks only
 // among the kept lobes. Dropping lobes drops their energy (the furnace falls below 1).
+//
+// A scoped enum of its own, so that a set cannot be confused with a lobe index or with
+// the SampledLobe tag a sample carries (models/contract.hpp): BasicChiangFiber<float,
+// LobeSet::kR | LobeSet::kTT> compiles, BasicChiangFiber<float, 1> does not.
 #pragma once
 
 #include "../config.hpp"
 
 namespace hairscatter {
 
-struct Lobes {
-    static constexpr unsigned kR = 1u << 0;
-    static constexpr unsigned kTT = 1u << 1;
-    static constexpr unsigned kTRT = 1u << 2;
-    static constexpr unsigned kResidual = 1u << 3;
-    static constexpr unsigned kPrimary = kR | kTT | kTRT;  // R + TT + TRT, no residual
-    static constexpr unsigned kAll = kPrimary | kResidual;
+enum class LobeSet : unsigned {
+    kNone = 0u,
+    kR = 1u << 0,
+    kTT = 1u << 1,
+    kTRT = 1u << 2,
+    kResidual = 1u << 3,
+    kPrimary = (1u << 0) | (1u << 1) | (1u << 2),  // R + TT + TRT, no residual
+    kAll = (1u << 4) - 1u,
 };
 
+HAIRSCATTER_HD constexpr LobeSet operator|(LobeSet a, LobeSet b) { return LobeSet(unsigned(a) | unsigned(b)); }
+HAIRSCATTER_HD constexpr LobeSet operator&(LobeSet a, LobeSet b) { return LobeSet(unsigned(a) & unsigned(b)); }
+HAIRSCATTER_HD constexpr LobeSet operator~(LobeSet a) { return LobeSet(~unsigned(a) & unsigned(LobeSet::kAll)); }
+
 // Whether the set keeps lobe p (0 R, 1 TT, 2 TRT, 3 residual).
-HAIRSCATTER_HD constexpr bool keeps_lobe(unsigned set, int p) { return ((set >> p) & 1u) != 0u; }
+HAIRSCATTER_HD constexpr bool keeps_lobe(LobeSet set, int p) { return ((unsigned(set) >> p) & 1u) != 0u; }
 
 }  // namespace hairscatter

@@ -14,176 +14,94 @@
 #include "../fiber/params.hpp"
 #include "../lobes/attenuation.hpp"
 #include "../lobes/azimuthal.hpp"
+#include "../lobes/deon_lobes.hpp"
 #include "../lobes/lobe_set.hpp"
-#include "../lobes/longitudinal.hpp"
-#include "../lobes/tilt.hpp"
 #include "../math/constants.hpp"
 #include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
 #include "../math/functions.hpp"
+#include "contract.hpp"
 
 namespace hairscatter {
 
-// Lobe indices of a sample; kResidual lumps all orders p ≥ 3.
-enum HairLobe : int { kR = 0, kTT = 1, kTRT = 2, kResidual = 3 };
-
-// What sample() returns. pdf is in solid-angle measure, weight = eval / pdf. A sample
-// whose pdf is 0 (only from underflow in extreme parameters) carries weight 0.
-//
-// Non-finite input, every model: a NaN or ±Inf component in wo, wi or u makes eval 0, pdf
-// 0, eval_pdf {0, 0} and sample this default sample (wi 0, weight 0, pdf 0, lobe R): a
-// renderer ends the path, and neither a NaN nor an out-of-table read can follow (the test
-// reads the bits, so it holds under -ffast-math as well). docs/robustness.md.
-template <typename T> struct HairSample {
-    glm::vec<3, T> wi{T(0)};
-    glm::vec<3, T> weight{T(0)};
-    T pdf = T(0);
-    int lobe = kR;
-};
-
-// f and pdf of one direction pair, computed together (they share every lobe term).
-template <typename T> struct HairEvalPdf {
-    glm::vec<3, T> f{T(0)};
-    T pdf = T(0);
-};
-
-// The sample of direction wi drawn from lobe `lobe`, given its f and pdf: weight = f / pdf,
-// 0 where the pdf underflowed. Every model's sample() ends here.
-template <typename T>
-HAIRSCATTER_HD HAIRSCATTER_INLINE HairSample<T> make_sample(const glm::vec<3, T>& wi, int lobe, const HairEvalPdf<T>& e) {
-    HairSample<T> r;
-    r.wi = wi;
-    r.lobe = lobe;
-    r.pdf = e.pdf;
-    r.weight = e.pdf > T(0) ? e.f / e.pdf : glm::vec<3, T>(T(0));
-    return r;
-}
-
 // Everything that depends only on the fiber parameters, computed once per material on
 // the host (validated: the constructor throws std::invalid_argument with a message that
-// names the bad parameter). Trivially copyable, so it can be passed to a GPU kernel.
-template <typename T> class ChiangMaterial {
+// names the bad parameter). Trivially copyable, so it can be copied to a GPU. Its d'Eon
+// ingredients (longitudinal(p), tilt(), lobe_shift(p), lobe_variance(p)) are DeonLobes'.
+template <typename T> class ChiangMaterial : public DeonLobes<T> {
   public:
-    static constexpr int kLobes = 3;  // R, TT, TRT explicit; index 3 is the residual
+    static constexpr int kLobes = DeonLobes<T>::kLobes;  // R, TT, TRT explicit; index 3 is the residual
 
-    explicit ChiangMaterial(const FiberParams<T>& params) : params_(params) {
-        require_valid(params);
-        const T v0 = longitudinal_variance(params.beta_m);
-        const T v[kLobes + 1] = {v0, T(0.25) * v0, T(4) * v0, T(4) * v0};
-        for (int p = 0; p <= kLobes; ++p) m_[p] = DeonLongitudinal<T>(v[p]);
-        n_ = TrimmedLogistic<T>(logistic_scale(params.beta_n));
-        tilt_ = CuticleTilt<T>(params.alpha);
-    }
+    explicit ChiangMaterial(const FiberParams<T>& params)
+        : DeonLobes<T>(validated(params).beta_m, params.alpha), params_(params),
+          n_(logistic_scale(params.beta_n)) {}
 
     HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
-    HAIRSCATTER_HD const DeonLongitudinal<T>& longitudinal(int p) const { return m_[p]; }
     HAIRSCATTER_HD const TrimmedLogistic<T>& azimuthal() const { return n_; }
-    HAIRSCATTER_HD const CuticleTilt<T>& tilt() const { return tilt_; }
-
-    // The longitudinal shift of lobe p's peak in θi + θo (Marschner's α_p in d'Eon's
-    // corrected 2θh form): the lobe peaks at θi = α_p - θo. pbrt-v4's tilt gives 2α (R),
-    // -α (TT), -4α (TRT), 0 (residual).
-    HAIRSCATTER_HD T lobe_shift(int p) const { return -tilt_.angle(p); }
-    // The longitudinal variance v_p of lobe p (β_p² of the dual-scattering tables).
-    HAIRSCATTER_HD T lobe_variance(int p) const { return m_[p].variance(); }
 
   private:
     FiberParams<T> params_;
-    DeonLongitudinal<T> m_[kLobes + 1];
     TrimmedLogistic<T> n_;
-    CuticleTilt<T> tilt_;
 };
 
 // One fiber hit: a material and the offset h ∈ [-1, 1] across the fiber. Directions are
 // unit vectors in the fiber frame (fiber/frame.hpp): x = tangent, sinθ = w.x,
 // φ = atan2(w.z, w.y); wo toward the viewer, wi toward the light.
 // eval(wo, wi) has the cosine inside: Lo = ∫ eval(wo, wi) Li dωi, so ∫ eval dωi = 1 for
-// σa = 0 (pbrt's HairBxDF::f is eval / |wi.z|).
+// σa = 0 (pbrt's HairBxDF::f is eval / |wi.z|). eval, pdf, eval_pdf, sample and at(wo)
+// are the contract's (models/contract.hpp): sample is d'Eon, Marschner & Hanika 2013's,
+// u.x picks the lobe with probability ∝ mean(A_p), (u.y, u.z) sample θi from M_p, u.w
+// samples φ from N_p.
 //
 // kKept selects the lobes at compile time (lobes/lobe_set.hpp); ChiangFiber<T> keeps all
-// four. BasicChiangFiber<float, Lobes::kR> is a one-lobe preview that never computes the
+// four. BasicChiangFiber<float, LobeSet::kR> is a one-lobe preview that never computes the
 // refracted path: a dropped lobe costs nothing (bench/chiang_bench.cpp shows it).
-template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
+//
+// Refers to its material by pointer: the material must outlive the fiber (and every
+// at(wo) made from it); a temporary material is rejected at compile time. On a GPU the
+// material must be in device memory and the pointer a device pointer.
+template <typename T, LobeSet kKept = LobeSet::kAll>
+class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
   public:
     using V3 = glm::vec<3, T>;
     using V4 = glm::vec<4, T>;
-    static constexpr int kLobes = ChiangMaterial<T>::kLobes;
-    static constexpr unsigned kKeptLobes = kKept;
-    static_assert(kKept != 0u && (kKept & ~Lobes::kAll) == 0u, "keep at least one of R, TT, TRT, residual");
+    using Material = ChiangMaterial<T>;
+    using LobeSplit = hairscatter::LobeSplit<T, Material::kLobes>;
+    static constexpr int kLobes = Material::kLobes;
+    static constexpr LobeSet kKeptLobes = kKept;
+    static_assert(kKept != LobeSet::kNone && (kKept & ~LobeSet::kAll) == LobeSet::kNone,
+                  "keep at least one of R, TT, TRT, residual");
     HAIRSCATTER_HD static constexpr bool keeps(int p) { return keeps_lobe(kKept, p); }
 
-  private:
-    // The terms that depend on wo only, shared by eval, pdf and sample.
-    struct Outgoing {
-        V3 a[kLobes + 1];          // A_p
-        T w[kLobes + 1];           // lobe selection probabilities (only when asked for)
-        T sin_o[kLobes + 1], cos_o[kLobes + 1];  // tilted θo' per lobe
-        T phi_p[kLobes];           // Φ(p, h)
-    };
-
-  public:
-
     // Cheap, device-callable: h is clamped into [-1, 1] (hit offsets round slightly out).
-    HAIRSCATTER_HD BasicChiangFiber(const ChiangMaterial<T>& material, T h) : mat_(material) {
+    HAIRSCATTER_HD BasicChiangFiber(const Material& material, T h) : mat_(&material) {
         h_ = h > T(1) ? T(1) : (h >= T(-1) ? h : T(-1));
         gamma_o_ = elem::asin(h_);
         cos_gamma_o_ = cos_from_sin(h_);
     }
+    BasicChiangFiber(const Material&&, T) = delete;
 
-    // Host convenience: validates the parameters and h, throws std::invalid_argument.
-    BasicChiangFiber(const FiberParams<T>& params, T h) : BasicChiangFiber(checked(params, h), h) {}
+    // Host: the fiber at h, which must lie in [-1, 1] (throws std::invalid_argument).
+    static BasicChiangFiber checked(const Material& material, T h) {
+        if (!(h >= T(-1) && h <= T(1)))
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: h = " + std::to_string(double(h)) +
+                                                    " is outside its range [-1, 1]"));
+        return BasicChiangFiber(material, h);
+    }
 
     HAIRSCATTER_HD T h() const { return h_; }
-    HAIRSCATTER_HD const ChiangMaterial<T>& material() const { return mat_; }
-
-    HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi) const { return query<true, false>(outgoing<false>(wo), wo, wi).f; }
-    HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return query<false, true>(outgoing<true>(wo), wo, wi).pdf; }
-    HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const {
-        return query<true, true>(outgoing<true>(wo), wo, wi);
-    }
-
-    // Importance sampling (d'Eon, Marschner & Hanika 2013): u.x picks the lobe with
-    // probability ∝ mean(A_p), (u.y, u.z) sample θi from M_p, u.w samples φ from N_p.
-    HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const {
-        return sample_from(outgoing<true>(wo), wo, u);
-    }
-
-    // The fiber at a fixed outgoing direction: everything that depends on wo alone (A_p,
-    // the tilted θo', Φ(p, h), the lobe probabilities) is computed once here, and eval,
-    // pdf and sample of the returned object take only wi or u. A renderer that evaluates
-    // a light sample and draws a BCSDF sample at the same hit pays for wo once. Holds a
-    // copy of the fiber, so it may outlive it.
-    class At {
-      public:
-        HAIRSCATTER_HD V3 eval(const V3& wi) const { return fiber_.template query<true, false>(o_, wo_, wi).f; }
-        HAIRSCATTER_HD T pdf(const V3& wi) const { return fiber_.template query<false, true>(o_, wo_, wi).pdf; }
-        HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wi) const { return fiber_.template query<true, true>(o_, wo_, wi); }
-        HAIRSCATTER_HD HairSample<T> sample(const V4& u) const { return fiber_.sample_from(o_, wo_, u); }
-        HAIRSCATTER_HD const V3& wo() const { return wo_; }
-
-      private:
-        friend class BasicChiangFiber;
-        HAIRSCATTER_HD At(const BasicChiangFiber& f, const V3& wo) : fiber_(f), wo_(wo), o_(f.template outgoing<true>(wo)) {}
-        BasicChiangFiber fiber_;
-        V3 wo_;
-        Outgoing o_;
-    };
-    HAIRSCATTER_HD At at(const V3& wo) const { return At(*this, wo); }
+    HAIRSCATTER_HD const Material& material() const { return *mat_; }
 
     // Per lobe: A_p(wo) and the fraction of N_p inside the half-circle of relative
     // azimuths |φ - centre| < π/2 (centre 0: the backward half). M_p integrates to 1, so
     // ∫ over that half of f_p = A_p · backward; the dual-scattering tables integrate these
     // (dual/tables.hpp: a_b at centre 0, a_f at centre π, the window W_p at every centre).
-    struct LobeSplit {
-        V3 a[kLobes + 1];
-        T backward[kLobes + 1];
-    };
     HAIRSCATTER_HD LobeSplit lobe_split(const V3& wo, T centre = T(0)) const {
         const Outgoing o = outgoing<false>(wo);
         LobeSplit r;
         for (int p = 0; p < kLobes; ++p) {
             r.a[p] = keeps(p) ? o.a[p] : V3(T(0));
-            r.backward[p] = keeps(p) ? mat_.azimuthal().arc_mass(centre - kHalfPi<T> - o.phi_p[p], kPi<T>) : T(0);
+            r.backward[p] = keeps(p) ? mat_->azimuthal().arc_mass(centre - kHalfPi<T> - o.phi_p[p], kPi<T>) : T(0);
         }
         r.a[kLobes] = keeps(kLobes) ? o.a[kLobes] : V3(T(0));
         r.backward[kLobes] = T(0.5);  // the residual is uniform in φ
@@ -201,16 +119,20 @@ template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
     }
 
   private:
+    friend class FiberModel<BasicChiangFiber, T>;
+    friend class BoundFiber<BasicChiangFiber>;
+
+    // The terms that depend on wo only, shared by eval, pdf and sample.
+    struct Outgoing {
+        V3 a[kLobes + 1];          // A_p
+        T w[kLobes + 1];           // lobe selection probabilities (only when asked for)
+        T sin_o[kLobes + 1], cos_o[kLobes + 1];  // tilted θo' per lobe
+        T phi_p[kLobes];           // Φ(p, h)
+    };
+
     static constexpr int kFirstKept = keeps(0) ? 0 : keeps(1) ? 1 : keeps(2) ? 2 : 3;
     // Only R needs no refracted path (no transmittance, no γt).
-    static constexpr bool kRefracts = (kKept & ~Lobes::kR) != 0u;
-
-    static ChiangMaterial<T> checked(const FiberParams<T>& params, T h) {
-        if (!(h >= T(-1) && h <= T(1)))
-            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: h = " + std::to_string(double(h)) +
-                                        " is outside its range [-1, 1]"));
-        return ChiangMaterial<T>(params);
-    }
+    static constexpr bool kRefracts = (kKept & ~LobeSet::kR) != LobeSet::kNone;
 
     // eval, pdf and eval_pdf: f and/or pdf at (wo, wi).
     template <bool kF, bool kPdf>
@@ -222,23 +144,22 @@ template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
     }
 
     HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
-        using std::sqrt;
         if (!(is_finite(wo) && is_finite(u))) return HairSample<T>{};  // non-finite input: pdf 0, weight 0
         // The lobe ∝ w_p (normalised; 0 for dropped lobes). Counted from the first kept
         // lobe, so that all-zero weights (an opaque fiber without R) pick a kept lobe.
         const int p = kFirstKept + sample_discrete(o.w + kFirstKept, kLobes + 1 - kFirstKept, u.x, T(1)).index;
 
-        const T sin_i = mat_.longitudinal(p).sample_sin_theta(o.sin_o[p], o.cos_o[p], u.y, u.z);
+        const T sin_i = mat_->longitudinal(p).sample_sin_theta(o.sin_o[p], o.cos_o[p], u.y, u.z);
         const T cos_i = cos_from_sin(sin_i);
-        const T phi = wrap_pi(p < kLobes ? o.phi_p[p] + mat_.azimuthal().sample(u.w)
+        const T phi = wrap_pi(p < kLobes ? o.phi_p[p] + mat_->azimuthal().sample(u.w)
                                          : kTwoPi<T> * u.w - kPi<T>);
 
-        return make_sample(direction_from_azimuth(wo, sin_i, phi), p, combine<true, true>(o, sin_i, cos_i, phi));
+        return make_sample(direction_from_azimuth(wo, sin_i, phi), lobe_tag(p), combine<true, true>(o, sin_i, cos_i, phi));
     }
 
     // kW: also the lobe selection probabilities w (pdf and sample need them, eval not).
     template <bool kW> HAIRSCATTER_HD HAIRSCATTER_INLINE Outgoing outgoing(const V3& wo) const {
-        const FiberParams<T>& prm = mat_.params();
+        const FiberParams<T>& prm = mat_->params();
         Outgoing o;
         const T sin_o = clamp(wo.x, T(-1), T(1));
         const T cos_o = cos_from_sin(sin_o);
@@ -252,12 +173,7 @@ template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
         } else {
             o.a[0] = V3(fresnel);
         }
-        for (int p = 0; p <= kLobes; ++p) {
-            if (!keeps(p)) continue;
-            const typename CuticleTilt<T>::Rotated r = mat_.tilt().rotate(p, sin_o, cos_o);
-            o.sin_o[p] = r.sin_theta;
-            o.cos_o[p] = r.cos_theta;
-        }
+        mat_->tilt_all(sin_o, cos_o, o.sin_o, o.cos_o, unsigned(kKept));
         for (int p = 0; p < kLobes; ++p)
             if (keeps(p)) o.phi_p[p] = exit_azimuth(p, gamma_o_, gamma_t);
         if constexpr (kW) {
@@ -281,11 +197,11 @@ template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
         T mn[kLobes + 1];
         for (int p = 0; p < kLobes; ++p)
             if (keeps(p))
-                mn[p] = mat_.longitudinal(p).eval(sin_i, cos_i, o.sin_o[p], o.cos_o[p]) *
-                        azimuthal_logistic(mat_.azimuthal(), phi, o.phi_p[p]);
+                mn[p] = mat_->longitudinal(p).eval(sin_i, cos_i, o.sin_o[p], o.cos_o[p]) *
+                        azimuthal_logistic(mat_->azimuthal(), phi, o.phi_p[p]);
         // The residual lumps all orders: uniform in φ.
         if (keeps(kLobes))
-            mn[kLobes] = mat_.longitudinal(kLobes).eval(sin_i, cos_i, o.sin_o[kLobes], o.cos_o[kLobes]) *
+            mn[kLobes] = mat_->longitudinal(kLobes).eval(sin_i, cos_i, o.sin_o[kLobes], o.cos_o[kLobes]) *
                          kInvTwoPi<T>;
         HairEvalPdf<T> r;
         for (int p = 0; p <= kLobes; ++p) {
@@ -296,11 +212,14 @@ template <typename T, unsigned kKept = Lobes::kAll> class BasicChiangFiber {
         return r;
     }
 
-    ChiangMaterial<T> mat_;
+    const Material* mat_;
     T h_ = T(0), gamma_o_ = T(0), cos_gamma_o_ = T(1);
 };
 
 // The full model: R, TT, TRT and the residual.
-template <typename T> using ChiangFiber = BasicChiangFiber<T, Lobes::kAll>;
+template <typename T> using ChiangFiber = BasicChiangFiber<T, LobeSet::kAll>;
+
+static_assert(is_fiber_model_v<ChiangFiber<float>> && is_fiber_model_v<ChiangFiber<double>>);
+static_assert(is_fiber_model_v<BasicChiangFiber<float, LobeSet::kR>>);
 
 }  // namespace hairscatter

@@ -16,15 +16,14 @@
 #include "../fiber/params.hpp"
 #include "../lobes/attenuation.hpp"
 #include "../lobes/azimuthal.hpp"
-#include "../lobes/longitudinal.hpp"
-#include "../lobes/tilt.hpp"
+#include "../lobes/deon_lobes.hpp"
 #include "../math/constants.hpp"
 #include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
 #include "../math/functions.hpp"
 #include "../math/quadrature.hpp"
 #include "../math/wrapped_gaussian.hpp"
-#include "chiang.hpp"  // HairSample, HairEvalPdf, HairLobe
+#include "contract.hpp"
 
 namespace hairscatter {
 
@@ -41,9 +40,12 @@ namespace hairscatter {
 // by 3e-2 at n = 2 and 1e-9 at n = 8): then the lossless fiber conserves energy exactly
 // at every n, since Σ_p A_p(h) = 1 at every node. The rule is symmetric and A_p is even in
 // h, so only the nodes with h ≥ 0 are stored and each carries its mirror image -h.
-template <typename T> class DeonFarFieldMaterial {
+//
+// Its d'Eon ingredients (longitudinal(p), tilt(), lobe_shift(p), lobe_variance(p)) are
+// DeonLobes'.
+template <typename T> class DeonFarFieldMaterial : public DeonLobes<T> {
   public:
-    static constexpr int kLobes = 3;  // R, TT, TRT explicit; index 3 is the residual
+    static constexpr int kLobes = DeonLobes<T>::kLobes;  // R, TT, TRT explicit; index 3 is the residual
     static constexpr int kMaxNodes = 256;
     static constexpr int kMaxHalfNodes = kMaxNodes / 2;
     static constexpr int kAutoNodes = 0;  // choose the node count from β_n (auto_nodes)
@@ -69,18 +71,13 @@ template <typename T> class DeonFarFieldMaterial {
     // nodes: the Gauss–Legendre order of the h integral, 1 … kMaxNodes, or kAutoNodes for
     // auto_nodes(β_n) (the cost of eval, pdf and sample is linear in it).
     explicit DeonFarFieldMaterial(const FiberParams<T>& params, int nodes = kAutoNodes)
-        : params_(params), nodes_(nodes) {
-        require_valid(params);
+        : DeonLobes<T>(validated(params).beta_m, params.alpha), params_(params), nodes_(nodes) {
         if (!(nodes >= 0 && nodes <= kMaxNodes))
             HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DeonFarFieldMaterial: nodes = " + std::to_string(nodes) +
                                         " is outside its range [1, " + std::to_string(kMaxNodes) +
                                         "] (or 0 for the automatic choice)"));
         if (nodes == kAutoNodes) nodes_ = nodes = auto_nodes(params.beta_n);
-        const T v0 = longitudinal_variance(params.beta_m);
-        const T v[kLobes + 1] = {v0, T(0.25) * v0, T(4) * v0, T(4) * v0};
-        for (int p = 0; p <= kLobes; ++p) m_[p] = DeonLongitudinal<T>(v[p]);
         n_ = WrappedGaussian<T>(azimuthal_gaussian_width(params.beta_n));
-        tilt_ = CuticleTilt<T>(params.alpha);
 
         const GaussLegendre<double> gl(nodes);
         const double quarter_pi = 0.78539816339744830962;
@@ -103,9 +100,7 @@ template <typename T> class DeonFarFieldMaterial {
     }
 
     HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
-    HAIRSCATTER_HD const DeonLongitudinal<T>& longitudinal(int p) const { return m_[p]; }
     HAIRSCATTER_HD const WrappedGaussian<T>& azimuthal() const { return n_; }
-    HAIRSCATTER_HD const CuticleTilt<T>& tilt() const { return tilt_; }
 
     // The quadrature: n nodes in all, stored as half_nodes() nodes with h ≥ 0; node j
     // stands for h_j and, when mirrored(j), also for -h_j, each with weight weight(j).
@@ -117,16 +112,10 @@ template <typename T> class DeonFarFieldMaterial {
     HAIRSCATTER_HD T node_weight(int j) const { return weight_[j]; }
     HAIRSCATTER_HD bool node_mirrored(int j) const { return mirrored_[j]; }
 
-    // As ChiangMaterial: lobe p peaks at θi = lobe_shift(p) - θo, with variance v_p.
-    HAIRSCATTER_HD T lobe_shift(int p) const { return -tilt_.angle(p); }
-    HAIRSCATTER_HD T lobe_variance(int p) const { return m_[p].variance(); }
-
   private:
     FiberParams<T> params_;
     int nodes_ = 0, half_nodes_ = 0;
-    DeonLongitudinal<T> m_[kLobes + 1];
     WrappedGaussian<T> n_;
-    CuticleTilt<T> tilt_;
     T h_[kMaxHalfNodes] = {}, gamma_[kMaxHalfNodes] = {}, cos_gamma_[kMaxHalfNodes] = {}, weight_[kMaxHalfNodes] = {};
     bool mirrored_[kMaxHalfNodes] = {};
 };
@@ -143,45 +132,35 @@ template <typename T> class DeonFarFieldMaterial {
 // Σ_k Σ_p P(k, p) M_p D is linear in A_p, so pdf = mean(f) / mean(albedo) exactly, computed
 // in the same loop as f.
 //
-// Holds a pointer to the material, which must outlive the fiber (a temporary material is
-// rejected at compile time). Each call loops over the ⌈n/2⌉ stored nodes, so the cost is
+// Holds a pointer to the material, which must outlive the fiber and its at(wo) objects (a
+// temporary material is rejected at compile time; on a GPU, a pointer to a device copy).
+// at(wo) caches θo, its tilts and the refraction set-up; the per-node A_p(h_j) (up to 128
+// nodes) are recomputed per call, to keep the bound object small. Each call loops over the ⌈n/2⌉ stored nodes, so the cost is
 // linear in n: at 32 nodes about 1 µs per eval in float (docs/tradeoff.md), some 12× the
 // ChiangFiber. Accuracy needs the nodes' exit azimuths closer than the Gaussian's σ; the
 // automatic node count (DeonFarFieldMaterial::auto_nodes) gives ~1e-4 down to β_n ≈ 0.06.
 // Energy and sampling are exact at any n.
-template <typename T> class DeonFarFieldFiber {
+template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFiber<T>, T> {
   public:
     using V3 = glm::vec<3, T>;
     using V4 = glm::vec<4, T>;
     using Material = DeonFarFieldMaterial<T>;
     static constexpr int kLobes = Material::kLobes;
+    using LobeSplit = hairscatter::LobeSplit<T, kLobes>;
 
     HAIRSCATTER_HD explicit DeonFarFieldFiber(const Material& material) : mat_(&material) {}
     DeonFarFieldFiber(const Material&&) = delete;
 
     HAIRSCATTER_HD const Material& material() const { return *mat_; }
 
-    HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi) const { return eval_pdf(wo, wi).f; }
-    HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return eval_pdf(wo, wi).pdf; }
-    HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const {
-        if (!(is_finite(wo) && is_finite(wi))) return HairEvalPdf<T>{};  // non-finite input: 0 (see HairSample)
-        const T sin_i = clamp(wi.x, T(-1), T(1));
-        const T phi = relative_azimuth(wo, wi);
-        return combine(outgoing(wo), sin_i, cos_from_sin(sin_i), phi);
-    }
-
     // ½ ∫ Σ_p A_p(h) dh by the same quadrature: the directional albedo, exact for this
     // model because every M_p and D is normalised.
-    HAIRSCATTER_HD V3 albedo(const V3& wo) const {
-        const Outgoing o = outgoing(wo);
-        V3 a(T(0));
-        for (int j = 0; j < mat_->half_nodes(); ++j) {
-            const Node nd = node(o, j);
-            const T w = mat_->node_weight(j) * (mat_->node_mirrored(j) ? T(2) : T(1));
-            for (int p = 0; p <= kLobes; ++p) a += w * nd.att.a[p];
-        }
-        return a;
-    }
+    HAIRSCATTER_HD V3 albedo(const V3& wo) const { return split_albedo(split<false>(wo)); }
+
+    // Per lobe: ½ ∫ A_p(h) dh and the part of N_p in the backward half |φ| < π/2, each
+    // node's wrapped Gaussian weighted by the channel sum of its A_p(h_j).
+    HAIRSCATTER_HD LobeSplit lobe_split(const V3& wo) const { return split<true>(wo); }
+
 
     // The quadrature's terms at wo's inclination, for tabulating N_p (models/tabulated.hpp):
     // A_p(h_j) for every lobe (even in h, so shared with the mirror node -h_j) and the exit
@@ -192,20 +171,76 @@ template <typename T> class DeonFarFieldFiber {
         T phi[kLobes];
     };
     HAIRSCATTER_HD NodeTerms node_terms(const V3& wo, int j) const {
-        const Node nd = node(outgoing(wo), j);
+        const Node nd = node(outgoing<false>(wo), j);
         NodeTerms r;
         for (int p = 0; p <= kLobes; ++p) r.a[p] = nd.att.a[p];
         for (int p = 0; p < kLobes; ++p) r.phi[p] = exit_azimuth(p, mat_->node_gamma(j), nd.gamma_t);
         return r;
     }
 
+  private:
+    friend class FiberModel<DeonFarFieldFiber, T>;
+    friend class BoundFiber<DeonFarFieldFiber>;
+
+    // The terms that depend on wo only.
+    struct Outgoing {
+        T sin_o, cos_o;
+        T sin_p[kLobes + 1], cos_p[kLobes + 1];  // tilted θo' per lobe
+        FiberRefraction<T> refraction;            // γt and the chord, per h
+    };
+    struct Node {
+        Attenuation<T, kLobes> att;
+        T gamma_t;
+    };
+
+    // lobe_split, with the backward fractions only when asked for (albedo needs none).
+    template <bool kBackward> HAIRSCATTER_HD LobeSplit split(const V3& wo) const {
+        const Outgoing o = outgoing<false>(wo);
+        const T sigma = mat_->azimuthal().sigma();
+        LobeSplit r;
+        T back[kLobes + 1] = {};
+        for (int p = 0; p <= kLobes; ++p) r.a[p] = V3(T(0));
+        for (int j = 0; j < mat_->half_nodes(); ++j) {
+            const Node nd = node(o, j);
+            const bool mirrored = mat_->node_mirrored(j);
+            const T w = mat_->node_weight(j), gamma = mat_->node_gamma(j);
+            for (int p = 0; p <= kLobes; ++p) r.a[p] += (w * (mirrored ? T(2) : T(1))) * nd.att.a[p];
+            if constexpr (!kBackward) continue;
+            for (int p = 0; p < kLobes; ++p) {
+                T mass = wrapped_gaussian_backward_mass(sigma, exit_azimuth(p, gamma, nd.gamma_t));
+                if (mirrored) mass += wrapped_gaussian_backward_mass(sigma, exit_azimuth(p, -gamma, -nd.gamma_t));
+                back[p] += w * mass * (nd.att.a[p].x + nd.att.a[p].y + nd.att.a[p].z);
+            }
+        }
+        for (int p = 0; p < kLobes; ++p) {
+            const T total = r.a[p].x + r.a[p].y + r.a[p].z;
+            r.backward[p] = total > T(0) ? back[p] / total : T(0.5);
+        }
+        r.backward[kLobes] = T(0.5);  // the residual is uniform in φ
+        return r;
+    }
+
+    // The same terms serve eval and pdf (pdf = mean(f) / mean(albedo) in one loop).
+    template <bool kW> HAIRSCATTER_HD Outgoing outgoing(const V3& wo) const {
+        const FiberParams<T>& prm = mat_->params();
+        Outgoing o;
+        o.sin_o = clamp(wo.x, T(-1), T(1));
+        o.cos_o = cos_from_sin(o.sin_o);
+        o.refraction = FiberRefraction<T>(o.sin_o, o.cos_o, prm.eta);
+        mat_->tilt_all(o.sin_o, o.cos_o, o.sin_p, o.cos_p);
+        return o;
+    }
+
+    template <bool kF, bool kPdf> HAIRSCATTER_HD HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
+        const T sin_i = clamp(wi.x, T(-1), T(1));
+        const T phi = relative_azimuth(wo, wi);
+        return combine(o, sin_i, cos_from_sin(sin_i), phi);
+    }
+
     // u.x picks the node, its sign and the lobe (each choice rescales the leftover of u.x
     // into a fresh uniform, which then drives the Box–Muller angle), (u.y, u.z) sample θi
     // from M_p, u.w the Box–Muller radius (or φ for the residual).
-    HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const {
-        using std::sqrt;
-        if (!(is_finite(wo) && is_finite(u))) return HairSample<T>{};  // non-finite input: pdf 0, weight 0
-        const Outgoing o = outgoing(wo);
+    HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
         const int n = mat_->half_nodes();
 
         // Node probabilities ∝ (multiplicity) ŵ_j mean(Σ_p A_p(h_j)); all > 0, since
@@ -245,33 +280,7 @@ template <typename T> class DeonFarFieldFiber {
                                            mat_->azimuthal().sample(u.w, v))
                                  : wrap_pi(kTwoPi<T> * u.w - kPi<T>);
 
-        return make_sample(direction_from_azimuth(wo, sin_i, phi), p, combine(o, sin_i, cos_i, phi));
-    }
-
-  private:
-    // The terms that depend on wo only.
-    struct Outgoing {
-        T sin_o, cos_o;
-        T sin_p[kLobes + 1], cos_p[kLobes + 1];  // tilted θo' per lobe
-        FiberRefraction<T> refraction;            // γt and the chord, per h
-    };
-    struct Node {
-        Attenuation<T, kLobes> att;
-        T gamma_t;
-    };
-
-    HAIRSCATTER_HD Outgoing outgoing(const V3& wo) const {
-        const FiberParams<T>& prm = mat_->params();
-        Outgoing o;
-        o.sin_o = clamp(wo.x, T(-1), T(1));
-        o.cos_o = cos_from_sin(o.sin_o);
-        o.refraction = FiberRefraction<T>(o.sin_o, o.cos_o, prm.eta);
-        for (int p = 0; p <= kLobes; ++p) {
-            const typename CuticleTilt<T>::Rotated r = mat_->tilt().rotate(p, o.sin_o, o.cos_o);
-            o.sin_p[p] = r.sin_theta;
-            o.cos_p[p] = r.cos_theta;
-        }
-        return o;
+        return make_sample(direction_from_azimuth(wo, sin_i, phi), lobe_tag(p), combine(o, sin_i, cos_i, phi));
     }
 
     // A_p(h_j) for all lobes (even in h, so shared with the mirror node) and γt(h_j).
@@ -315,5 +324,7 @@ template <typename T> class DeonFarFieldFiber {
 
     const Material* mat_;
 };
+
+static_assert(is_fiber_model_v<DeonFarFieldFiber<float>> && is_fiber_model_v<DeonFarFieldFiber<double>>);
 
 }  // namespace hairscatter

@@ -24,7 +24,7 @@
 #include "../math/functions.hpp"
 #include "../math/quadrature.hpp"
 #include "../lobes/azimuthal.hpp"  // azimuthal_gaussian_width
-#include "chiang.hpp"              // HairSample, HairEvalPdf, HairLobe
+#include "contract.hpp"
 
 namespace hairscatter {
 
@@ -152,9 +152,11 @@ template <typename T> class MarschnerMaterial {
     HAIRSCATTER_HD const T* node_weights() const { return weight_; }
     HAIRSCATTER_HD T cell_lo(int k) const { return cell_lo_[k]; }
     HAIRSCATTER_HD T cell_len(int k) const { return cell_len_[k]; }
-    // Lobe p peaks at θi = lobe_shift(p) - θo (Marschner's α_p), with width β_p.
+    // Lobe p peaks at θi = lobe_shift(p) - θo (Marschner's α_p), with width β_p; its
+    // longitudinal variance is β_p² (that of the sampler's d'Eon proposal).
     HAIRSCATTER_HD T lobe_shift(int p) const { return m_[p].alpha(); }
     HAIRSCATTER_HD T lobe_width(int p) const { return m_[p].beta(); }
+    HAIRSCATTER_HD T lobe_variance(int p) const { return proposal_[p].variance(); }
 
   private:
     MarschnerParams<T> params_;
@@ -189,26 +191,47 @@ template <typename T> class MarschnerMaterial {
 // summing over every root of every lobe (through the cubic's pushforward). pdf() and
 // sample() share that code, weight = f / pdf.
 //
-// Holds a pointer to the material, which must outlive the fiber.
-template <typename T> class MarschnerFiber {
+// Holds a pointer to the material, which must outlive the fiber and its at(wo) objects (a
+// temporary material is rejected at compile time; on a GPU, a pointer to a device copy).
+// kLobes = 3 explicit lobes and no residual: lobe index 3 never occurs.
+template <typename T> class MarschnerFiber : public FiberModel<MarschnerFiber<T>, T> {
   public:
     using V3 = glm::vec<3, T>;
     using V4 = glm::vec<4, T>;
     using Material = MarschnerMaterial<T>;
     static constexpr int kLobes = Material::kLobes;
+    // The points of albedo()'s estimate.
+    static constexpr int kAlbedoPoints = 4096;
 
     HAIRSCATTER_HD explicit MarschnerFiber(const Material& material) : mat_(&material) {}
     MarschnerFiber(const Material&&) = delete;
 
     HAIRSCATTER_HD const Material& material() const { return *mat_; }
 
-    HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi) const { return query<true, false>(wo, wi).f; }
-    HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return query<false, true>(wo, wi).pdf; }
-    HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const { return query<true, true>(wo, wi); }
-
-    HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const {
-        if (!(is_finite(wo) && is_finite(u))) return HairSample<T>{};  // non-finite input: pdf 0, weight 0
+    // ∫ eval dωi has no closed form here (M_p is not normalised on the sphere, 1/cos²θd):
+    // estimated as the mean weight of kAlbedoPoints samples, u on a shifted rank-1 lattice
+    // (Korobov, generator 1, a, a², a³ mod N), so the estimate is deterministic and, since
+    // E[weight] = ∫ f dωi for any valid sampler, unbiased in the limit. A host-side or
+    // occasional query (4096 samples), not one for the inner loop.
+    HAIRSCATTER_HD V3 albedo(const V3& wo) const {
         const Outgoing o = outgoing<true>(wo);
+        constexpr unsigned kN = unsigned(kAlbedoPoints), kA = 1487u;
+        const unsigned g[4] = {1u, kA, (kA * kA) % kN, (((kA * kA) % kN) * kA) % kN};
+        V3 sum(T(0));
+        for (unsigned k = 0; k < kN; ++k) {
+            V4 u;
+            for (int d = 0; d < 4; ++d) u[d] = (T((k * g[d]) % kN) + T(0.5)) / T(kN);
+            sum += sample_from(o, wo, u).weight;
+        }
+        return sum / T(kN);
+    }
+
+  private:
+    friend class FiberModel<MarschnerFiber, T>;
+    friend class BoundFiber<MarschnerFiber>;
+    struct Outgoing;
+
+    HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
         // The lobe ∝ w_p (normalised, w_R > 0); the leftover of u.x is h.
         const DiscreteChoice<T> lobe = sample_discrete(o.w, kLobes, u.x, T(1));
         const int p = lobe.index;
@@ -226,9 +249,10 @@ template <typename T> class MarschnerFiber {
         const T v = cell.rescaled;
         const T phi = wrap_pi(cubic.exit_azimuth(elem::asin(h)) + mat_->cell_lo(k) + mat_->cell_len(k) * v);
 
-        return make_sample(direction_from_azimuth(wo, sin_i, phi), p, combine<true, true>(o, sin_i, cos_i, phi));
+        return make_sample(direction_from_azimuth(wo, sin_i, phi), lobe_tag(p), combine<true, true>(o, sin_i, cos_i, phi));
     }
 
+  public:
     // Marschner's smooth-fiber N_p(φ) (no roughness, no caustic replacement) at the
     // inclinations of (wo, wi), RGB: exposed for tests and plots of the root sum.
     HAIRSCATTER_HD V3 smooth_azimuthal(int p, const V3& wo, const V3& wi) const {
@@ -240,6 +264,8 @@ template <typename T> class MarschnerFiber {
     }
 
   private:
+    static constexpr int kTrt = lobe_index(SampledLobe::kTRT);
+
     // Terms of wo alone.
     struct Outgoing {
         T sin_o, cos_o, theta_o, phi_o;
@@ -326,10 +352,10 @@ template <typename T> class MarschnerFiber {
         return o;
     }
 
-    template <bool kF, bool kPdf> HAIRSCATTER_HD HairEvalPdf<T> query(const V3& wo, const V3& wi) const {
-        if (!(is_finite(wo) && is_finite(wi))) return HairEvalPdf<T>{};  // non-finite input: 0 (see HairSample)
+    template <bool kF, bool kPdf>
+    HAIRSCATTER_HD HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
         const T sin_i = clamp(wi.x, T(-1), T(1));
-        return combine<kF, kPdf>(outgoing<kPdf>(wo), sin_i, cos_from_sin(sin_i), relative_azimuth(wo, wi));
+        return combine<kF, kPdf>(o, sin_i, cos_from_sin(sin_i), relative_azimuth(wo, wi));
     }
 
     // N_p with the caustic replacement (TRT) at one azimuth, before roughness.
@@ -337,7 +363,7 @@ template <typename T> class MarschnerFiber {
                                 const V3& caustic_a, T phi) const {
         const int p = cubic.lobe();
         const V3 n = marschner_root_sum(cubic, phi, LobeAttenuation{this, &s, p});
-        if (p != kTRT) return n;
+        if (p != kTrt) return n;
         const T x = wrap_pi(phi);  // TRT is centred on 2π ≡ 0
         return n * caustic.smooth_factor(x) + caustic_a * caustic.lobes(x);
     }
@@ -357,13 +383,13 @@ template <typename T> class MarschnerFiber {
                 const MarschnerCubic<T> cubic(p, s.inv_eta_perp);
                 MarschnerCaustic<T> caustic;
                 V3 caustic_a(T(0));
-                if (p == kTRT) {
+                if (p == kTrt) {
                     caustic = MarschnerCaustic<T>(cubic, s.eta_perp, prm.caustic_width, prm.caustic_fade,
                                                   prm.caustic_dh_max);
                     using std::cos;
                     using std::sin;
                     caustic_a = prm.caustic_gain *
-                                attenuations(s, sin(caustic.gamma_c), cos(caustic.gamma_c)).a[kTRT];
+                                attenuations(s, sin(caustic.gamma_c), cos(caustic.gamma_c)).a[kTrt];
                 }
                 V3 np(T(0));
                 for (int k = 0; k < n; ++k)
@@ -397,5 +423,7 @@ template <typename T> class MarschnerFiber {
 
     const Material* mat_;
 };
+
+static_assert(is_fiber_model_v<MarschnerFiber<float>> && is_fiber_model_v<MarschnerFiber<double>>);
 
 }  // namespace hairscatter

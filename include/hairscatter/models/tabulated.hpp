@@ -17,16 +17,15 @@
 #include "../config.hpp"
 #include "../fiber/frame.hpp"
 #include "../fiber/params.hpp"
-#include "../lobes/longitudinal.hpp"
+#include "../lobes/deon_lobes.hpp"
 #include "../lobes/longitudinal_table.hpp"
-#include "../lobes/tilt.hpp"
 #include "../math/constants.hpp"
 #include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
 #include "../math/functions.hpp"
 #include "../math/wrapped_gaussian.hpp"
-#include "chiang.hpp"  // HairSample, HairEvalPdf, HairLobe
-#include "deon_farfield.hpp"
+#include "contract.hpp"
+#include "deon_farfield.hpp"  // the exact far field the tables are built from (host side)
 
 namespace hairscatter {
 
@@ -189,6 +188,7 @@ class WrappedGaussianGrid {
 }  // namespace detail
 
 template <typename T> class TabulatedMaterial;
+template <typename T> class TabulatedFiber;
 
 // The tables of a TabulatedMaterial over data it does not own: trivially copyable, so it can
 // be passed by value to a GPU kernel once the data are copied to device memory
@@ -200,9 +200,11 @@ template <typename T> class TabulatedMaterial;
 //                             for the piecewise-linear interpolant);
 //   terms: [row][16]          [3p + c] = ∫_{-π}^{π} N_p A_p dφ (p = 0…3, 3 the residual),
 //                             [12 + p] = its channel sum.
-template <typename T> class TabulatedView {
+// Its d'Eon ingredients (longitudinal(p), tilt(), lobe_shift(p), lobe_variance(p)) are
+// DeonLobes'.
+template <typename T> class TabulatedView : public DeonLobes<T> {
   public:
-    static constexpr int kLobes = 3;  // R, TT, TRT tabulated; index 3 is the φ-uniform residual
+    static constexpr int kLobes = DeonLobes<T>::kLobes;  // R, TT, TRT tabulated; index 3 is the φ-uniform residual
     static constexpr int kNodeStride = 3 * kLobes;
     static constexpr int kRowTerms = 16;
 
@@ -226,8 +228,6 @@ template <typename T> class TabulatedView {
         return data_ + cdf_offset_ + std::size_t(row * kLobes + p) * std::size_t(n_phi_);
     }
     HAIRSCATTER_HD const T* row_terms(int row) const { return data_ + terms_offset_ + std::size_t(row) * kRowTerms; }
-    HAIRSCATTER_HD const DeonLongitudinal<T>& longitudinal(int p) const { return m_[p]; }
-    HAIRSCATTER_HD const CuticleTilt<T>& tilt() const { return tilt_; }
     // TabulatedLongitudinal::kTable: lobe p's M_p table (the residual shares TRT's: same v).
     HAIRSCATTER_HD bool longitudinal_tabulated() const { return m_tabulated_; }
     HAIRSCATTER_HD const DeonLongitudinalTable<T>& longitudinal_table(int p) const { return mt_[p < kLobes ? p : kLobes - 1]; }
@@ -253,8 +253,6 @@ template <typename T> class TabulatedView {
     int n_phi_ = 2, n_theta_ = 2;
     std::size_t cdf_offset_ = 0, terms_offset_ = 0;
     T phi_scale_ = T(0), phi_step_ = T(0);
-    DeonLongitudinal<T> m_[kLobes + 1];
-    CuticleTilt<T> tilt_;
     bool m_tabulated_ = false;
     DeonLongitudinalTable<T> mt_[kLobes];
 };
@@ -280,10 +278,8 @@ template <typename T> class TabulatedMaterial {
         check(options);
         const int n = options.phi_samples, rows = options.theta_samples;
 
-        // M_p and the tilt in T, exactly as the far-field material builds them.
-        const DeonFarFieldMaterial<T> mt(params, 1);
-        for (int p = 0; p <= kLobes; ++p) view_.m_[p] = mt.longitudinal(p);
-        view_.tilt_ = mt.tilt();
+        // M_p and the tilt in T, the same ingredients as the far-field material's.
+        static_cast<DeonLobes<T>&>(view_) = DeonLobes<T>(params.beta_m, params.alpha);
         view_.n_phi_ = n;
         view_.n_theta_ = rows;
         view_.phi_step_ = T(kPi<double> / (n - 1));
@@ -294,7 +290,7 @@ template <typename T> class TabulatedMaterial {
         if (options.longitudinal == TabulatedLongitudinal::kTable) {
             view_.m_tabulated_ = true;
             for (int p = 0; p < kLobes; ++p)
-                view_.mt_[p] = DeonLongitudinalTable<T>::build(double(view_.m_[p].variance()), options.m_rows,
+                view_.mt_[p] = DeonLongitudinalTable<T>::build(double(view_.lobe_variance(p)), options.m_rows,
                                                                options.m_nodes, data_);
         }
 
@@ -368,22 +364,36 @@ template <typename T> class TabulatedMaterial {
             for (int c = 0; c < 3; ++c) row_terms[3 * kLobes + c] = T(mass[kLobes][c]);
             row_terms[12 + kLobes] = row_terms[3 * kLobes] + row_terms[3 * kLobes + 1] + row_terms[3 * kLobes + 2];
         }
+        view_.data_ = data_.data();
     }
 
     const FiberParams<T>& params() const { return params_; }
     const TabulatedOptions& options() const { return options_; }
 
+    // A copy keeps its own tables (and its view points at them).
+    TabulatedMaterial(const TabulatedMaterial& o)
+        : params_(o.params_), options_(o.options_), view_(o.view_), data_(o.data_) {
+        view_.data_ = data_.data();
+    }
+    TabulatedMaterial& operator=(const TabulatedMaterial& o) {
+        params_ = o.params_, options_ = o.options_, view_ = o.view_, data_ = o.data_;
+        view_.data_ = data_.data();
+        return *this;
+    }
+    TabulatedMaterial(TabulatedMaterial&&) = default;  // the vector's buffer moves with the view
+    TabulatedMaterial& operator=(TabulatedMaterial&&) = default;
+
     // The tables over this material's own data (valid while it lives), or over a copy of
     // data() elsewhere, e.g. in device memory.
-    View view() const& { return view_.with_data(data_.data()); }
+    View view() const& { return view_; }
     View view() const&& = delete;
     View view(const T* data) const { return view_.with_data(data); }
     const std::vector<T>& data() const { return data_; }
     std::size_t bytes() const { return data_.size() * sizeof(T); }
 
     // As the other materials: lobe p peaks at θi = lobe_shift(p) - θo, with variance v_p.
-    T lobe_shift(int p) const { return -view_.tilt().angle(p); }
-    T lobe_variance(int p) const { return view_.longitudinal(p).variance(); }
+    T lobe_shift(int p) const { return view_.lobe_shift(p); }
+    T lobe_variance(int p) const { return view_.lobe_variance(p); }
 
   private:
     static void check(const TabulatedOptions& o) {
@@ -411,7 +421,8 @@ template <typename T> class TabulatedMaterial {
 
     FiberParams<T> params_;
     TabulatedOptions options_;
-    View view_;  // data pointer unset: view() points it at data_
+    friend class TabulatedFiber<T>;
+    View view_;  // over data_ (set once the tables are built: building appends to data_)
     std::vector<T> data_;
 };
 
@@ -441,23 +452,30 @@ template <typename T> class TabulatedMaterial {
 // table's); the M̂ error concentrates at grazing θo' (> 70°), where rows interpolate lobes
 // clipped at |sinθi| = 1 at different places; narrower lobes (β_m < 0.2) need more rows.
 //
-// Holds a view of the tables: built from a material (which must outlive the fiber; a
-// temporary is rejected at compile time) or, on a GPU, from material.view(device_copy).
-template <typename T> class TabulatedFiber {
+// Refers to the tables' view by pointer: the material's own (the material must outlive the
+// fiber; a temporary is rejected at compile time) or, on a GPU, a view over a device copy
+// of the data (material.view(device_copy)) that itself lives in device memory or in the
+// kernel's parameters, and outlives the fiber.
+template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>, T> {
   public:
     using V3 = glm::vec<3, T>;
     using V4 = glm::vec<4, T>;
     using Material = TabulatedMaterial<T>;
     using View = TabulatedView<T>;
     static constexpr int kLobes = View::kLobes;
+    using LobeSplit = hairscatter::LobeSplit<T, kLobes>;
 
-    explicit TabulatedFiber(const Material& material) : v_(material.view()) {}
+    explicit TabulatedFiber(const Material& material) : v_(&material.view_) {}
     TabulatedFiber(const Material&&) = delete;
-    HAIRSCATTER_HD explicit TabulatedFiber(const View& view) : v_(view) {}
+    HAIRSCATTER_HD explicit TabulatedFiber(const View& view) : v_(&view) {}
+    TabulatedFiber(const View&&) = delete;
 
-    HAIRSCATTER_HD const View& view() const { return v_; }
+    HAIRSCATTER_HD const View& view() const { return *v_; }
 
   private:
+    friend class FiberModel<TabulatedFiber, T>;
+    friend class BoundFiber<TabulatedFiber>;
+
     // The terms that depend on wo only.
     struct Outgoing {
         const T* n0;      // the two rows' lobe tables
@@ -472,76 +490,77 @@ template <typename T> class TabulatedFiber {
     };
 
   public:
-    HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi) const { return query(outgoing(wo), wo, wi).f; }
-    HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return query(outgoing(wo), wo, wi).pdf; }
-    HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const { return query(outgoing(wo), wo, wi); }
-
     // u.x picks the lobe and then the row (its leftover rescaled), (u.y, u.z) sample θi from
-    // M_p, u.w samples φ (its sign from u.w < ½).
-    HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const { return sample_from(outgoing(wo), wo, u); }
+    // M_p, u.w samples φ (its sign from u.w < ½). at(wo) computes the row, its weights and
+    // the tilted θo' once.
 
     // Σ_p Ã_p(wo): the directional albedo of the tabulated fiber (its ∫ eval dωi).
-    HAIRSCATTER_HD V3 albedo(const V3& wo) const {
-        const Outgoing o = outgoing(wo);
-        const T* a = v_.row_terms(o.row);
-        const T* b = v_.row_terms(o.row + 1);
-        V3 r(T(0));
-        for (int p = 0; p <= kLobes; ++p)
-            for (int c = 0; c < 3; ++c) r[c] += a[3 * p + c] + o.t * (b[3 * p + c] - a[3 * p + c]);
+    HAIRSCATTER_HD V3 albedo(const V3& wo) const { return split_albedo(lobe_split(wo)); }
+
+    // Per lobe: Ã_p(wo) and the part of the interpolated Ñ_p in |φ| < π/2, from each row's
+    // φ CDF at π/2 (exact for the piecewise-linear table: a quadratic within the cell).
+    HAIRSCATTER_HD LobeSplit lobe_split(const V3& wo) const {
+        const Outgoing o = outgoing<false>(wo);
+        const T* a = v_->row_terms(o.row);
+        const T* b = v_->row_terms(o.row + 1);
+        LobeSplit r;
+        int i;
+        T u;
+        v_->phi_cell(kHalfPi<T>, i, u);
+        for (int p = 0; p <= kLobes; ++p) {
+            for (int c = 0; c < 3; ++c) r.a[p][c] = a[3 * p + c] + o.t * (b[3 * p + c] - a[3 * p + c]);
+            if (p == kLobes) {
+                r.backward[p] = T(0.5);  // the residual is uniform in φ
+                continue;
+            }
+            // ∫_0^{π/2} of each row's channel sum; the row's total over [0, π] is cdf[n - 1].
+            T half[2], whole[2];
+            for (int k = 0; k < 2; ++k) {
+                const T* cdf = v_->cdf(o.row + k, p);
+                const T* node = v_->lobes(o.row + k) + 3 * p + i * View::kNodeStride;
+                const T n0 = node[0] + node[1] + node[2];
+                const T n1 = node[View::kNodeStride] + node[View::kNodeStride + 1] + node[View::kNodeStride + 2];
+                half[k] = cdf[i] + v_->phi_step() * u * (n0 + T(0.5) * u * (n1 - n0));
+                whole[k] = cdf[v_->phi_samples() - 1];
+            }
+            const T total = (T(1) - o.t) * whole[0] + o.t * whole[1];
+            r.backward[p] = total > T(0) ? ((T(1) - o.t) * half[0] + o.t * half[1]) / total : T(0.5);
+        }
         return r;
     }
 
-    // The fiber at a fixed wo: the row, its weights and the tilted θo' computed once; eval,
-    // pdf and sample take only wi or u. Holds a copy of the view (not of the tables).
-    class At {
-      public:
-        HAIRSCATTER_HD V3 eval(const V3& wi) const { return fiber_.query(o_, wo_, wi).f; }
-        HAIRSCATTER_HD T pdf(const V3& wi) const { return fiber_.query(o_, wo_, wi).pdf; }
-        HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wi) const { return fiber_.query(o_, wo_, wi); }
-        HAIRSCATTER_HD HairSample<T> sample(const V4& u) const { return fiber_.sample_from(o_, wo_, u); }
-        HAIRSCATTER_HD const V3& wo() const { return wo_; }
-
-      private:
-        friend class TabulatedFiber;
-        HAIRSCATTER_HD At(const TabulatedFiber& f, const V3& wo) : fiber_(f), wo_(wo), o_(f.outgoing(wo)) {}
-        TabulatedFiber fiber_;
-        V3 wo_;
-        Outgoing o_;
-    };
-    HAIRSCATTER_HD At at(const V3& wo) const { return At(*this, wo); }
-
   private:
-    HAIRSCATTER_HD Outgoing outgoing(const V3& wo) const {
+    // The same terms serve eval, pdf and sample (pdf = mean(f) / Σ s_p in one loop).
+    template <bool kW> HAIRSCATTER_HD Outgoing outgoing(const V3& wo) const {
         Outgoing o;
         const T sin_o = clamp(wo.x, T(-1), T(1));
         const T cos_o = cos_from_sin(sin_o);
-        v_.theta_cell(cos_o, o.row, o.t);
-        o.n0 = v_.lobes(o.row);
-        o.n1 = v_.lobes(o.row + 1);
-        const T* a = v_.row_terms(o.row);
-        const T* b = v_.row_terms(o.row + 1);
+        v_->theta_cell(cos_o, o.row, o.t);
+        o.n0 = v_->lobes(o.row);
+        o.n1 = v_->lobes(o.row + 1);
+        const T* a = v_->row_terms(o.row);
+        const T* b = v_->row_terms(o.row + 1);
         o.total = T(0);
         for (int p = 0; p <= kLobes; ++p) {
             o.s[p] = a[12 + p] + o.t * (b[12 + p] - a[12 + p]);
             o.total += o.s[p];
-            const typename CuticleTilt<T>::Rotated r = v_.tilt().rotate(p, sin_o, cos_o);
-            o.sin_p[p] = r.sin_theta;
-            o.cos_p[p] = r.cos_theta;
         }
-        if (v_.longitudinal_tabulated()) {
+        v_->tilt_all(sin_o, cos_o, o.sin_p, o.cos_p);
+        if (v_->longitudinal_tabulated()) {
             // The rows are over the angle θo' = θo + angle_p, folded past the poles as
             // rotate() folds cosθo' ≥ 0: one asin per wo.
             const T theta_o = elem::asin(sin_o);
             for (int p = 0; p <= kLobes; ++p) {
-                T th = theta_o + v_.tilt().angle(p);
+                T th = theta_o + v_->tilt().angle(p);
                 th = th > kHalfPi<T> ? kPi<T> - th : (th < -kHalfPi<T> ? -kPi<T> - th : th);
-                o.mc[p] = v_.longitudinal_table(p).condition(v_.data(), th, o.sin_p[p], o.cos_p[p]);
+                o.mc[p] = v_->longitudinal_table(p).condition(v_->data(), th, o.sin_p[p], o.cos_p[p]);
             }
         }
         for (int c = 0; c < 3; ++c) o.residual[c] = kInvTwoPi<T> * (a[9 + c] + o.t * (b[9 + c] - a[9 + c]));
         return o;
     }
 
+    template <bool kF, bool kPdf>
     HAIRSCATTER_HD HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
         if (!(is_finite(wo) && is_finite(wi))) return HairEvalPdf<T>{};  // non-finite input: 0 (see HairSample)
         const T sin_i = clamp(wi.x, T(-1), T(1));
@@ -552,13 +571,13 @@ template <typename T> class TabulatedFiber {
     // f and pdf at (θi, φ): the four M_p, then the bilinear lobes.
     HAIRSCATTER_HD HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
         T m[kLobes + 1];
-        if (v_.longitudinal_tabulated())
-            for (int p = 0; p <= kLobes; ++p) m[p] = v_.longitudinal_table(p).eval(o.mc[p], sin_i);
+        if (v_->longitudinal_tabulated())
+            for (int p = 0; p <= kLobes; ++p) m[p] = v_->longitudinal_table(p).eval(o.mc[p], sin_i);
         else
-            for (int p = 0; p <= kLobes; ++p) m[p] = v_.longitudinal(p).eval(sin_i, cos_i, o.sin_p[p], o.cos_p[p]);
+            for (int p = 0; p <= kLobes; ++p) m[p] = v_->longitudinal(p).eval(sin_i, cos_i, o.sin_p[p], o.cos_p[p]);
         int i;
         T u;
-        v_.phi_cell(phi < T(0) ? -phi : phi, i, u);
+        v_->phi_cell(phi < T(0) ? -phi : phi, i, u);
         const T* a = o.n0 + i * View::kNodeStride;
         const T* b = o.n1 + i * View::kNodeStride;
         const T w00 = (T(1) - o.t) * (T(1) - u), w01 = (T(1) - o.t) * u, w10 = o.t * (T(1) - u), w11 = o.t * u;
@@ -586,44 +605,46 @@ template <typename T> class TabulatedFiber {
         const int p = lobe.index;
         const T v = lobe.rescaled;
 
-        const T sin_i = v_.longitudinal_tabulated()
-                            ? v_.longitudinal_table(p).sample_sin_theta(o.mc[p], u.y)
-                            : v_.longitudinal(p).sample_sin_theta(o.sin_p[p], o.cos_p[p], u.y, u.z);
+        const T sin_i = v_->longitudinal_tabulated()
+                            ? v_->longitudinal_table(p).sample_sin_theta(o.mc[p], u.y)
+                            : v_->longitudinal(p).sample_sin_theta(o.sin_p[p], o.cos_p[p], u.y, u.z);
         const T cos_i = cos_from_sin(sin_i);
         T phi;
         if (p == kLobes) {
             phi = kTwoPi<T> * u.w - kPi<T>;  // the residual is uniform in φ
         } else {
             // The row, with probability ∝ its interpolation weight × its mass of lobe p.
-            const T first = (T(1) - o.t) * v_.row_terms(o.row)[12 + p];
-            const T second_mass = o.t * v_.row_terms(o.row + 1)[12 + p];
+            const T first = (T(1) - o.t) * v_->row_terms(o.row)[12 + p];
+            const T second_mass = o.t * v_->row_terms(o.row + 1)[12 + p];
             const int row = o.row + ((second_mass > T(0) && !(v * o.s[p] < first)) ? 1 : 0);
             phi = sample_phi(row, p, u.w);
         }
 
-        return make_sample(direction_from_azimuth(wo, sin_i, phi), p, combine(o, sin_i, cos_i, phi));
+        return make_sample(direction_from_azimuth(wo, sin_i, phi), lobe_tag(p), combine(o, sin_i, cos_i, phi));
     }
 
     // φ from row's lobe p: |φ| by inverting its piecewise-linear CDF, the sign from which
     // half of [0, 1) u falls in.
     HAIRSCATTER_HD T sample_phi(int row, int p, T u) const {
-        const int n = v_.phi_samples();
-        const T* cdf = v_.cdf(row, p);
-        const T* node = v_.lobes(row) + 3 * p;
+        const int n = v_->phi_samples();
+        const T* cdf = v_->cdf(row, p);
+        const T* node = v_->lobes(row) + 3 * p;
         const T w = T(2) * u - T(1);
         const T sign = w < T(0) ? T(-1) : T(1);
-        const T step = v_.phi_step();
+        const T step = v_->phi_step();
         const PiecewiseLinearPoint<T> x = invert_piecewise_linear(
             [&](int k) { return cdf[k]; },
             [&](int k) {
                 const T* c = node + k * View::kNodeStride;
                 return c[0] + c[1] + c[2];
             },
-            n, step, v_.phi_scale(), (w < T(0) ? -w : w) * cdf[n - 1]);
+            n, step, v_->phi_scale(), (w < T(0) ? -w : w) * cdf[n - 1]);
         return sign * clamp(T(x.cell) * step + x.offset, T(0), kPi<T>);
     }
 
-    View v_;
+    const View* v_;
 };
+
+static_assert(is_fiber_model_v<TabulatedFiber<float>> && is_fiber_model_v<TabulatedFiber<double>>);
 
 }  // namespace hairscatter

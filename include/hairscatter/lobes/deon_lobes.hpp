@@ -1,0 +1,55 @@
+// hairscatter — the longitudinal ingredients every d'Eon-based model shares (Chiang's near
+// field, d'Eon's far field, the tabulated far field), written once: the variance ladder
+// from β_m, one energy-conserving M_p per lobe and the cuticle tilt of θo per lobe.
+#pragma once
+
+#include "../config.hpp"
+#include "longitudinal.hpp"
+#include "tilt.hpp"
+
+namespace hairscatter {
+
+// Lobes p = 0 (R), 1 (TT), 2 (TRT) and kLobes = 3, the residual (every order p ≥ 3).
+//   v_p: v, v/4, 4v, 4v with v = longitudinal_variance(β_m) (Chiang et al. 2016 eq. 7 and §4.1);
+//   M_p: d'Eon et al. 2011's lobe of variance v_p (lobes/longitudinal.hpp);
+//   tilt: θo' = θo - 2α, θo + α, θo + 4α, θo (pbrt-v4's, lobes/tilt.hpp).
+// Trivially copyable and device-callable once built; a material holds one by value.
+template <typename T> class DeonLobes {
+  public:
+    static constexpr int kLobes = 3;
+
+    DeonLobes() = default;
+    HAIRSCATTER_HD DeonLobes(T beta_m, T alpha) : tilt_(alpha) {
+        const T v0 = longitudinal_variance(beta_m);
+        const T v[kLobes + 1] = {v0, T(0.25) * v0, T(4) * v0, T(4) * v0};
+        for (int p = 0; p <= kLobes; ++p) m_[p] = DeonLongitudinal<T>(v[p]);
+    }
+
+    HAIRSCATTER_HD const DeonLongitudinal<T>& longitudinal(int p) const { return m_[p]; }
+    HAIRSCATTER_HD const CuticleTilt<T>& tilt() const { return tilt_; }
+
+    // The longitudinal shift of lobe p's peak in θi + θo (Marschner's α_p in d'Eon's
+    // corrected 2θh form): the lobe peaks at θi = α_p - θo. pbrt-v4's tilt gives 2α (R),
+    // -α (TT), -4α (TRT), 0 (residual).
+    HAIRSCATTER_HD T lobe_shift(int p) const { return -tilt_.angle(p); }
+    // The longitudinal variance v_p of lobe p (β_p² of the dual-scattering tables).
+    HAIRSCATTER_HD T lobe_variance(int p) const { return m_[p].variance(); }
+
+    // (sinθo'_p, cosθo'_p) of every lobe p whose bit is set in `keep` (bit p), into the
+    // arrays sin_p[0 … kLobes], cos_p[0 … kLobes]; the others are left untouched.
+    HAIRSCATTER_HD HAIRSCATTER_INLINE void tilt_all(T sin_o, T cos_o, T* sin_p, T* cos_p,
+                                                    unsigned keep = (1u << (kLobes + 1)) - 1u) const {
+        for (int p = 0; p <= kLobes; ++p) {
+            if (((keep >> p) & 1u) == 0u) continue;
+            const typename CuticleTilt<T>::Rotated r = tilt_.rotate(p, sin_o, cos_o);
+            sin_p[p] = r.sin_theta;
+            cos_p[p] = r.cos_theta;
+        }
+    }
+
+  private:
+    DeonLongitudinal<T> m_[kLobes + 1];
+    CuticleTilt<T> tilt_;
+};
+
+}  // namespace hairscatter

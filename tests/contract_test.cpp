@@ -1,0 +1,77 @@
+// The model contract (tests/support/contract_suite.hpp) for every model in float and double
+// and for subsets of the Chiang lobes; and the compile-time guarantees of the lobe types.
+#include <memory>
+#include <random>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <hairscatter/hairscatter.hpp>
+
+#include "support/contract_suite.hpp"
+#include "support/model_specs.hpp"
+
+namespace hs = hairscatter;
+using specs::ChiangSpec;
+using specs::FarFieldSpec;
+using specs::MarschnerSpec;
+using specs::TabulatedSpec;
+
+namespace contract {
+
+constexpr hs::LobeSet kR = hs::LobeSet::kR, kTT = hs::LobeSet::kTT, kTRT = hs::LobeSet::kTRT;
+constexpr hs::LobeSet kTrtResidual = kTRT | hs::LobeSet::kResidual, kRTT = kR | kTT, kPrimary = hs::LobeSet::kPrimary;
+using Models = ::testing::Types<ChiangSpec<float, hs::LobeSet::kAll>, ChiangSpec<double, hs::LobeSet::kAll>,
+                                FarFieldSpec<float>, FarFieldSpec<double>, TabulatedSpec<float>, TabulatedSpec<double>,
+                                MarschnerSpec<float>, MarschnerSpec<double>>;
+INSTANTIATE_TYPED_TEST_SUITE_P(AllModels, ModelContract, Models);
+using ChiangSubsets = ::testing::Types<ChiangSpec<float, kR>, ChiangSpec<double, kR>, ChiangSpec<float, kTT>,
+                                       ChiangSpec<double, kTT>, ChiangSpec<float, kTrtResidual>,
+                                       ChiangSpec<double, kTrtResidual>, ChiangSpec<float, kPrimary>,
+                                       ChiangSpec<double, kPrimary>, ChiangSpec<float, kRTT>, ChiangSpec<double, kRTT>>;
+INSTANTIATE_TYPED_TEST_SUITE_P(ChiangLobeSubsets, ModelContract, ChiangSubsets);
+
+}  // namespace contract
+
+namespace {
+
+// ---- the lobe types cannot be confused ----
+
+template <typename A, typename B, typename = void> struct can_or : std::false_type {};
+template <typename A, typename B>
+struct can_or<A, B, std::void_t<decltype(std::declval<A>() | std::declval<B>())>> : std::true_type {};
+
+template <auto kSet, typename = void> struct chiang_accepts : std::false_type {};
+template <auto kSet>
+struct chiang_accepts<kSet, std::void_t<hs::BasicChiangFiber<float, kSet>>> : std::true_type {};
+
+static_assert(can_or<hs::LobeSet, hs::LobeSet>::value);
+static_assert(!can_or<hs::SampledLobe, hs::SampledLobe>::value, "sampled-lobe tags are not a set");
+static_assert(!can_or<hs::SampledLobe, hs::LobeSet>::value);
+static_assert(!std::is_convertible_v<int, hs::LobeSet> && !std::is_convertible_v<hs::SampledLobe, hs::LobeSet>);
+static_assert(!std::is_convertible_v<hs::LobeSet, unsigned> && !std::is_convertible_v<hs::SampledLobe, int>);
+static_assert(chiang_accepts<hs::LobeSet::kR | hs::LobeSet::kTT>::value);
+static_assert(!chiang_accepts<1u>::value && !chiang_accepts<1>::value, "a lobe set is a LobeSet, not a number");
+static_assert(!chiang_accepts<hs::SampledLobe::kR>::value, "a sampled-lobe tag is not a lobe set");
+static_assert(std::is_same_v<hs::ChiangFiber<float>, hs::BasicChiangFiber<float, hs::LobeSet::kAll>>);
+
+// A fiber refers to its material: a temporary material does not bind, and the fiber is small.
+static_assert(!std::is_constructible_v<hs::ChiangFiber<double>, hs::ChiangMaterial<double>&&, double>);
+static_assert(!std::is_constructible_v<hs::DeonFarFieldFiber<double>, hs::DeonFarFieldMaterial<double>&&>);
+static_assert(!std::is_constructible_v<hs::MarschnerFiber<double>, hs::MarschnerMaterial<double>&&>);
+static_assert(sizeof(hs::ChiangFiber<float>) <= sizeof(void*) + 4 * sizeof(float));
+// What a renderer copies to a GPU is trivially copyable.
+static_assert(std::is_trivially_copyable_v<hs::ChiangMaterial<float>> &&
+              std::is_trivially_copyable_v<hs::DeonFarFieldMaterial<float>> &&
+              std::is_trivially_copyable_v<hs::MarschnerMaterial<float>> && std::is_trivially_copyable_v<hs::TabulatedView<float>>);
+
+}  // namespace
+
+TEST(SampledLobe, TagsAreTheLobeIndices) {
+    EXPECT_EQ(hs::lobe_index(hs::SampledLobe::kR), 0);
+    EXPECT_EQ(hs::lobe_index(hs::SampledLobe::kResidual), 3);
+    for (int p = 0; p < 4; ++p) EXPECT_EQ(hs::lobe_index(hs::lobe_tag(p)), p);
+    EXPECT_TRUE(hs::HairSample<float>().lobe == hs::SampledLobe::kNone);
+}

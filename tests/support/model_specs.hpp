@@ -1,0 +1,475 @@
+// The models the contract suite (contract_suite.hpp) runs over, one spec per model: its
+// random materials, edge cases, chi-square grid, lossless case and invalid constructions.
+// The model tests reuse them (a chi-square negative control runs at its grid's options).
+#pragma once
+
+#include <cstdint>
+#include <initializer_list>
+#include <limits>
+#include <memory>
+#include <random>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include <hairscatter/hairscatter.hpp>
+
+#include "contract_suite.hpp"
+
+namespace specs {
+
+namespace hs = hairscatter;
+using contract::Chi2Case;
+using contract::Instance;
+using contract::Invalid;
+using contract::kPi;
+using contract::make_instance;
+
+inline double deg(double d) { return d * kPi / 180; }
+
+template <typename T> hs::FiberParams<T> fiber_params(double beta_m, double beta_n, double alpha_deg, glm::dvec3 sigma_a) {
+    hs::FiberParams<T> p;
+    p.beta_m = T(beta_m);
+    p.beta_n = T(beta_n);
+    p.alpha = T(deg(alpha_deg));
+    p.sigma_a = glm::vec<3, T>(sigma_a);
+    return p;
+}
+
+// A random material of the d'Eon family: βm 0.05–1, βn 0.1–1, α ±5°, coloured σa on odd k.
+template <typename T> hs::FiberParams<T> random_params(std::mt19937_64& rng, int k) {
+    std::uniform_real_distribution<double> uni(0, 1);
+    const double sa = (k % 2) * 2 * uni(rng);
+    const double bm = 0.05 + 0.95 * uni(rng), bn = 0.1 + 0.9 * uni(rng), al = -5 + 10 * uni(rng);
+    return fiber_params<T>(bm, bn, al, glm::dvec3(sa, 0.5 * sa, 2 * sa));
+}
+
+inline std::string label(double bm, double bn, double al, double sa) {
+    return "βm " + std::to_string(bm) + " βn " + std::to_string(bn) + " α " + std::to_string(al) + "° σa " +
+           std::to_string(sa);
+}
+
+// The d'Eon family's edge-case parameters: βm 0.01, 0.3 and 1, the given βn and α (the
+// limit ±22.5° scaled by 0.9999 to stay inside it), σa 0 and 50; visit(params, label).
+template <typename T, typename Visit>
+void for_extreme_params(std::initializer_list<double> beta_n, std::initializer_list<double> alpha_deg, Visit visit) {
+    for (double bm : {0.01, 0.3, 1.0})
+        for (double bn : beta_n)
+            for (double al : alpha_deg)
+                for (double sa : {0.0, 50.0}) {
+                    hs::FiberParams<T> p = fiber_params<T>(bm, bn, 0, glm::dvec3(sa));
+                    p.alpha = T(deg(al)) * T(0.9999);
+                    visit(p, label(bm, bn, al, sa));
+                }
+}
+
+// A chi-square case of the far-field family: parameters, θo and the model's own setting
+// (the far field's node count, the tabulated fiber's options); σa is coloured (σa, 0.6σa,
+// 0.3σa).
+template <typename Setting> struct DeonChi2Case {
+    double beta_m, beta_n, alpha_deg, theta_o_deg, sigma_a;
+    Setting setting;
+
+    template <typename T> hs::FiberParams<T> params() const {
+        return fiber_params<T>(beta_m, beta_n, alpha_deg, glm::dvec3(sigma_a, 0.6 * sigma_a, 0.3 * sigma_a));
+    }
+    std::string label() const { return specs::label(beta_m, beta_n, alpha_deg, sigma_a); }
+};
+
+// Every bad FiberParams field, for the three models built from FiberParams.
+template <typename Material> std::vector<Invalid> invalid_fiber_params() {
+    using T = std::decay_t<decltype(std::declval<Material>().params().eta)>;
+    std::vector<Invalid> r;
+    auto add = [&](const char* field, auto change) {
+        hs::FiberParams<T> p;
+        change(p);
+        r.push_back({[p] { Material m(p); }, field});
+    };
+    add("eta", [](auto& p) { p.eta = T(1); });
+    add("beta_m", [](auto& p) { p.beta_m = T(0); });
+    add("beta_m", [](auto& p) { p.beta_m = T(1.5); });
+    add("beta_n", [](auto& p) { p.beta_n = T(0); });
+    add("beta_n", [](auto& p) { p.beta_n = T(1.5); });
+    add("alpha", [](auto& p) { p.alpha = T(0.5); });
+    add("sigma_a.g", [](auto& p) { p.sigma_a.g = T(-1); });
+    add("sigma_a.r", [](auto& p) { p.sigma_a.r = std::numeric_limits<T>::infinity(); });
+    return r;
+}
+
+// What every spec states about its model: the fiber and material types, how many random
+// materials and directions the sample/pdf check draws, whether the lossless albedo is 1 and
+// how close ∫ eval dω must come to albedo(wo), how deep the furnace cubature refines, how
+// far the chi-square cubature's ∫ pdf may be from 1, and which lobes sample() may report
+// (lobe indices 0 … kLobes, or 0 … kLobes - 1 without a residual).
+template <typename F, typename M, int kMaterials, int kDirections, bool kConserves, bool kResidual = true>
+struct SpecBase {
+    using Fiber = F;
+    using Material = M;
+    static constexpr int kRandomMaterials = kMaterials;
+    static constexpr int kRandomDirections = kDirections;
+    static constexpr bool kConservesEnergy = kConserves;
+    static constexpr double kFurnaceTolerance = kConserves ? 1e-5 : 1e-2;  // Marschner: the albedo estimate's error (4e-3)
+    static constexpr int kFurnaceDepth = kConserves ? 5 : 3;
+    static constexpr double kPdfTotalTolerance = kConserves ? 1e-3 : 2e-3;
+    static bool may_sample(hs::SampledLobe lobe) {
+        return hs::lobe_index(lobe) >= 0 && hs::lobe_index(lobe) < F::kLobes + (kResidual ? 1 : 0);
+    }
+};
+
+// The chi-square options of a grid: num_tests the Bonferroni count, each cell's cubature
+// starting as 4 × 25 pdf nodes (min_depth 1) and refining where they disagree.
+inline chi2::Options grid_options(int num_tests, std::int64_t samples, int theta_bins, int phi_bins, int max_depth) {
+    chi2::Options o;
+    o.num_tests = num_tests;
+    o.samples = samples;
+    o.theta_bins = theta_bins;
+    o.phi_bins = phi_bins;
+    o.min_depth = 1;
+    o.max_depth = max_depth;
+    return o;
+}
+
+// ---- Chiang, and its lobe subsets ----
+
+// Chiang's chi-square grid (the full model).
+struct ChiangChi2Case {
+    double beta_m, beta_n, alpha_deg, h, theta_o_deg, sigma_a;
+};
+inline const std::vector<ChiangChi2Case>& chiang_chi2_grid() {
+    static const std::vector<ChiangChi2Case> g = {
+        {0.3, 0.3, 2, 0.0, 30, 0.5},     {0.3, 0.3, 2, 0.5, -60, 0.0},   {0.3, 0.3, 2, -0.9, 85, 0.5},
+        {0.01, 0.3, 2, 0.2, 20, 0.0},    {0.01, 0.3, 0, -0.5, 70, 0.5},  {0.01, 0.05, 2, 0.0, 0, 0.0},
+        {0.05, 0.1, -2, 0.7, 45, 0.5},   {0.1, 0.2, 2, -0.3, -30, 50.0}, {0.2, 0.5, 0, 1.0, 10, 0.0},
+        {0.2, 0.5, 0, -1.0, 10, 0.5},    {0.5, 0.7, 2, 0.4, 60, 0.0},    {0.7, 0.9, 2, -0.6, -80, 0.5},
+        {1.0, 1.0, 0, 0.0, 0, 0.0},      {1.0, 1.0, 22.5, 0.9, 40, 0.5}, {1.0, 0.3, -22.5, -0.2, 89.9, 0.0},
+        {0.3, 1.0, 2, 0.3, 90, 0.5},     {0.3, 0.05, 2, 0.3, -90, 0.0},  {0.3, 0.3, 22.5, 0.1, 80, 0.0},
+        {0.3, 0.3, -22.5, 0.8, -45, 50}, {0.15, 0.15, 5, -0.8, 15, 0.0}, {0.4, 0.25, 2, 0.99, 50, 0.5},
+        {0.6, 0.4, -5, -0.99, -20, 0.0}, {0.8, 0.6, 2, 0.5, 75, 50.0},   {0.03, 0.5, 2, 0.0, -10, 0.5},
+        {0.02, 0.8, -2, 0.6, 35, 0.0},   {0.9, 0.1, 2, -0.4, 65, 0.5},   {0.25, 0.75, 10, 0.25, -75, 0.0},
+        {0.35, 0.35, 2, -0.75, 5, 0.5},  {0.45, 0.15, 0, 0.15, 87, 0.0}, {0.55, 0.95, 2, 0.85, -87, 0.5},
+        {0.65, 0.45, -10, -0.15, 25, 0}, {0.75, 0.2, 2, 0.65, -55, 0.5}, {0.1, 0.9, 2, -0.65, 45, 0.0},
+        {0.12, 0.12, 2, 0.0, 60, 0.5},   {0.3, 0.3, 0, 1.0, 90, 50.0},   {0.01, 1.0, 22.5, -1.0, -89.9, 0.0},
+    };
+    return g;
+}
+
+template <typename T, hs::LobeSet kSet>
+struct ChiangSpec : SpecBase<hs::BasicChiangFiber<T, kSet>, hs::ChiangMaterial<T>, kSet == hs::LobeSet::kAll ? 200 : 40,
+                             100, true> {
+    using Fiber = hs::BasicChiangFiber<T, kSet>;
+    using Material = hs::ChiangMaterial<T>;
+    // A subset drops energy: its albedo is below 1, and checked against ∫ eval dω only.
+    static constexpr bool kConservesEnergy = kSet == hs::LobeSet::kAll;
+
+    static Instance<Fiber> make(const hs::FiberParams<T>& p, double h, std::string name) {
+        return make_instance<Fiber>(std::make_shared<const Material>(p), std::move(name), T(h));
+    }
+    static Instance<Fiber> random(std::mt19937_64& rng, int k) {
+        const hs::FiberParams<T> p = random_params<T>(rng, k);
+        const double h = std::uniform_real_distribution<double>(-1, 1)(rng);
+        return make(p, h, "random " + std::to_string(k));
+    }
+    static std::vector<Instance<Fiber>> extremes() {
+        std::vector<Instance<Fiber>> r;
+        for_extreme_params<T>({0.01, 0.3, 1.0}, {-22.5, 0.0, 22.5}, [&](const hs::FiberParams<T>& p, const std::string& l) {
+            for (double h : {-1.0, 0.0, 1.0}) r.push_back(make(p, h, l + " h " + std::to_string(h)));
+        });
+        return r;
+    }
+    // The full model: 36 combinations of βm from 0.01 to 1, βn from 0.05 to 1, tilts of 0,
+    // ±2° and the 22.5° limit, h = ±1 and interior values, θo = 0 to ±90°, σa = 0, 0.5 and
+    // 50 (channels σa, 0.6σa, 0.3σa). A subset: one case, the five subsets in both
+    // precisions sharing the significance.
+    static std::vector<Chi2Case<Fiber>> chi2_cases() {
+        std::vector<Chi2Case<Fiber>> r;
+        if constexpr (kSet == hs::LobeSet::kAll) {
+            for (const ChiangChi2Case& c : chiang_chi2_grid()) {
+                const glm::dvec3 sa(c.sigma_a, 0.6 * c.sigma_a, 0.3 * c.sigma_a);
+                r.push_back({make(fiber_params<T>(c.beta_m, c.beta_n, c.alpha_deg, sa), c.h,
+                                  label(c.beta_m, c.beta_n, c.alpha_deg, c.sigma_a) + " h " + std::to_string(c.h)),
+                             c.theta_o_deg});
+            }
+        } else {
+            const hs::FiberParams<T> p = fiber_params<T>(0.25, 0.35, 2, glm::dvec3(0.3));
+            const double theta_o = kSet == hs::LobeSet::kR ? 30 : kSet == hs::LobeSet::kTT ? -50
+                                 : kSet == (hs::LobeSet::kTRT | hs::LobeSet::kResidual) ? 70
+                                 : kSet == hs::LobeSet::kPrimary ? 10 : 85;
+            const double h = kSet == hs::LobeSet::kR ? 0.3 : kSet == hs::LobeSet::kTT ? -0.6
+                           : kSet == (hs::LobeSet::kTRT | hs::LobeSet::kResidual) ? 0.1
+                           : kSet == hs::LobeSet::kPrimary ? 0.8 : -0.2;
+            r.push_back({make(p, h, "subset, h " + std::to_string(h)), theta_o});
+        }
+        return r;
+    }
+    static chi2::Options chi2_options() {
+        chi2::Options o;
+        o.num_tests = kSet == hs::LobeSet::kAll ? 2 * int(chiang_chi2_grid().size()) : 10;
+        return o;
+    }
+    static bool may_sample(hs::SampledLobe lobe) { return Fiber::keeps(hs::lobe_index(lobe)); }
+    static Instance<Fiber> lossless() { return make(fiber_params<T>(0.3, 0.3, 2, glm::dvec3(0)), 0.3, "lossless"); }
+    static std::vector<Invalid> invalid() { return invalid_fiber_params<Material>(); }
+};
+
+// ---- d'Eon's far field ----
+
+template <typename T>
+struct FarFieldSpec : SpecBase<hs::DeonFarFieldFiber<T>, hs::DeonFarFieldMaterial<T>, 60, 100, true> {
+    using Fiber = hs::DeonFarFieldFiber<T>;
+    using Material = hs::DeonFarFieldMaterial<T>;
+
+    static Instance<Fiber> make(const hs::FiberParams<T>& p, int nodes, std::string name) {
+        return make_instance<Fiber>(std::make_shared<const Material>(p, nodes), std::move(name) + " " +
+                                                                                     std::to_string(nodes) + " nodes");
+    }
+    static Instance<Fiber> random(std::mt19937_64& rng, int k) {
+        return make(random_params<T>(rng, k), 1 + k % 20, "random " + std::to_string(k));
+    }
+    static std::vector<Instance<Fiber>> extremes() {
+        std::vector<Instance<Fiber>> r;
+        for_extreme_params<T>({0.01, 0.3, 1.0}, {-22.5, 0.0, 22.5}, [&](const hs::FiberParams<T>& p, const std::string& l) {
+            for (int nodes : {1, 8, 64}) r.push_back(make(p, nodes, l));
+        });
+        return r;
+    }
+    // 14 cases: βm 0.05–1, βn 0.1–1, θo 0 to ±89°, σa 0, 0.5 and 20, node counts 1–16 (the
+    // sampler must match the pdf at every N_h, not only in the limit).
+    using Case = DeonChi2Case<int>;  // setting: the node count
+    static const std::vector<Case>& grid() {
+        static const std::vector<Case> g = {
+            {0.3, 0.3, 2, 30, 0.5, 8},     {0.05, 0.3, 2, 20, 0.0, 8},   {1.0, 0.3, 0, -45, 0.5, 4},
+            {0.3, 0.1, 2, 10, 0.0, 16},    {0.3, 1.0, 5, 60, 0.5, 4},    {0.05, 0.1, -2, 89, 0.0, 8},
+            {1.0, 1.0, 0, -89, 20.0, 4},   {0.2, 0.5, 2, -89, 0.0, 7},   {0.5, 0.2, 10, 75, 20.0, 8},
+            {0.1, 0.7, -5, 0, 0.0, 1},     {0.7, 0.15, 2, -30, 0.5, 3},  {0.3, 0.3, 22.5, 45, 0.0, 2},
+            {0.4, 0.4, 2, 50, 0.5, 12},    {0.05, 1.0, 2, -60, 20.0, 5},
+        };
+        return g;
+    }
+    static std::vector<Chi2Case<Fiber>> chi2_cases() {
+        std::vector<Chi2Case<Fiber>> r;
+        for (const Case& c : grid())
+            r.push_back({make(c.params<T>(), c.setting, c.label()), c.theta_o_deg});
+        return r;
+    }
+    // A 16 × 32 histogram, 2e5 samples and cell cubature from depth 1 keep each run well
+    // under a second (the pdf costs ~0.1 µs per h node).
+    // The float pdf's rounding noise keeps the cubature refining narrow lobes to its
+    // deepest level (13M evaluations at βn = 0.1); 5 levels resolve them (cells of 0.004 in
+    // sinθ and 0.006 rad in φ) at a seventh of the cost of the default 7.
+    static chi2::Options chi2_options() {
+        return grid_options(2 * int(grid().size()), 200000, 16, 32, sizeof(T) == 4 ? 5 : chi2::Options().max_depth);
+    }
+    static Instance<Fiber> lossless() { return make(fiber_params<T>(0.3, 0.3, 2, glm::dvec3(0)), 0, "lossless"); }
+    static std::vector<Invalid> invalid() {
+        std::vector<Invalid> r = invalid_fiber_params<Material>();
+        for (int n : {-1, -3, Material::kMaxNodes + 1, 1000})
+            r.push_back({[n] { Material m(hs::FiberParams<T>(), n); }, "nodes"});
+        return r;
+    }
+};
+
+// ---- the tabulated far field (exact and tabulated M_p) ----
+
+template <typename T> struct TabulatedSpec : SpecBase<hs::TabulatedFiber<T>, hs::TabulatedMaterial<T>, 40, 200, true> {
+    using Fiber = hs::TabulatedFiber<T>;
+    using Material = hs::TabulatedMaterial<T>;
+
+    static hs::TabulatedOptions with_table(hs::TabulatedOptions o) {
+        o.longitudinal = hs::TabulatedLongitudinal::kTable;
+        return o;
+    }
+    static Instance<Fiber> make(const hs::FiberParams<T>& p, const hs::TabulatedOptions& o, std::string name) {
+        return make_instance<Fiber>(std::make_shared<const Material>(p, o),
+                                    std::move(name) + " table " + std::to_string(o.phi_samples) + "×" +
+                                        std::to_string(o.theta_samples) +
+                                        (o.longitudinal == hs::TabulatedLongitudinal::kTable ? " M table" : ""));
+    }
+    static Instance<Fiber> random(std::mt19937_64& rng, int k) {
+        const hs::TabulatedOptions res[5] = {hs::TabulatedOptions::coarse(), hs::TabulatedOptions(), {9, 4, 3},
+                                             hs::TabulatedOptions::fast(), with_table({9, 4, 3})};
+        return make(random_params<T>(rng, k), res[k % 5], "random " + std::to_string(k));
+    }
+    static std::vector<Instance<Fiber>> extremes() {
+        std::vector<Instance<Fiber>> r;
+        const hs::TabulatedOptions smallest{2, 2, 1}, smallest_m{2, 2, 1, hs::TabulatedLongitudinal::kTable, 2, 2};
+        for_extreme_params<T>({0.001, 0.3, 1.0}, {-22.5, 22.5}, [&](const hs::FiberParams<T>& p, const std::string& l) {
+            for (const hs::TabulatedOptions& o : {smallest, hs::TabulatedOptions::coarse(), smallest_m})
+                r.push_back(make(p, o, l));
+        });
+        return r;
+    }
+    // 12 cases over βm, βn, α, θo (0 to ±89°), σa 0 to 20 and the resolutions (including a
+    // 2 × 2 table and odd sizes): the sampler must invert the interpolant exactly at any
+    // size. Then a third of them again with M_p tabulated (the kinks of M̂ make the
+    // cubature slow), two with coarse M tables (5 rows of 11 nodes), at the same significance.
+    using Case = DeonChi2Case<hs::TabulatedOptions>;
+    static const std::vector<Case>& grid() {
+        static const std::vector<Case> g = {
+            {0.3, 0.3, 2, 30, 0.5, {}},
+            {0.05, 0.3, 2, 20, 0.0, {}},
+            {1.0, 0.3, 0, -45, 0.5, hs::TabulatedOptions::coarse()},
+            {0.3, 0.15, 2, 10, 0.0, hs::TabulatedOptions::fine()},
+            {0.3, 1.0, 5, 60, 0.5, {}},
+            {0.05, 0.2, -2, 89, 0.0, {}},
+            {1.0, 1.0, 0, -89, 20.0, hs::TabulatedOptions::coarse()},
+            {0.2, 0.5, 2, -80, 0.0, {7, 5, 9}},
+            {0.5, 0.2, 10, 75, 20.0, {}},
+            {0.1, 0.7, -5, 0, 0.0, {2, 2, 1}},
+            {0.3, 0.3, 22.5, 45, 0.0, {33, 3, 4}},
+            {0.4, 0.4, 2, 50, 0.5, hs::TabulatedOptions::fine()},
+        };
+        return g;
+    }
+    static std::vector<Chi2Case<Fiber>> chi2_cases() {
+        std::vector<Chi2Case<Fiber>> r;
+        for (const Case& c : grid())
+            r.push_back({make(c.params<T>(), c.setting, c.label()), c.theta_o_deg});
+        for (std::size_t k = 0; k < grid().size(); k += 3) {
+            const Case& c = grid()[k];
+            hs::TabulatedOptions o = with_table(c.setting);
+            if (k % 6 == 3) o.m_rows = 5, o.m_nodes = 11;  // coarse M tables are inverted exactly too
+            r.push_back({make(c.params<T>(), o, c.label()), c.theta_o_deg});
+        }
+        return r;
+    }
+    // The pdf has kinks in φ at every table node: 5 levels (cells of 0.004 in sinθ and
+    // 0.006 rad in φ) resolve a cell's integral far below the counts' noise.
+    static chi2::Options chi2_options() { return grid_options(2 * int(grid().size()), 200000, 16, 32, 5); }
+    static Instance<Fiber> lossless() {
+        return make(fiber_params<T>(0.3, 0.3, 2, glm::dvec3(0)), hs::TabulatedOptions(), "lossless");
+    }
+    static std::vector<Invalid> invalid() {
+        std::vector<Invalid> r = invalid_fiber_params<Material>();
+        auto add = [&](const char* field, auto change) {
+            hs::TabulatedOptions o = hs::TabulatedOptions::fast();
+            change(o);
+            r.push_back({[o] { Material m(hs::FiberParams<T>(), o); }, field});
+        };
+        using O = hs::TabulatedOptions;
+        add("phi_samples", [](O& o) { o.phi_samples = 1; });
+        add("phi_samples", [](O& o) { o.phi_samples = 0; });
+        add("phi_samples", [](O& o) { o.phi_samples = O::kMaxPhiSamples + 1; });
+        add("theta_samples", [](O& o) { o.theta_samples = 1; });
+        add("theta_samples", [](O& o) { o.theta_samples = -4; });
+        add("theta_samples", [](O& o) { o.theta_samples = O::kMaxThetaSamples + 1; });
+        add("h_nodes", [](O& o) { o.h_nodes = -1; });
+        add("h_nodes", [](O& o) { o.h_nodes = hs::DeonFarFieldMaterial<double>::kMaxNodes + 1; });
+        add("m_rows", [](O& o) { o.m_rows = 1; });
+        add("m_rows", [](O& o) { o.m_rows = O::kMaxLongitudinalRows + 1; });
+        add("m_nodes", [](O& o) { o.m_nodes = 1; });
+        add("m_nodes", [](O& o) { o.m_nodes = O::kMaxLongitudinalNodes + 1; });
+        add("longitudinal", [](O& o) { o.longitudinal = static_cast<hs::TabulatedLongitudinal>(7); });
+        return r;
+    }
+};
+
+// ---- Marschner ----
+
+template <typename T> hs::MarschnerParams<T> marschner_params(double beta_r_deg, double beta_n, double alpha_r_deg,
+                                                              glm::dvec3 sigma_a, double eccentricity) {
+    hs::MarschnerParams<T> p;
+    p.beta_r = T(deg(beta_r_deg));
+    p.beta_n = T(beta_n);
+    p.alpha_r = T(deg(alpha_r_deg));
+    p.sigma_a = glm::vec<3, T>(sigma_a);
+    p.eccentricity = T(eccentricity);
+    return p;
+}
+
+// Marschner's model does not conserve energy (its albedo is an estimate) and has no residual.
+template <typename T>
+struct MarschnerSpec : SpecBase<hs::MarschnerFiber<T>, hs::MarschnerMaterial<T>, 40, 60, false, false> {
+    using Fiber = hs::MarschnerFiber<T>;
+    using Material = hs::MarschnerMaterial<T>;
+
+    static Instance<Fiber> make(const hs::MarschnerParams<T>& p, int nodes, std::string name) {
+        return make_instance<Fiber>(std::make_shared<const Material>(p, nodes), std::move(name));
+    }
+    static Instance<Fiber> random(std::mt19937_64& rng, int k) {
+        std::uniform_real_distribution<double> uni(0, 1);
+        const double br = 2 + 30 * uni(rng), bn = 0.1 + 0.9 * uni(rng), ar = -10 + 10 * uni(rng);
+        const double sa = k % 2 ? 2 * uni(rng) : 0.0, ecc = k % 3 ? 1.0 : 0.7 + 0.6 * uni(rng);
+        return make(marschner_params<T>(br, bn, ar, glm::dvec3(sa), ecc), 1 + k % 9, "random " + std::to_string(k));
+    }
+    static std::vector<Instance<Fiber>> extremes() {
+        std::vector<Instance<Fiber>> r;
+        int index = 0;
+        for (double eta : {1.0001, 1.55, 10.0})
+            for (double br : {1e-4, kPi / 4})
+                for (double bn : {0.01, 1.0})
+                    for (double sa : {0.0, 1e3})
+                        for (double ecc : {0.5, 1.0, 2.0}) {
+                            hs::MarschnerParams<T> p = marschner_params<T>(0, bn, 0, glm::dvec3(sa), ecc);
+                            p.eta = T(eta), p.beta_r = T(br);
+                            p.alpha_r = T((index % 2 ? -1 : 1) * kPi / 6 * 0.9999);
+                            const int nodes = 1 + (index * 5) % 16;
+                            ++index;
+                            r.push_back(make(p, nodes, "η " + std::to_string(eta) + " βR " + std::to_string(br) + " βn " +
+                                                           std::to_string(bn) + " σa " + std::to_string(sa) + " a " +
+                                                           std::to_string(ecc)));
+                        }
+        return r;
+    }
+    // βR 2°–40°, βn 0.1–1, θo 0 to ±85°, σa 0–20, eccentricity 0.7–1.4, 1–16 roughness nodes.
+    struct Case {
+        double beta_r_deg, beta_n, alpha_r_deg, theta_o_deg, sigma_a, eccentricity;
+        int nodes;
+    };
+    static const std::vector<Case>& grid() {
+        static const std::vector<Case> g = {
+            {7.5, 0.3, -7.5, 30, 0.0, 1.0, 7},   {2.0, 0.1, -10, -20, 0.5, 1.0, 3},  {20, 0.6, -5, 60, 0.0, 0.85, 5},
+            {40, 1.0, 0, -85, 20.0, 1.0, 1},     {5, 0.2, -8, 80, 0.3, 1.4, 4},      {10, 0.4, -6, 0, 0.0, 0.7, 16},
+        };
+        return g;
+    }
+    static hs::MarschnerParams<T> chi2_params(const Case& c) {
+        return marschner_params<T>(c.beta_r_deg, c.beta_n, c.alpha_r_deg,
+                                   glm::dvec3(c.sigma_a, 0.6 * c.sigma_a, 0.3 * c.sigma_a), c.eccentricity);
+    }
+    static std::vector<Chi2Case<Fiber>> chi2_cases() {
+        std::vector<Chi2Case<Fiber>> r;
+        for (const Case& c : grid())
+            r.push_back({make(chi2_params(c), c.nodes,
+                              "βR " + std::to_string(c.beta_r_deg) + "° βn " + std::to_string(c.beta_n) + " a " +
+                                  std::to_string(c.eccentricity)),
+                         c.theta_o_deg});
+        return r;
+    }
+    // Cells refine to 64 × 25 pdf nodes at most.
+    static chi2::Options chi2_options() { return grid_options(2 * int(grid().size()), 100000, 12, 24, 3); }
+    static Instance<Fiber> lossless() {
+        return make(marschner_params<T>(10, 0.5, -7.5, glm::dvec3(0), 1), Material::kDefaultNodes, "lossless");
+    }
+    static std::vector<Invalid> invalid() {
+        std::vector<Invalid> r;
+        auto add = [&](const char* field, auto change) {
+            hs::MarschnerParams<T> p;
+            change(p);
+            r.push_back({[p] { Material m(p); }, field});
+        };
+        const T inf = std::numeric_limits<T>::infinity(), nan = std::numeric_limits<T>::quiet_NaN();
+        add("eta", [](auto& p) { p.eta = T(1); });
+        add("eta", [](auto& p) { p.eta = T(0.5); });
+        add("eta", [inf](auto& p) { p.eta = inf; });
+        add("sigma_a.g", [](auto& p) { p.sigma_a.g = T(-1); });
+        add("sigma_a.b", [nan](auto& p) { p.sigma_a.b = nan; });
+        add("beta_r", [](auto& p) { p.beta_r = T(0); });
+        add("beta_r", [](auto& p) { p.beta_r = T(1); });
+        add("beta_n", [](auto& p) { p.beta_n = T(0); });
+        add("beta_n", [](auto& p) { p.beta_n = T(1.5); });
+        add("alpha_r", [](auto& p) { p.alpha_r = T(0.6); });
+        add("eccentricity", [](auto& p) { p.eccentricity = T(0); });
+        add("eccentricity", [](auto& p) { p.eccentricity = T(-1); });
+        add("caustic_width", [](auto& p) { p.caustic_width = T(0); });
+        add("caustic_width", [](auto& p) { p.caustic_width = T(2); });
+        add("caustic_gain", [](auto& p) { p.caustic_gain = T(-0.1); });
+        add("caustic_fade", [](auto& p) { p.caustic_fade = T(0); });
+        add("caustic_dh_max", [](auto& p) { p.caustic_dh_max = T(0); });
+        add("caustic_dh_max", [](auto& p) { p.caustic_dh_max = T(1.5); });
+        for (int n : {0, -1, Material::kMaxNodes + 1})
+            r.push_back({[n] { Material m(hs::MarschnerParams<T>(), n); }, "azimuthal_nodes"});
+        return r;
+    }
+};
+
+}  // namespace specs
