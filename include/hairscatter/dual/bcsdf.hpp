@@ -89,16 +89,24 @@ HAIRSCATTER_HD DualForward<T> dual_forward(const DualScatteringLight<T>& light, 
 }
 
 // The local backscattering amplitude at a point with `beyond` fibers behind it along the
-// light's direction of travel. Improved: the 1D adding formula's multiple reflection of
-// the point's layer and the `beyond` layers after it, R_{m+1} - a_b (all odd orders, finite
-// depth; R_∞ - a_b for a deep volume). Zinke 2008 eqs. 13–14: A_1 + A_3 of a deep volume.
+// light's direction of travel. Zinke 2008 eqs. 13–14: A_b = A_1 + A_3 of a deep volume.
+// Improved: the same A_b scaled by the 1D adding formula's finite-depth factor
+// (R_{m+1} - a_b) / (R_∞ - a_b), the share of a deep volume's multiple backscattering that
+// the point's layer and the m layers after it return. below_R is R_{m+1}.
+template <typename T>
+HAIRSCATTER_HD glm::vec<3, T> dual_backscatter_scaled(const DualScatteringEntry<T>& e, const glm::vec<3, T>& below_R) {
+    glm::vec<3, T> r;
+    for (int c = 0; c < 3; ++c) {
+        const T deep = layered_stack(e.a_f[c], e.a_b[c], T(1e12)).R - e.a_b[c];
+        const T here = below_R[c] - e.a_b[c];
+        r[c] = deep > T(1e-12) && here > T(0) ? e.A_b[c] * clamp(here / deep, T(0), T(1)) : T(0);
+    }
+    return r;
+}
 template <typename T>
 HAIRSCATTER_HD glm::vec<3, T> dual_backscatter(const DualScatteringEntry<T>& e, T beyond, DualFormulation formulation) {
     if (formulation == DualFormulation::kZinke2008) return e.A_b;
-    const glm::vec<3, T> R = dual_below_reflectance(e, beyond);
-    glm::vec<3, T> r;
-    for (int c = 0; c < 3; ++c) r[c] = R[c] > e.a_b[c] ? R[c] - e.a_b[c] : T(0);
-    return r;
+    return dual_backscatter_scaled(e, dual_below_reflectance(e, beyond));
 }
 
 // The dual-scattering BCSDF of one hit, in the library's convention (cosine inside:
@@ -106,7 +114,8 @@ HAIRSCATTER_HD glm::vec<3, T> dual_backscatter(const DualScatteringEntry<T>& e, 
 //   F = df (f_s + d_b f_back) + (1 - df) d_f (T_f f_s^G + D d_b f_back^G)       (improved)
 //   F = df (f_s + d_b f_back) + max(0, T_f - df) d_f (f_s^G + π d_b f_back^G)  (Zinke 2008)
 //   f_back   = k A_b M(σ_b²; θi, θo - Δ_b) / π                  on |ψ| < π/2
-//              (k = 2, A_b = R_{m+1} - a_b improved; k = 1, A_b = A_1 + A_3 Zinke)
+//              (A_b = A_1 + A_3; improved: k = 2 and A_b scaled by (R_{m+1} - a_b)/(R_∞ - a_b);
+//               Zinke: k = 1, the normalised reading of f_back)
 //   f_s^G    = Σ_p M(v_p + σ̄²_f; θi, θo'_p) W_p(θo, ψ)          improved: every ψ
 //            = Σ_p M(v_p + σ̄²_f; θi, θo'_p) W_p(θo, π)          Zinke: |ψ| > π/2 only
 //   f_back^G = k A_b M(σ_b² + σ̄²_f; θi, θo - Δ_b) (π - |ψ|) / π² improved (f_back's half-
@@ -320,11 +329,11 @@ template <typename Fiber> class DualScatteringBcsdf {
             const bool lit_back = df > T(0) && backward;
             const bool shadowed = df < T(1);
             if (!(lit_back || shadowed)) return df * f_single;
-            // A_b: Zinke's table value, or R_{m+1} - a_b of the hair beyond (shared with T_f).
+            // A_b: Zinke's table value, scaled by the depth of hair beyond (R_{m+1} shared with D).
             V3 below_R(T(-1)), ab = ei.A_b;
             if (improved()) {
                 below_R = dual_below_reflectance(ei, light.beyond);
-                for (int c = 0; c < 3; ++c) ab[c] = below_R[c] > ei.a_b[c] ? below_R[c] - ei.a_b[c] : T(0);
+                ab = dual_backscatter_scaled(ei, below_R);
             }
 
             V3 f = df * f_single;

@@ -14,6 +14,7 @@
 
 #include "../config.hpp"
 #include "../fiber/frame.hpp"
+#include "../fiber/params.hpp"
 #include "../lobes/attenuation.hpp"
 #include "../lobes/longitudinal.hpp"
 #include "../lobes/marschner_azimuthal.hpp"
