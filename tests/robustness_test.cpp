@@ -88,7 +88,9 @@ template <typename T, typename Fiber> void expect_zero_on_nonfinite(const Fiber&
         const hs::HairSample<T> s = fiber.sample(wo, bad);
         EXPECT_EQ(s.pdf, T(0)) << name << " u " << bad.x << " " << bad.y << " " << bad.z << " " << bad.w;
         EXPECT_EQ(s.weight, V3(T(0))) << name;
-        if constexpr (has_at<Fiber>::value) EXPECT_EQ(fiber.at(wo).sample(bad).pdf, T(0)) << name;
+        if constexpr (has_at<Fiber>::value) {
+            EXPECT_EQ(fiber.at(wo).sample(bad).pdf, T(0)) << name;
+        }
     }
 }
 
