@@ -11,8 +11,8 @@
 #   gcc       GCC,   Release, -Werror: build + ctest            (build/test-gcc)
 #   clang     Clang, Release, -Werror: build + ctest            (build/test-clang)
 #   asan      GCC, -O1 -g, asserts on, ASan+UBSan: build + ctest (build/test-asan)
-#   fastmath  GCC, Release, -ffast-math -Werror: build + ctest (build/test-fastmath): the
-#             library must stay correct under a renderer's fast-math build
+#   fastmath  -ffast-math must stop at config.hpp's #error; with HAIRSCATTER_ALLOW_FAST_MATH
+#             the robustness tests pass under it (GCC Release -Werror, build/test-fastmath)
 #   consumer  install to build/prefix; consume via find_package and add_subdirectory
 #   cuda      nvcc compile check of tests/cuda/*.cu (skipped without nvcc)
 #   example   build examples/ and bench/ with -Werror, run the lobe explorer and the renderer
@@ -170,11 +170,21 @@ step_asan() {
 }
 
 step_fastmath() {
-    # -ffast-math implies -ffinite-math-only and -fassociative-math: the float exp/sincos
-    # rounding and every finiteness check must survive them (math/elementary.hpp,
-    # math/functions.hpp's is_finite); the whole suite runs under it.
-    build_and_test build/test-fastmath 1 \
-        -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=g++ -DHAIRSCATTER_WERROR=ON "-DCMAKE_CXX_FLAGS=-ffast-math"
+    # Without HAIRSCATTER_ALLOW_FAST_MATH a -ffast-math build must stop with the #error of
+    # config.hpp (naming __FAST_MATH__); with it, the robustness tests (non-finite contract,
+    # validation by bits, every model finite at the limits, the float exp/sincos within
+    # their fast-math bounds) must pass.
+    local msg
+    if msg="$(printf '#include <hairscatter/hairscatter.hpp>\nint main() {}\n' |
+        g++ -std=c++17 -ffast-math -fsyntax-only -I include -x c++ - 2>&1)"; then
+        echo "fastmath: a -ffast-math build compiled without HAIRSCATTER_ALLOW_FAST_MATH" >&2; return 1
+    fi
+    [[ "$msg" == *__FAST_MATH__* ]] || { echo "fastmath: no #error naming __FAST_MATH__: $msg" >&2; return 1; }
+    echo "fastmath: -ffast-math without HAIRSCATTER_ALLOW_FAST_MATH stops with the #error (ok)"
+    cmake -S . -B build/test-fastmath -DHAIRSCATTER_BUILD_TESTS=ON -DCMAKE_BUILD_TYPE=Release \
+        -DCMAKE_CXX_COMPILER=g++ -DHAIRSCATTER_WERROR=ON "-DCMAKE_CXX_FLAGS=-ffast-math -DHAIRSCATTER_ALLOW_FAST_MATH"
+    cmake --build build/test-fastmath -j "$JOBS" --target robustness_test
+    build/test-fastmath/tests/robustness_test
 }
 
 step_fuzz() { FUZZ_SECONDS="${FUZZ_SECONDS:-60}" bash "$ROOT/fuzz/run.sh" --build "$ROOT/build/fuzz" -j "$JOBS"; }
@@ -256,7 +266,7 @@ fi
 run_step gcc      "GCC Release -Werror: build + ctest (build/test-gcc)"            step_gcc
 run_step clang    "Clang Release -Werror: build + ctest (build/test-clang)"        step_clang
 run_step asan     "GCC ASan+UBSan (-O1 -g, asserts on): build + ctest (build/test-asan)" step_asan
-run_step fastmath "GCC Release -ffast-math -Werror: build + ctest (build/test-fastmath)" step_fastmath
+run_step fastmath "-ffast-math: the #error, and the robustness tests under it (build/test-fastmath)" step_fastmath
 run_step consumer "Install + downstream consumer (find_package, add_subdirectory)" step_consumer
 run_step cuda     "CUDA compile check (nvcc -c tests/cuda/*.cu)"                   step_cuda
 run_step example  "Example and benchmarks build (-Werror); the example runs small" step_example

@@ -17,6 +17,17 @@
 #define HAIRSCATTER_HD
 #endif
 
+// -ffast-math. Under it the library does not crash and keeps its non-finite contract (NaN
+// or Inf inputs give 0, validate() rejects NaN: both read the bits), but the float exp and
+// sincos lose accuracy (-fassociative-math folds their Cody–Waite argument reduction:
+// measured 4e-6 relative for exp and 1e-5 absolute for sincos, against 2e-7), NaN checks
+// that use comparisons elsewhere (the dual-scattering density grid, ChiangFiber(params, h))
+// fold away, and results differ in the last bits between equivalent paths. That is refused
+// unless the program says it accepts it.
+#if defined(__FAST_MATH__) && !defined(HAIRSCATTER_ALLOW_FAST_MATH)
+#error "hairscatter: built with -ffast-math (__FAST_MATH__): the float exp/sincos lose accuracy (4e-6 / 1e-5 instead of 2e-7) and comparison-based NaN checks fold away. Build without -ffast-math (or with -fno-fast-math for the files that include hairscatter), or define HAIRSCATTER_ALLOW_FAST_MATH to accept this (docs/robustness.md)."
+#endif
+
 // HAIRSCATTER_INLINE forces the inlining of a model's internal per-call stages (the wo
 // terms, the lobe sum) into eval / pdf / sample. Without it GCC stops inlining them once a
 // program instantiates a model in several places (measured: pdf 77 → 94 ns, at(wo)

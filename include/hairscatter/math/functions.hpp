@@ -46,14 +46,14 @@ template <typename T> HAIRSCATTER_HD int table_cell(T x, int last) {
 
 // sqrt that tolerates arguments rounded slightly below zero (e.g. 1 - sin² at θ = ±90°).
 template <typename T> HAIRSCATTER_HD T safe_sqrt(T x) {
-    HAIRSCATTER_DCHECK(x >= T(-1e-3));
+    HAIRSCATTER_DCHECK(!(x < T(-1e-3)));  // NaN passes: non-finite input is the models' to zero
     using std::sqrt;
     return sqrt(x > T(0) ? x : T(0));
 }
 
 // asin that tolerates |x| rounded slightly above one.
 template <typename T> HAIRSCATTER_HD T safe_asin(T x) {
-    HAIRSCATTER_DCHECK(x >= T(-1.0001) && x <= T(1.0001));
+    HAIRSCATTER_DCHECK(!(x < T(-1.0001) || x > T(1.0001)));  // NaN passes, as in safe_sqrt
     using std::asin;
     return asin(clamp(x, T(-1), T(1)));
 }

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets of fuzz/ with clang (-fsanitize=fuzzer,address,undefined) and
+# runs each for FUZZ_SECONDS (default 60) from its committed corpus fuzz/corpus/<target>
+# (copied: new inputs go to the build tree, the committed corpus is not changed). A crash
+# leaves its input in <build>/crashes/<target>/ and fails the run; turn it into a
+# regression test. Skipped, with a message, when clang or its libFuzzer is missing.
+#
+#   fuzz/run.sh [--build DIR] [-j N] [--seconds S] [target ...]
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BUILD="$ROOT/build/fuzz"
+SECONDS_EACH="${FUZZ_SECONDS:-60}"
+targets=()
+while [[ $# -gt 0 ]]; do
+    case "$1" in
+        --build) BUILD="$2"; shift ;;
+        --seconds) SECONDS_EACH="$2"; shift ;;
+        -j) shift ;;  # accepted for test.sh; the targets build one by one
+        -j*) ;;
+        *) targets+=("$1") ;;
+    esac
+    shift
+done
+[[ ${#targets[@]} -gt 0 ]] || targets=(hair_file_fuzz dual_tables_fuzz model_fuzz)
+
+CXX="${FUZZ_CXX:-clang++}"
+if ! command -v "$CXX" >/dev/null 2>&1; then
+    echo "fuzz: $CXX not found: fuzzing skipped (apt-get install clang)"
+    exit 0
+fi
+mkdir -p "$BUILD"
+probe="$BUILD/probe.cpp"
+printf '#include <cstddef>\n#include <cstdint>\nextern "C" int LLVMFuzzerTestOneInput(const std::uint8_t*, std::size_t) { return 0; }\n' >"$probe"
+if ! "$CXX" -fsanitize=fuzzer "$probe" -o "$BUILD/probe" >/dev/null 2>&1; then
+    echo "fuzz: $CXX cannot link libFuzzer (-fsanitize=fuzzer): fuzzing skipped"
+    exit 0
+fi
+
+[[ -d /usr/include/glm ]] || { echo "fuzz: GLM headers not found" >&2; exit 1; }
+FLAGS=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
+       -fno-omit-frame-pointer -I"$ROOT/include" -I"$ROOT/examples/render")
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:${ASAN_OPTIONS:-}"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
+
+failed=0
+for t in "${targets[@]}"; do
+    src=("$ROOT/fuzz/$t.cpp")
+    [[ "$t" == hair_file_fuzz ]] && src+=("$ROOT/examples/render/hair_file.cpp")
+    echo "+ $CXX ${src[*]##*/} -> $BUILD/$t"
+    "$CXX" "${FLAGS[@]}" "${src[@]}" -o "$BUILD/$t"
+    work="$BUILD/corpus/$t"
+    crashes="$BUILD/crashes/$t"
+    rm -rf "$work" "$crashes"
+    mkdir -p "$work" "$crashes"
+    cp "$ROOT/fuzz/corpus/$t"/* "$work"/ 2>/dev/null || true
+    echo "+ $t for ${SECONDS_EACH}s (corpus: $(ls "$work" | wc -l) inputs)"
+    if ! "$BUILD/$t" -max_total_time="$SECONDS_EACH" -timeout=20 -rss_limit_mb=2048 -max_len=4096 \
+        -print_final_stats=1 -artifact_prefix="$crashes/" "$work" >"$BUILD/$t.log" 2>&1; then
+        echo "fuzz: $t FAILED; input(s) in $crashes, log $BUILD/$t.log" >&2
+        tail -n 40 "$BUILD/$t.log" >&2
+        failed=1
+    else
+        grep -E "^stat::number_of_executed_units|^Done" "$BUILD/$t.log" | tr '\n' ' '
+        echo
+    fi
+done
+exit "$failed"
