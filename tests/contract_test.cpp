@@ -26,12 +26,16 @@ constexpr hs::LobeSet kTrtResidual = kTRT | hs::LobeSet::kResidual, kRTT = kR | 
 using Models = ::testing::Types<ChiangSpec<float, hs::LobeSet::kAll>, ChiangSpec<double, hs::LobeSet::kAll>,
                                 FarFieldSpec<float>, FarFieldSpec<double>, TabulatedSpec<float>, TabulatedSpec<double>,
                                 MarschnerSpec<float>, MarschnerSpec<double>>;
-INSTANTIATE_TYPED_TEST_SUITE_P(AllModels, ModelContract, Models);
+// Instances are numbered in the order of the type lists (ctest shows the spec type too).
+struct Numbered {
+    template <typename> static std::string GetName(int i) { return std::to_string(i); }
+};
+INSTANTIATE_TYPED_TEST_SUITE_P(AllModels, ModelContract, Models, Numbered);
 using ChiangSubsets = ::testing::Types<ChiangSpec<float, kR>, ChiangSpec<double, kR>, ChiangSpec<float, kTT>,
                                        ChiangSpec<double, kTT>, ChiangSpec<float, kTrtResidual>,
                                        ChiangSpec<double, kTrtResidual>, ChiangSpec<float, kPrimary>,
                                        ChiangSpec<double, kPrimary>, ChiangSpec<float, kRTT>, ChiangSpec<double, kRTT>>;
-INSTANTIATE_TYPED_TEST_SUITE_P(ChiangLobeSubsets, ModelContract, ChiangSubsets);
+INSTANTIATE_TYPED_TEST_SUITE_P(ChiangLobeSubsets, ModelContract, ChiangSubsets, Numbered);
 
 }  // namespace contract
 

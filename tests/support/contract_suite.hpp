@@ -123,8 +123,11 @@ TYPED_TEST_P(ModelContract, SampleAgreesWithPdfAndEval) {
     std::printf("[ worst    ] sample pdf vs pdf(): %.3g, weight vs eval/pdf: %.3g\n", worst_pdf, worst_w);
     EXPECT_LT(worst_pdf, tol);
     EXPECT_LT(worst_w, tol);
-    for (int p = 0; p <= Fiber::kLobes; ++p)
-        if (TypeParam::may_sample(hairscatter::lobe_tag(p))) EXPECT_GT(drawn[p], 0) << "lobe " << p << " never sampled";
+    for (int p = 0; p <= Fiber::kLobes; ++p) {
+        if (TypeParam::may_sample(hairscatter::lobe_tag(p))) {
+            EXPECT_GT(drawn[p], 0) << "lobe " << p << " never sampled";
+        }
+    }
 }
 
 // at(wo) hoists the wo terms; its eval, pdf, eval_pdf and sample are the fiber's exactly.
@@ -176,7 +179,9 @@ TYPED_TEST_P(ModelContract, FurnaceAndAlbedo) {
         const double albedo = double(a.x + a.y + a.z) / 3;
         std::printf("[ furnace  ] %s θo %.0f°: ∫ f dω = %.8f, albedo %.8f\n", in.label.c_str(), theta_o, total, albedo);
         EXPECT_NEAR(total, albedo, TypeParam::kFurnaceTolerance) << in.label << " θo " << theta_o;
-        if (TypeParam::kConservesEnergy) EXPECT_NEAR(albedo, 1.0, sizeof(T) == 4 ? 1e-5 : 1e-12) << in.label;
+        if (TypeParam::kConservesEnergy) {
+            EXPECT_NEAR(albedo, 1.0, sizeof(T) == 4 ? 1e-5 : 1e-12) << in.label;
+        }
     }
 }
 
