@@ -99,7 +99,7 @@ template <class MakeFiber> class PathIntegrator final : public PixelIntegrator {
         s.wi = uniform_sphere(u.y, u.z);
         s.pdf = 1.0f / (4 * kPi);
         s.weight = fiber.eval(s.wi) / s.pdf;
-        s.lobe = -1;
+        s.lobe = hs::SampledLobe::kUniform;
         return s;
     }
 
