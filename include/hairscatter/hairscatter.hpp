@@ -10,6 +10,7 @@
 #include "math/distributions.hpp"
 #include "fiber/params.hpp"
 #include "fiber/frame.hpp"
+#include "fiber/hit.hpp"
 #include "lobes/attenuation.hpp"
 #include "lobes/azimuthal.hpp"
 #include "lobes/longitudinal.hpp"
