@@ -166,8 +166,9 @@ int main(int argc, char** argv) {
                                  "camera, --fiber-radius or the file's thickness)\n");
 
         const std::string summary = render::summary_line(scene, shading, ro, r);
-        ex::write_exr_rgb(out + ".exr", r.width, r.height, r.rgb, {{"hairscatter:render", summary}});
-        ex::write_png_rgb8(out + ".png", r.width, r.height, ex::tone_map(r.rgb, exposure));
+        // Both files are written to temporaries and renamed together: the pair always matches.
+        ex::write_exr_png_pair(out + ".exr", out + ".png", r.width, r.height, r.rgb, {{"hairscatter:render", summary}},
+                               ex::tone_map(r.rgb, exposure));
         if (mask) {
             std::vector<std::uint8_t> m(r.hair_mask.size() * 3);
             for (std::size_t i = 0; i < r.hair_mask.size(); ++i)

@@ -159,7 +159,8 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
 
     // Per lobe: ½ ∫ A_p(h) dh and the part of N_p in the backward half |φ| < π/2, each
     // node's wrapped Gaussian weighted by the channel sum of its A_p(h_j).
-    HAIRSCATTER_HD LobeSplit lobe_split(const V3& wo) const { return split<true>(wo); }
+    // centre: the mass on |φ - centre| < π/2 instead (the dual-scattering window).
+    HAIRSCATTER_HD LobeSplit lobe_split(const V3& wo, T centre = T(0)) const { return split<true>(wo, centre); }
 
 
     // The quadrature's terms at wo's inclination, for tabulating N_p (models/tabulated.hpp):
@@ -194,7 +195,7 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
     };
 
     // lobe_split, with the backward fractions only when asked for (albedo needs none).
-    template <bool kBackward> HAIRSCATTER_HD LobeSplit split(const V3& wo) const {
+    template <bool kBackward> HAIRSCATTER_HD LobeSplit split(const V3& wo, T centre = T(0)) const {
         const Outgoing o = outgoing<false>(wo);
         const T sigma = mat_->azimuthal().sigma();
         LobeSplit r;
@@ -207,8 +208,8 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
             for (int p = 0; p <= kLobes; ++p) r.a[p] += (w * (mirrored ? T(2) : T(1))) * nd.att.a[p];
             if constexpr (!kBackward) continue;
             for (int p = 0; p < kLobes; ++p) {
-                T mass = wrapped_gaussian_backward_mass(sigma, exit_azimuth(p, gamma, nd.gamma_t));
-                if (mirrored) mass += wrapped_gaussian_backward_mass(sigma, exit_azimuth(p, -gamma, -nd.gamma_t));
+                T mass = wrapped_gaussian_backward_mass(sigma, exit_azimuth(p, gamma, nd.gamma_t) - centre);
+                if (mirrored) mass += wrapped_gaussian_backward_mass(sigma, exit_azimuth(p, -gamma, -nd.gamma_t) - centre);
                 back[p] += w * mass * (nd.att.a[p].x + nd.att.a[p].y + nd.att.a[p].z);
             }
         }

@@ -497,31 +497,45 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
     // Σ_p Ã_p(wo): the directional albedo of the tabulated fiber (its ∫ eval dωi).
     HAIRSCATTER_HD V3 albedo(const V3& wo) const { return split_albedo(lobe_split(wo)); }
 
-    // Per lobe: Ã_p(wo) and the part of the interpolated Ñ_p in |φ| < π/2, from each row's
-    // φ CDF at π/2 (exact for the piecewise-linear table: a quadratic within the cell).
-    HAIRSCATTER_HD LobeSplit lobe_split(const V3& wo) const {
+    // Per lobe: Ã_p(wo) and the part of the interpolated Ñ_p in |φ - centre| < π/2 (centre 0:
+    // the backward half), from each row's φ CDF (exact for the piecewise-linear table: a
+    // quadratic within the cell). The table holds |φ| ∈ [0, π] of a density symmetric in φ.
+    HAIRSCATTER_HD LobeSplit lobe_split(const V3& wo, T centre = T(0)) const {
         const Outgoing o = outgoing<false>(wo);
         const T* a = v_->row_terms(o.row);
         const T* b = v_->row_terms(o.row + 1);
         LobeSplit r;
-        int i;
-        T u;
-        v_->phi_cell(kHalfPi<T>, i, u);
+        const T c = clamp(centre < T(0) ? -centre : centre, T(0), kPi<T>);  // by symmetry
+        const T lo = c - kHalfPi<T>, hi = c + kHalfPi<T>;
         for (int p = 0; p <= kLobes; ++p) {
-            for (int c = 0; c < 3; ++c) r.a[p][c] = a[3 * p + c] + o.t * (b[3 * p + c] - a[3 * p + c]);
+            for (int ch = 0; ch < 3; ++ch) r.a[p][ch] = a[3 * p + ch] + o.t * (b[3 * p + ch] - a[3 * p + ch]);
             if (p == kLobes) {
                 r.backward[p] = T(0.5);  // the residual is uniform in φ
                 continue;
             }
-            // ∫_0^{π/2} of each row's channel sum; the row's total over [0, π] is cdf[n - 1].
-            T half[2], whole[2];
-            for (int k = 0; k < 2; ++k) {
+            // ∫_0^x of each row's channel sum (x ∈ [0, π]); the row's total is cdf[n - 1].
+            auto partial = [&](int k, T x) {
+                int i;
+                T u;
+                v_->phi_cell(x, i, u);
                 const T* cdf = v_->cdf(o.row + k, p);
                 const T* node = v_->lobes(o.row + k) + 3 * p + i * View::kNodeStride;
                 const T n0 = node[0] + node[1] + node[2];
                 const T n1 = node[View::kNodeStride] + node[View::kNodeStride + 1] + node[View::kNodeStride + 2];
-                half[k] = cdf[i] + v_->phi_step() * u * (n0 + T(0.5) * u * (n1 - n0));
-                whole[k] = cdf[v_->phi_samples() - 1];
+                return cdf[i] + v_->phi_step() * u * (n0 + T(0.5) * u * (n1 - n0));
+            };
+            // The arc [lo, hi] in |φ|: [0, -lo] and [0, hi] when lo < 0 (then hi < π); else
+            // [lo, min(hi, π)] and, past π, [2π - hi, π]; each |φ| range holds half its mass.
+            T half[2], whole[2];
+            for (int k = 0; k < 2; ++k) {
+                whole[k] = v_->cdf(o.row + k, p)[v_->phi_samples() - 1];
+                if (lo < T(0)) {
+                    half[k] = T(0.5) * (partial(k, -lo) + partial(k, hi));
+                } else {
+                    T m = partial(k, hi < kPi<T> ? hi : kPi<T>) - partial(k, lo);
+                    if (hi > kPi<T>) m += whole[k] - partial(k, kTwoPi<T> - hi);
+                    half[k] = T(0.5) * m;
+                }
             }
             const T total = (T(1) - o.t) * whole[0] + o.t * whole[1];
             r.backward[p] = total > T(0) ? ((T(1) - o.t) * half[0] + o.t * half[1]) / total : T(0.5);
