@@ -46,9 +46,11 @@ template <typename T> struct DualScatteringEntry {
     HAIRSCATTER_HD V3* fields() { return &a_f; }
     HAIRSCATTER_HD const V3* fields() const { return &a_f; }
 };
-static_assert(sizeof(DualScatteringEntry<float>) == DualScatteringEntry<float>::kFields * 3 * sizeof(float),
-              "DualScatteringEntry must be a flat array of vec3 for fields() and the file format "
-              "(GLM_FORCE_DEFAULT_ALIGNED_GENTYPES pads vec3: dual scattering needs packed vec3)");
+// fields() walks the entry as an array of vec3 (of whatever size GLM gives vec3: aligned
+// vec3 under GLM_FORCE_DEFAULT_ALIGNED_GENTYPES is 16 bytes, and the walk still holds).
+static_assert(sizeof(DualScatteringEntry<float>) == DualScatteringEntry<float>::kFields * sizeof(glm::vec3) &&
+                  sizeof(DualScatteringEntry<double>) == DualScatteringEntry<double>::kFields * sizeof(glm::dvec3),
+              "DualScatteringEntry must be a flat array of vec3 for fields()");
 
 // Zinke et al. 2008 eqs. 13–15, the backscattering quantities from a_f, a_b, ᾱ and β̄² of
 // one θ; d_b enters σ_b. 1 - a_f² → 0 only for a lossless fiber that scatters everything
