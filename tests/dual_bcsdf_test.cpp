@@ -115,8 +115,11 @@ TEST(DualBcsdf, DirectlyLitPointIgnoresTheCountTowardTheLight) {
         EXPECT_EQ(a, b);
         // and it is the single fiber plus a backward-only local term
         const dvec3 single = fiber.eval(wo, wi);
-        if (std::abs(hs::relative_azimuth(wo, wi)) > hs::kHalfPi<double>) EXPECT_NEAR(mean(a), mean(single), 1e-15);
-        else EXPECT_GT(mean(a), mean(single));
+        if (std::abs(hs::relative_azimuth(wo, wi)) > hs::kHalfPi<double>) {
+            EXPECT_NEAR(mean(a), mean(single), 1e-15);
+        } else {
+            EXPECT_GT(mean(a), mean(single));
+        }
     }
 }
 
@@ -326,13 +329,19 @@ TEST(DualBcsdf, NoNaNAtExtremes) {
                 const bool finite_in = std::isfinite(wo.x + wo.y + wo.z) && std::isfinite(wi.x + wi.y + wi.z);
                 for (const auto& l : lights) {
                     const dvec3 f = d.eval(wo, wi, l);
-                    if (finite_in) EXPECT_TRUE(std::isfinite(f.x + f.y + f.z) && f.x >= 0) << wo.x << " " << wi.x;
+                    if (finite_in) {
+                        EXPECT_TRUE(std::isfinite(f.x + f.y + f.z) && f.x >= 0) << wo.x << " " << wi.x;
+                    }
                 }
                 const double p = d.pdf(wo, wi);
-                if (finite_in) EXPECT_TRUE(std::isfinite(p) && p >= 0);
+                if (finite_in) {
+                    EXPECT_TRUE(std::isfinite(p) && p >= 0);
+                }
                 for (const dvec4& u : {dvec4(0), dvec4(1), dvec4(nan), dvec4(1 - 1e-16, 0.5, 0.5, 1 - 1e-16)}) {
                     const auto smp = d.sample(wo, u);  // must not crash; finite when inputs are
-                    if (finite_in && std::isfinite(u.x + u.y + u.z + u.w)) EXPECT_TRUE(std::isfinite(smp.pdf));
+                    if (finite_in && std::isfinite(u.x + u.y + u.z + u.w)) {
+                        EXPECT_TRUE(std::isfinite(smp.pdf));
+                    }
                 }
             }
     }
@@ -387,7 +396,9 @@ TEST(DualBcsdf, AgreesWithPathTracedSlabOfExplicitFibers) {
             std::printf("[ slab     ] %s, %s: dual / path = %.3f (Zinke 2008: %.3f)\n", kHairs[hair].name, names[g], ratio,
                         ratio_z);
             EXPECT_NEAR(ratio, 1.0, 0.2) << kHairs[hair].name << " " << names[g];
-            if (hair == 1 && g == 0) EXPECT_LT(std::abs(ratio - 1), std::abs(ratio_z - 1));
+            if (hair == 1 && g == 0) {
+                EXPECT_LT(std::abs(ratio - 1), std::abs(ratio_z - 1));
+            }
         }
     }
 }
