@@ -16,7 +16,7 @@
 #   consumer  install to build/prefix; consume via find_package and add_subdirectory
 #   cuda      nvcc compile check of tests/cuda/*.cu (skipped without nvcc)
 #   example   build examples/ and bench/ with -Werror, run the lobe explorer and the renderer
-#             small, and the seed study at a tiny size (scripts/study.sh --tiny)
+#             small, and the origin study at a tiny size (scripts/study.sh --tiny)
 #   fuzz      libFuzzer targets of fuzz/ (clang -fsanitize=fuzzer,address,undefined), each
 #             run for FUZZ_SECONDS (default 60) from its committed corpus (skipped without
 #             a clang that links libFuzzer)
@@ -247,7 +247,7 @@ step_example() {
         [[ "$line" == *" dropped=0 "* && "$line" == *" nonfinite_pixels=0 "* ]] ||
             { echo "example: render --integrator $integrator produced non-finite samples" >&2; return 1; }
     done
-    # The seed's study end to end at a tiny size: images exist and are finite, the error
+    # The origin study end to end at a tiny size: images exist and are finite, the error
     # falls with spp for both samplers, the scale table and the plots are written.
     bash "$ROOT/scripts/study.sh" --tiny --no-deps --build "$ROOT/build/test-example"
 }

@@ -220,7 +220,7 @@ HAIRSCATTER_HD glm::vec<3, T> split_albedo(const LobeSplit<T, kLobes>& split) {
 }
 
 // Uniform directions on the sphere for any model with eval(wo, wi): the baseline the
-// seed thesis measures importance sampling against. Holds a copy of the model.
+// origin study [Lemein 2019] measures importance sampling against. Holds a copy of the model.
 template <typename Model> class UniformSphereSampling {
   public:
     explicit UniformSphereSampling(const Model& model) : model_(model) {}
