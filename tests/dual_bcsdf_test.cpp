@@ -159,6 +159,54 @@ TEST(DualBcsdf, TransmittanceIsConditionedOnTheShadowRay) {
     }
 }
 
+// The conditioned count against exact intersection counts on generated blocks: fibers
+// (radius 1) placed as a Poisson process in the cross-section (eight blocks), shadow rays
+// of length L from points outside every fiber. The expected count a density source reports
+// is n = 2ρL (centres within 1 of the segment, minus the unit disc around the origin that
+// no fiber's centre may occupy). Over the rays that hit a fiber, the mean count is
+// n / (1 − e^{−n}), which the improved formulation uses, not n.
+TEST(DualCount, ConditionedCountMatchesExactIntersections) {
+    std::mt19937_64 rng(17);
+    std::uniform_real_distribution<double> U;
+    const double box = 300, rho = 0.02;
+    std::vector<std::vector<glm::dvec2>> blocks(8);
+    for (auto& centres : blocks) {
+        std::poisson_distribution<int> count(rho * box * box);
+        for (int k = count(rng); k > 0; --k) centres.emplace_back(box * U(rng), box * U(rng));
+    }
+    for (double L : {6.0, 20.0, 60.0}) {
+        const double n = 2 * rho * L;
+        double hits = 0, blocked = 0;
+        for (int r = 0; r < 16000; ++r) {
+            const auto& centres = blocks[std::size_t(r) % blocks.size()];
+            const glm::dvec2 o(70 + 160 * U(rng), 70 + 160 * U(rng));
+            const double a = 2 * hs::kPi<double> * U(rng);
+            const glm::dvec2 d(std::cos(a), std::sin(a));
+            bool inside = false;
+            int crossed = 0;
+            for (const glm::dvec2& c : centres) {
+                const glm::dvec2 oc = c - o;
+                if (glm::dot(oc, oc) < 1) inside = true;
+                const double t = std::clamp(glm::dot(oc, d), 0.0, L);
+                const glm::dvec2 q = o + t * d - c;
+                if (glm::dot(q, q) < 1) ++crossed;
+            }
+            if (inside) continue;  // a shading point lies on a fiber's surface, not inside one
+            if (crossed > 0) {
+                hits += crossed;
+                blocked += 1;
+            }
+        }
+        const double measured = hits / blocked, conditioned = n / (1 - std::exp(-n));
+        std::printf("[ count    ] n = %.2f: mean count of blocked rays %.3f, n / (1 - e^-n) = %.3f\n", n, measured,
+                    conditioned);
+        EXPECT_NEAR(measured, conditioned, 0.03 * conditioned) << "L " << L;
+        if (n < 1) {
+            EXPECT_GT(std::abs(measured - n), 0.25 * measured);  // the unconditional n is far off
+        }
+    }
+}
+
 TEST(DualBcsdf, BackscatterGrowsWithTheHairBeyond) {
     const HairSetup s(kHairs[1]);
     const auto e = s.tables.lookup(0.1);
