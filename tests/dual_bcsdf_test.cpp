@@ -19,6 +19,7 @@
 namespace hs = hairscatter;
 using glm::dvec3;
 using glm::dvec4;
+using slab::draw4;
 
 namespace {
 
@@ -300,7 +301,7 @@ TEST(DualBcsdf, FloatSamplerMatchesPdfAndAgreesWithQuery) {
     std::uniform_real_distribution<float> U(0, 1);
     double worst = 0;
     for (int k = 0; k < 20000; ++k) {
-        const auto s = at.sample(glm::vec4(U(rng), U(rng), U(rng), U(rng)));
+        const auto s = at.sample(glm::vec4(draw4(U, rng)));
         ASSERT_GT(s.pdf, 0.0f);
         worst = std::max(worst, double(std::abs(at.pdf(s.wi) - s.pdf) / s.pdf));
     }
@@ -413,9 +414,10 @@ TEST(DualBcsdf, ImportanceSamplingReducesVariance) {
         const int N = 200000;
         double m1 = 0, m2 = 0, u1 = 0, u2 = 0;
         for (int k = 0; k < N; ++k) {
-            const auto si = at.sample(dvec4(U(rng), U(rng), U(rng), U(rng)));
+            const auto si = at.sample(draw4(U, rng));
             const double vi = si.pdf > 0 ? mean(at.eval(si.wi, light)) / si.pdf : 0;
-            const auto su = hs::uniform_sphere_sample(U(rng), U(rng));
+            const double su_u1 = U(rng);
+            const auto su = hs::uniform_sphere_sample(su_u1, U(rng));
             const double vu = mean(at.eval(su.wi, light)) / su.pdf;
             m1 += vi, m2 += vi * vi, u1 += vu, u2 += vu * vu;
         }
@@ -429,20 +431,22 @@ TEST(DualBcsdf, ImportanceSamplingReducesVariance) {
 }
 
 TEST(DualBcsdf, AgreesWithPathTracedSlabOfExplicitFibers) {
-    // Tolerance 20 % on the mean over first hits (measured: blond 0.96–1.10, dark 0.93–0.97;
-    // the path estimate's own noise at 20,000 paths is about 2 %). The improved formulation
-    // must also beat Zinke's text where that one is far off (blond seen from the light's side).
+    // Tolerance 20 % on the mean over first hits (measured: blond 0.95–1.15, dark 0.94–0.97),
+    // where the path estimate's own noise (2σ, checked) is below 8 % (measured 3.5–5.7 %). The improved
+    // formulation must also beat Zinke's text where that one is far off (blond seen from the
+    // light's side). Views through the ten-fiber slab carry too little light to test here
+    // (docs/results/slab.md has them at other depths).
     const dvec3 wl = glm::normalize(dvec3(0.3, 0.35, 0.9));
-    const dvec3 geometry[] = {glm::normalize(dvec3(-0.1, -0.2, 0.95)), glm::normalize(dvec3(0.2, 0.5, 0.7)),
-                              glm::normalize(dvec3(-0.2, -0.3, -0.9))};
-    const char* names[] = {"seen from the light's side", "grazing", "seen through the slab"};
+    const dvec3 geometry[] = {glm::normalize(dvec3(-0.1, -0.2, 0.95)), glm::normalize(dvec3(0.2, 0.5, 0.7))};
+    const char* names[] = {"seen from the light's side", "grazing"};
     for (int hair : {1, 2}) {
-        for (int g = 0; g < 3; ++g) {
-            if (hair == 2 && g == 2) continue;  // dark hair lets nothing through ten fibers
+        for (int g = 0; g < 2; ++g) {
             const slab::Sums r = slab::compare_dual(params_of(kHairs[hair]), 10, wl, geometry[g], 20000);
+            const double m = r.path / r.hits, noise = 2 * std::sqrt(std::max(0.0, r.path_sq / r.hits - m * m) / r.hits);
+            ASSERT_LT(noise, 0.08 * m) << "the path-traced reference is too noisy to compare with";
             const double ratio = r.improved / r.path, ratio_z = r.zinke / r.path;
-            std::printf("[ slab     ] %s, %s: dual / path = %.3f (Zinke 2008: %.3f)\n", kHairs[hair].name, names[g], ratio,
-                        ratio_z);
+            std::printf("[ slab     ] %s, %s: dual / path = %.3f (Zinke 2008: %.3f; path noise %.1f %%)\n",
+                        kHairs[hair].name, names[g], ratio, ratio_z, 100 * noise / m);
             EXPECT_NEAR(ratio, 1.0, 0.2) << kHairs[hair].name << " " << names[g];
             if (hair == 1 && g == 0) {
                 EXPECT_LT(std::abs(ratio - 1), std::abs(ratio_z - 1));

@@ -162,6 +162,14 @@ struct Sums {
 
 inline double mean(const dvec3& v) { return (v.x + v.y + v.z) / 3; }
 
+// Four uniform numbers drawn in order (the order in which a function's arguments are
+// evaluated differs between compilers, and with it the random stream).
+template <typename Dist, typename Rng> glm::dvec4 draw4(Dist& u, Rng& rng) {
+    glm::dvec4 r;
+    for (int i = 0; i < 4; ++i) r[i] = u(rng);
+    return r;
+}
+
 inline Sums compare_dual(const hs::FiberParams<double>& params, double tau, const dvec3& wl, const dvec3& wo, int paths) {
     using Dual = hs::DualScatteringBcsdf<hs::ChiangFiber<double>>;
     const hs::ChiangMaterial<double> mat(params);
@@ -200,7 +208,7 @@ inline Sums compare_dual(const hs::FiberParams<double>& params, double tau, cons
             const hs::ChiangFiber<double> fiber(mat, glm::dot(cur.p - cur.axis, fr.y));
             const dvec3 wo_l = fr.to_local(w);
             if (s.intersect(cur.p, wl, cur.fiber).fiber < 0) L += mean(beta * fiber.eval(wo_l, fr.to_local(wl)));
-            const auto smp = fiber.sample(wo_l, dvec4(U(rng), U(rng), U(rng), U(rng)));
+            const auto smp = fiber.sample(wo_l, draw4(U, rng));
             if (!(smp.pdf > 0)) break;
             beta *= smp.weight;
             const dvec3 d = glm::normalize(fr.to_world(smp.wi));
