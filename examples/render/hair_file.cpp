@@ -75,6 +75,10 @@ HairFile parse_hair(const std::vector<unsigned char>& bytes, const std::string& 
         throw fail("default segment count " + std::to_string(default_segments) + " exceeds 65535");
     if (!(flags & kThicknessBit) && !(std::isfinite(h.default_thickness) && h.default_thickness > 0))
         throw fail("default thickness " + std::to_string(h.default_thickness) + " is not a positive number");
+    // With per-point thickness the header's default is unused; keep a valid one so that the
+    // file written back (which drops an empty thickness array) reads again.
+    if ((flags & kThicknessBit) && !(std::isfinite(h.default_thickness) && h.default_thickness > 0))
+        h.default_thickness = 1.0f;
 
     // Every array's size follows from the header: check the file length before reading.
     const std::uint64_t per_point = 12u + ((flags & kThicknessBit) ? 4u : 0u) + ((flags & kTransparencyBit) ? 4u : 0u) +

@@ -212,6 +212,21 @@ TEST(HairFile, EmptyFileRoundTrips) {
     std::remove(path.c_str());
 }
 
+// Found by the fuzzer: a file with a thickness array (empty: no points) and a header
+// default of -0 parsed, but the file written back (no thickness array, so the default
+// counts) did not. The unused default is now kept valid.
+TEST(HairFile, EmptyThicknessArrayWithInvalidDefaultRoundTrips) {
+    std::vector<unsigned char> b(128, 0);
+    std::memcpy(b.data(), "HAIR", 4);
+    const std::uint32_t flags = 0x17;  // segments, points, thickness, colours
+    std::memcpy(b.data() + 12, &flags, 4);
+    const float minus_zero = -0.0f;
+    std::memcpy(b.data() + 20, &minus_zero, 4);
+    const HairFile h = parse_hair(b, "mem");
+    EXPECT_EQ(h.strand_count(), 0u);
+    EXPECT_NO_THROW(parse_hair(serialize_hair(h), "round trip"));
+}
+
 }  // namespace
 
 // Every allocation of this test program goes through here (so the test above can see the
