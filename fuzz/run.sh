@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets of fuzz/ with clang (-fsanitize=fuzzer,address,undefined) and
 # runs each for FUZZ_SECONDS (default 60) from its committed corpus fuzz/corpus/<target>
-# (copied: new inputs go to the build tree, the committed corpus is not changed). A crash
+# (copied: new inputs go to the build tree, the committed corpus is not changed), from a
+# fixed seed (FUZZ_SEED, default 1) so that a CI run is repeatable. A crash
 # leaves its input in <build>/crashes/<target>/ and fails the run; turn it into a
 # regression test. Skipped, with a message, when clang or its libFuzzer is missing.
 #
@@ -54,7 +55,7 @@ for t in "${targets[@]}"; do
     mkdir -p "$work" "$crashes"
     cp "$ROOT/fuzz/corpus/$t"/* "$work"/ 2>/dev/null || true
     echo "+ $t for ${SECONDS_EACH}s (corpus: $(ls "$work" | wc -l) inputs)"
-    if ! "$BUILD/$t" -max_total_time="$SECONDS_EACH" -timeout=20 -rss_limit_mb=2048 -max_len=4096 \
+    if ! "$BUILD/$t" -seed="${FUZZ_SEED:-1}" -max_total_time="$SECONDS_EACH" -timeout=20 -rss_limit_mb=2048 -max_len=4096 \
         -print_final_stats=1 -artifact_prefix="$crashes/" "$work" >"$BUILD/$t.log" 2>&1; then
         echo "fuzz: $t FAILED; input(s) in $crashes, log $BUILD/$t.log" >&2
         tail -n 40 "$BUILD/$t.log" >&2
