@@ -225,6 +225,25 @@ int convergence(const Common& c, int max_spp, int reference_spp, const std::stri
     return 0;
 }
 
+// A path-traced reference as two independent halves of spp / 2 each (seeds a and b) and
+// their mean: the halves' difference states the reference's own noise.
+struct HalvedReference {
+    render::RenderResult a, b, mean;
+};
+HalvedReference path_reference(const Common& c, const render::Scene& scene, const render::ShadingSetup& shading,
+                               int spp, std::uint64_t seed_a, std::uint64_t seed_b) {
+    render::RenderOptions po = options(c, render::Integrator::kPath, render::Sampling::kMis, spp / 2, seed_a);
+    po.progress = true;
+    HalvedReference r;
+    r.a = render::render(scene, shading, po);
+    po.seed = seed_b;
+    r.b = render::render(scene, shading, po);
+    r.mean = r.a;
+    for (std::size_t i = 0; i < r.mean.rgb.size(); ++i) r.mean.rgb[i] = 0.5f * (r.a.rgb[i] + r.b.rgb[i]);
+    r.mean.seconds = r.a.seconds + r.b.seconds;
+    return r;
+}
+
 // ---- dual scattering against path tracing ------------------------------------------------
 
 int dual_vs_path(const Common& c, const std::string& kind, const std::vector<int>& hair_counts,
@@ -236,16 +255,9 @@ int dual_vs_path(const Common& c, const std::string& kind, const std::vector<int
     for (const std::string& colour : colours)
         for (int hairs : hair_counts) {
             const render::Scene scene(block_scene(hairs, c.lighting, c.ground, kind));
-            // The reference: two independent path-traced halves; their difference states its noise.
             const render::ShadingSetup path_shading(scene, shading_options(colour));
-            render::RenderOptions po = options(c, render::Integrator::kPath, render::Sampling::kMis, path_spp / 2, 1);
-            po.progress = true;
-            const render::RenderResult pa = render::render(scene, path_shading, po);
-            po.seed = 7;
-            const render::RenderResult pb = render::render(scene, path_shading, po);
-            render::RenderResult path = pa;
-            for (std::size_t i = 0; i < path.rgb.size(); ++i) path.rgb[i] = 0.5f * (pa.rgb[i] + pb.rgb[i]);
-            path.seconds = pa.seconds + pb.seconds;
+            const HalvedReference ref = path_reference(c, scene, path_shading, path_spp, 1, 7);
+            const render::RenderResult &pa = ref.a, &pb = ref.b, &path = ref.mean;
             const Roi roi(path);
             const auto sum = [](const glm::dvec3& m) { return m.x + m.y + m.z; };
             const double mp = sum(roi.mean(path.rgb));
@@ -299,13 +311,8 @@ int dual_vs_path(const Common& c, const std::string& kind, const std::vector<int
 int time_to_error(const Common& c, int reference_spp, int dual_max_spp, int path_max_spp) {
     const render::Scene scene(block_scene(c.hairs, c.lighting, c.ground));
     const render::ShadingSetup shading(scene, shading_options(c.colour));
-    render::RenderOptions ro = options(c, render::Integrator::kPath, render::Sampling::kMis, reference_spp / 2, 1000003);
-    ro.progress = true;
-    const render::RenderResult ra = render::render(scene, shading, ro);
-    ro.seed = 2000003;
-    const render::RenderResult rb = render::render(scene, shading, ro);
-    render::RenderResult ref = ra;
-    for (std::size_t i = 0; i < ref.rgb.size(); ++i) ref.rgb[i] = 0.5f * (ra.rgb[i] + rb.rgb[i]);
+    const HalvedReference halves = path_reference(c, scene, shading, reference_spp, 1000003, 2000003);
+    const render::RenderResult &ra = halves.a, &rb = halves.b, &ref = halves.mean;
     const Roi roi(ref);
     const glm::dvec3 mref = roi.mean(ref.rgb);
     const double mean_ref = (mref.x + mref.y + mref.z) / 3;
