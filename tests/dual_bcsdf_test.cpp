@@ -90,6 +90,11 @@ TEST(DualLayers, AddingFormulaMatchesIterationAndClosedForms) {
         EXPECT_NEAR(s.R, N * b / (1 + (N - 1) * b), tol);
         EXPECT_NEAR(s.R + s.T_, 1.0, tol);
     }
+    // The deep stack's closed form is the limit of the stack (absorbing layers; a lossless
+    // stack approaches 1 only as 1/N, so it is checked on its own).
+    for (double af : {0.2, 0.7, 0.85})
+        EXPECT_NEAR(hs::deep_reflectance(af, 0.1), hs::layered_stack(af, 0.1, 1e9).R, 1e-9) << af;
+    EXPECT_NEAR(hs::deep_reflectance(0.9, 0.1), 1.0, 1e-9);  // lossless
     // Fractional depth lies between whole layers.
     const auto a = hs::layered_stack(0.8, 0.1, 3.0), c = hs::layered_stack(0.8, 0.1, 4.0), m = hs::layered_stack(0.8, 0.1, 3.25);
     EXPECT_GT(m.R, a.R);

@@ -97,7 +97,7 @@ template <typename T>
 HAIRSCATTER_HD glm::vec<3, T> dual_backscatter_scaled(const DualScatteringEntry<T>& e, const glm::vec<3, T>& below_R) {
     glm::vec<3, T> r;
     for (int c = 0; c < 3; ++c) {
-        const T deep = layered_stack(e.a_f[c], e.a_b[c], T(1e12)).R - e.a_b[c];
+        const T deep = deep_reflectance(e.a_f[c], e.a_b[c]) - e.a_b[c];
         const T here = below_R[c] - e.a_b[c];
         r[c] = deep > T(1e-12) && here > T(0) ? e.A_b[c] * clamp(here / deep, T(0), T(1)) : T(0);
     }
@@ -251,7 +251,8 @@ template <typename Fiber> class DualScatteringBcsdf {
             const T s2b = mean(es.sigma2_b);
             s2_back_ = s2b > T(1e-6) ? s2b : T(1e-6);
             s2_spread_ = spread > T(0) ? spread : T(0);
-            const T ab = (improved() ? T(2) : T(1)) * mean(dual_backscatter(es, kUnbounded<T>, s.formulation));
+            // A deep volume's A_b (the finite-depth factor is 1): the table value.
+            const T ab = (improved() ? T(2) : T(1)) * mean(es.A_b);
 
             T gsum = T(0);
             for (int p = 0; p < kMaxLobes; ++p) {

@@ -81,6 +81,13 @@ template <typename T> void derive_backscattering(DualScatteringEntry<T>& e, T d_
 // smooth in N (a fractional number of layers needs no interpolation). ρ and 1/S_N are
 // written with expm1 so that they stay finite for any N and exact as κ → 0, the lossless
 // limit where R_N = N a_b / (1 + (N - 1) a_b). Depths below one layer interpolate to none.
+// R_∞, the reflectance of a deep stack: the fixed point of the adding formula,
+// a_b R² − (1 − a_f² + a_b²) R + a_b = 0, its smaller root in the form without cancellation.
+template <typename T> HAIRSCATTER_HD T deep_reflectance(T a_f, T a_b) {
+    const T s = T(1) - a_f * a_f + a_b * a_b;
+    return a_b > T(0) ? T(2) * a_b / (s + safe_sqrt(s * s - T(4) * a_b * a_b)) : T(0);
+}
+
 template <typename T> struct LayerStack {
     T R = T(0), T_ = T(1);
 };
