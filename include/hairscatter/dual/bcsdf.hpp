@@ -48,18 +48,32 @@ template <typename T> struct DualForward {
     glm::vec<3, T> flux{T(1)};  // improved: the downward flux T_n / (1 - R_n R_{m+1}) that drives f_back^G
     T spread = T(0);  // σ̄²_f, channel mean
 };
-template <typename T>
-HAIRSCATTER_HD glm::vec<3, T> dual_below_reflectance(const DualScatteringEntry<T>& e, T beyond) {
+// The layer coefficients of an entry's three channels (κ and friends, tables.hpp), shared
+// by every stack the BCSDF builds at one lookup.
+template <typename T> struct DualLayers {
+    LayerCoefficients<T> c[3];
+};
+template <typename T> HAIRSCATTER_HD DualLayers<T> dual_layers(const DualScatteringEntry<T>& e) {
+    DualLayers<T> l;
+    for (int c = 0; c < 3; ++c) l.c[c] = layer_coefficients(e.a_f[c], e.a_b[c]);
+    return l;
+}
+template <typename T> HAIRSCATTER_HD glm::vec<3, T> dual_below_reflectance(const DualLayers<T>& l, T beyond) {
     const T m = is_finite(beyond) ? (beyond > T(0) ? beyond : T(0)) : (beyond > T(0) ? T(1e12) : T(0));  // NaN → 0
     glm::vec<3, T> r;
-    for (int c = 0; c < 3; ++c) r[c] = layered_stack(e.a_f[c], e.a_b[c], m + T(1)).R;
+    for (int c = 0; c < 3; ++c) r[c] = layered_stack(l.c[c], m + T(1)).R;
     return r;
 }
-// below_R: R_{m+1} of dual_below_reflectance (improved only; computed here if negative).
+template <typename T>
+HAIRSCATTER_HD glm::vec<3, T> dual_below_reflectance(const DualScatteringEntry<T>& e, T beyond) {
+    return dual_below_reflectance(dual_layers(e), beyond);
+}
+// below_R: R_{m+1} of dual_below_reflectance (improved only; computed here if negative);
+// layers: the entry's dual_layers (computed here if null).
 template <typename T>
 HAIRSCATTER_HD DualForward<T> dual_forward(const DualScatteringLight<T>& light, const DualScatteringEntry<T>& e,
-                                           DualFormulation formulation, glm::vec<3, T> below_R = glm::vec<3, T>(T(-1))) {
-    using std::expm1;
+                                           DualFormulation formulation, glm::vec<3, T> below_R = glm::vec<3, T>(T(-1)),
+                                           const DualLayers<T>* layers = nullptr) {
     using std::pow;
     DualForward<T> r;
     const T beta2 = (e.beta2_f.x + e.beta2_f.y + e.beta2_f.z) * T(1.0 / 3.0);
@@ -75,11 +89,12 @@ HAIRSCATTER_HD DualForward<T> dual_forward(const DualScatteringLight<T>& light, 
         r.spread = n0 * beta2;
         return r;
     }
-    const T q = -expm1(-n0);  // P(N ≥ 1)
+    const T q = -elem::expm1(-n0);  // P(N ≥ 1)
     const T n = q > T(1e-6) ? n0 / q : T(1);
-    if (below_R.x < T(0)) below_R = dual_below_reflectance(e, light.beyond);
+    const DualLayers<T> l = layers ? *layers : dual_layers(e);
+    if (below_R.x < T(0)) below_R = dual_below_reflectance(l, light.beyond);
     for (int c = 0; c < 3; ++c) {
-        const LayerStack<T> above = layered_stack(e.a_f[c], e.a_b[c], n);
+        const LayerStack<T> above = layered_stack(l.c[c], n);
         const T den = T(1) - above.R * below_R[c];
         r.flux[c] = den > T(0) ? clamp(above.T_ / den, T(0), T(1)) : T(1);
         r.transmittance[c] = pow(e.a_f[c], n);
@@ -94,14 +109,19 @@ HAIRSCATTER_HD DualForward<T> dual_forward(const DualScatteringLight<T>& light, 
 // (R_{m+1} - a_b) / (R_∞ - a_b), the share of a deep volume's multiple backscattering that
 // the point's layer and the m layers after it return. below_R is R_{m+1}.
 template <typename T>
-HAIRSCATTER_HD glm::vec<3, T> dual_backscatter_scaled(const DualScatteringEntry<T>& e, const glm::vec<3, T>& below_R) {
+HAIRSCATTER_HD glm::vec<3, T> dual_backscatter_scaled(const DualScatteringEntry<T>& e, const DualLayers<T>& l,
+                                                      const glm::vec<3, T>& below_R) {
     glm::vec<3, T> r;
     for (int c = 0; c < 3; ++c) {
-        const T deep = deep_reflectance(e.a_f[c], e.a_b[c]) - e.a_b[c];
+        const T deep = deep_reflectance(l.c[c]) - e.a_b[c];
         const T here = below_R[c] - e.a_b[c];
         r[c] = deep > T(1e-12) && here > T(0) ? e.A_b[c] * clamp(here / deep, T(0), T(1)) : T(0);
     }
     return r;
+}
+template <typename T>
+HAIRSCATTER_HD glm::vec<3, T> dual_backscatter_scaled(const DualScatteringEntry<T>& e, const glm::vec<3, T>& below_R) {
+    return dual_backscatter_scaled(e, dual_layers(e), below_R);
 }
 template <typename T>
 HAIRSCATTER_HD glm::vec<3, T> dual_backscatter(const DualScatteringEntry<T>& e, T beyond, DualFormulation formulation) {
@@ -174,10 +194,13 @@ template <typename Fiber> class DualScatteringBcsdf {
                 sin_i = T(1) - T(2) * clamp(u.y, T(0), T(1));
                 phi = kTwoPi<T> * clamp(u.z, T(0), T(1)) - kPi<T>;
             } else if (c.index == 0) {
+                // The model's own sample: its pdf is the mixture's single-fiber term.
                 const auto s = single_.sample(V4(c.rescaled, u.y, u.z, u.w));
-                if (!(s.pdf > T(0))) return r;
-                sin_i = s.wi.x;
-                phi = relative_azimuth(wo_, s.wi);
+                if (!(s.pdf > T(0) && finite(s.wi))) return r;
+                r.wi = s.wi;
+                r.pdf = density(r.wi, relative_azimuth(wo_, r.wi), s.pdf);
+                if (!(r.pdf > T(0))) r.pdf = T(0);
+                return r;
             } else if (c.index == 2) {
                 const DiscreteChoice<T> l = sample_discrete(g_, kMaxLobes, c.rescaled, T(1));
                 const int p = l.index;
@@ -332,16 +355,18 @@ template <typename Fiber> class DualScatteringBcsdf {
             if (!(lit_back || shadowed)) return df * f_single;
             // A_b: Zinke's table value, scaled by the depth of hair beyond (R_{m+1} shared with D).
             V3 below_R(T(-1)), ab = ei.A_b;
+            DualLayers<T> layers;
             if (improved()) {
-                below_R = dual_below_reflectance(ei, light.beyond);
-                ab = dual_backscatter_scaled(ei, below_R);
+                layers = dual_layers(ei);
+                below_R = dual_below_reflectance(layers, light.beyond);
+                ab = dual_backscatter_scaled(ei, layers, below_R);
             }
 
             V3 f = df * f_single;
             if (lit_back) f += kBack * df * s.d_b * ab * (DeonLongitudinal<T>(s2b).eval(sin_i, cos_i, sb, cb) * kInvPi<T>);
             if (!shadowed) return f;
 
-            const DualForward<T> fw = dual_forward(light, ei, s.formulation, below_R);
+            const DualForward<T> fw = dual_forward(light, ei, s.formulation, below_R, improved() ? &layers : nullptr);
             V3 scale, scale_back;
             if (improved()) {
                 scale = (T(1) - df) * s.d_f * fw.transmittance;

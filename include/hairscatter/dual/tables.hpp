@@ -91,40 +91,69 @@ template <typename T> HAIRSCATTER_HD T deep_reflectance(T a_f, T a_b) {
 template <typename T> struct LayerStack {
     T R = T(0), T_ = T(1);
 };
-template <typename T> HAIRSCATTER_HD LayerStack<T> layered_stack(T a_f, T a_b, T layers) {
-    using std::exp;
-    using std::expm1;
-    using std::log1p;
+// What one layer's (a_f, a_b) fix for any depth, computed once per channel and shared by
+// every stack of that layer: κ = acosh(1 + δ), e^{-κ} and q = 1 - e^{-2κ}. e^κ = 1 + δ +
+// √(δ(δ + 2)) exactly, so only κ itself needs a logarithm, and 1 - e^{-κ} = x / (1 + x)
+// (x = e^κ - 1) keeps q free of cancellation as κ → 0.
+template <typename T> struct LayerCoefficients {
+    T a_f = T(0), a_b = T(0);
+    T kappa = T(0), e_k = T(1), q = T(0);
+};
+template <typename T> HAIRSCATTER_HD LayerCoefficients<T> layer_coefficients(T a_f, T a_b) {
     using std::sqrt;
+    LayerCoefficients<T> c;
+    c.a_f = a_f;
+    c.a_b = a_b;
+    if (!(a_f > T(0))) return c;  // opaque: layered_stack's own branch
+    // cosh κ = 1 + δ, δ = ((1 - a_f)² - a_b²) / 2a_f without cancellation.
+    const T gap = T(1) - a_f - a_b;
+    const T delta = (gap > T(0) ? gap : T(0)) * (T(1) - a_f + a_b) / (T(2) * a_f);
+    const T x = delta + sqrt(delta * (delta + T(2)));  // e^κ - 1
+    c.kappa = elem::log1p(x);
+    c.e_k = T(1) / (T(1) + x);
+    c.q = x * c.e_k * (T(1) + c.e_k);  // (1 - e^{-κ})(1 + e^{-κ})
+    return c;
+}
+// R_∞ of the same layer, a_b / (1 - a_f e^{-κ}): equal to deep_reflectance and consistent
+// with layered_stack as the depth grows (the ratio of the two tends to exactly 1).
+template <typename T> HAIRSCATTER_HD T deep_reflectance(const LayerCoefficients<T>& c) {
+    if (!(c.a_b > T(0))) return T(0);
+    const T den = T(1) - c.a_f * c.e_k;
+    return den > T(0) ? c.a_b / den : T(1);
+}
+template <typename T> HAIRSCATTER_HD LayerStack<T> layered_stack(const LayerCoefficients<T>& c, T layers) {
     LayerStack<T> r;
     const T n = is_finite(layers) ? clamp(layers, T(0), T(1e12)) : (layers > T(0) ? T(1e12) : T(0));  // NaN → 0
-    if (!(a_f > T(0))) {  // an opaque layer: the first one reflects, nothing passes
-        r.R = n >= T(1) ? a_b : n * a_b;
+    if (!(c.a_f > T(0))) {  // an opaque layer: the first one reflects, nothing passes
+        r.R = n >= T(1) ? c.a_b : n * c.a_b;
         r.T_ = n >= T(1) ? T(0) : T(1) - n;
         return r;
     }
     const T N = n > T(1) ? n : T(1);
-    // cosh κ = 1 + δ, δ = ((1 - a_f)² - a_b²) / 2a_f without cancellation.
-    const T gap = T(1) - a_f - a_b;
-    const T delta = (gap > T(0) ? gap : T(0)) * (T(1) - a_f + a_b) / (T(2) * a_f);
-    const T kappa = log1p(delta + sqrt(delta * (delta + T(2))));
     T rho, inv_s;
-    const T e_n = expm1(T(-2) * N * kappa);
-    if (e_n > T(-1e-12)) {  // κ N ≈ 0: the lossless limit
+    if (T(2) * N * c.kappa < T(1e-12)) {  // κ N ≈ 0: the lossless limit
         rho = (N - T(1)) / N;
         inv_s = T(1) / N;
     } else {
-        rho = exp(-kappa) * expm1(T(-2) * (N - T(1)) * kappa) / e_n;
-        inv_s = exp(-(N - T(1)) * kappa) * expm1(T(-2) * kappa) / e_n;
+        // With d = 1 - e^{-(N-1)κ}: 1 - e^{-2(N-1)κ} = d (2 - d) and
+        // 1 - e^{-2Nκ} = q + d (2 - d)(1 - q), sums of non-negative terms.
+        const T d = -elem::expm1(-(N - T(1)) * c.kappa);
+        const T a = d * (T(2) - d);
+        const T s = c.q + a * (T(1) - c.q);
+        rho = c.e_k * a / s;
+        inv_s = (T(1) - d) * c.q / s;
     }
-    const T den = T(1) - a_f * rho;
-    r.R = den > T(0) ? a_b / den : T(1);
-    r.T_ = den > T(0) ? a_f * inv_s / den : T(0);
+    const T den = T(1) - c.a_f * rho;
+    r.R = den > T(0) ? c.a_b / den : T(1);
+    r.T_ = den > T(0) ? c.a_f * inv_s / den : T(0);
     if (n < T(1)) {  // between no layer and one
         r.R = n * r.R;
         r.T_ = T(1) + n * (r.T_ - T(1));
     }
     return r;
+}
+template <typename T> HAIRSCATTER_HD LayerStack<T> layered_stack(T a_f, T a_b, T layers) {
+    return layered_stack(layer_coefficients(a_f, a_b), layers);
 }
 
 template <typename T> struct DualTableOptions {

@@ -31,10 +31,9 @@ template <typename T> class DeonLongitudinal {
   public:
     DeonLongitudinal() = default;
     HAIRSCATTER_HD explicit DeonLongitudinal(T v) : v_(v), inv_v_(T(1) / v) {
-        using std::exp;
-        using std::expm1;
-        exp_m2_over_v_ = exp(T(-2) * inv_v_);  // underflows to 0 for v < 0.02 in float: harmless
-        norm_ = inv_v_ / -expm1(T(-2) * inv_v_);
+        // (made per call where the variance depends on the light, as in dual scattering)
+        exp_m2_over_v_ = elem::exp(T(-2) * inv_v_);  // underflows to 0 for v < 0.02 in float: harmless
+        norm_ = inv_v_ / -elem::expm1(T(-2) * inv_v_);
     }
 
     HAIRSCATTER_HD T variance() const { return v_; }
