@@ -141,7 +141,7 @@ Scene::Scene(SceneDescription description) : d_(std::move(description)) {
         light_geom_ = attach(add_triangles(pos, {{0, 1, 2}, {0, 2, 3}}), true, false);
         mesh_of_geom_.push_back(~0u);
     }
-    if (has_hair()) {
+    if (d_.hair.segment_count() > 0) {
         const Hair& hair = d_.hair;
         if (!(hair.radius > 0) || !std::isfinite(hair.radius))
             throw std::invalid_argument("the hair radius must be a positive number");

@@ -85,7 +85,7 @@ class Scene {
 
     const SceneDescription& description() const { return d_; }
     const SceneStats& stats() const { return stats_; }
-    bool has_hair() const { return d_.hair.segment_count() > 0; }
+    bool has_hair() const { return !strand_of_segment_.empty(); }  // O(1): asked per shadow ray
 
     // The closest hit along o + t d, t in (tmin, tmax); hits on strand `ignore` closer than
     // a few fiber radii are skipped (the fiber a path leaves, whose own passage the BCSDF
