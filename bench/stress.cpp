@@ -13,11 +13,13 @@
 // exactly on the fiber axis are counted apart (no azimuth: nothing to compare), and so are
 // differences that moving wi by 4 ulps explains (within_rounding).
 //
-//   stress [--calls N] [--slow-calls N] [--seed S] [--out FILE]
+//   stress [--calls N] [--slow-calls N] [--dual-calls N] [--only MODEL] [--seed S] [--out FILE]
 //
 // N (default 1e8) is the number of calls per fast model (Chiang, tabulated, tabulated fast())
-// and precision; the far field and Marschner, 10–20× slower per call, get --slow-calls
-// (default N / 10). Prints one Markdown table row per (model, precision) and writes the table.
+// and precision; the far field and Marschner, 10–50× slower per call, get --slow-calls
+// (default N / 10); the dual-scattering BCSDF over the Chiang fiber gets --dual-calls
+// (default N). --only runs the models whose name contains MODEL. Prints one Markdown table
+// row per (model, precision) and writes the table.
 #include <chrono>
 #include <cinttypes>
 #include <cmath>
@@ -29,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include <hairscatter/dual.hpp>
 #include <hairscatter/hairscatter.hpp>
 
 namespace hs = hairscatter;
@@ -140,22 +143,61 @@ bool within_rounding(const Fiber& fiber, const glm::vec<3, T>& wo, const glm::ve
     return double(pdf) >= lo * (1 - kRelTolerance) - kAbsTolerance && double(pdf) <= hi * (1 + kRelTolerance) + kAbsTolerance;
 }
 
+// The inputs of one round: wo, wi, u, and in 1 call of 64 one non-finite component.
+template <typename T> struct Inputs {
+    glm::vec<3, T> wo, wi;
+    glm::vec<4, T> u;
+    bool bad;
+};
+template <typename T> Inputs<T> inputs(Rng& r) {
+    Inputs<T> in{direction<T>(r), direction<T>(r), {}, false};
+    for (int k = 0; k < 4; ++k) in.u[k] = unit_number<T>(r);
+    in.bad = r.below(64) == 0;
+    if (in.bad) {
+        const int which = r.below(10);
+        if (which < 3)
+            in.wo[which] = poison<T>(r);
+        else if (which < 6)
+            in.wi[which - 3] = poison<T>(r);
+        else
+            in.u[which - 6] = poison<T>(r);
+    }
+    return in;
+}
+
+// A sample's direction and pdf: NaN, Inf and negative values counted; a sample exactly on
+// the fiber axis (u.y at 0 or 1 puts sinθi at ±1) has no azimuth, the density there depends
+// on the direction of approach, so it is counted, not compared; any other sample's pdf is
+// compared with back(), the pdf of its direction. within_rounding() is asked only when they
+// differ (it costs six more pdf calls).
+template <typename T, typename Back, typename WithinRounding>
+void check_sample(Counts& c, const glm::vec<3, T>& wi, T pdf, const Back& back, const WithinRounding& within_rounding) {
+    tally(c, pdf);
+    tally_dir(c, wi);
+    if (wi.y == T(0) && wi.z == T(0)) {
+        ++c.pole;
+        return;
+    }
+    if (!(pdf > T(0) && hs::is_finite(pdf) && hs::is_finite(wi))) return;
+    ++c.calls;
+    const T b = back();
+    const double diff = std::fabs(double(b) - double(pdf)), scale = std::fmax(double(b), double(pdf));
+    if (diff <= kRelTolerance * scale + kAbsTolerance) return;
+    if (within_rounding()) {
+        ++c.ulp;
+    } else {
+        ++c.mismatch;
+        if (diff / scale > c.max_rel_mismatch) c.max_rel_mismatch = diff / scale;
+    }
+}
+
 // One round of calls on one fiber: eval_pdf, eval, pdf, sample and the pdf of the sample.
 template <typename T, typename Fiber> void round(const Fiber& fiber, Rng& r, Counts& c) {
     using V3 = glm::vec<3, T>;
-    using V4 = glm::vec<4, T>;
-    V3 wo = direction<T>(r), wi = direction<T>(r);
-    V4 u(unit_number<T>(r), unit_number<T>(r), unit_number<T>(r), unit_number<T>(r));
-    const bool bad = r.below(64) == 0;
-    if (bad) {
-        const int which = r.below(10);
-        if (which < 3)
-            wo[which] = poison<T>(r);
-        else if (which < 6)
-            wi[which - 3] = poison<T>(r);
-        else
-            u[which - 6] = poison<T>(r);
-    }
+    const Inputs<T> in = inputs<T>(r);
+    const V3 &wo = in.wo, &wi = in.wi;
+    const glm::vec<4, T>& u = in.u;
+    const bool bad = in.bad;
     const hs::HairEvalPdf<T> e = fiber.eval_pdf(wo, wi);
     const V3 f = fiber.eval(wo, wi);
     const T pdf = fiber.pdf(wo, wi);
@@ -173,27 +215,68 @@ template <typename T, typename Fiber> void round(const Fiber& fiber, Rng& r, Cou
     tally(c, e.pdf);
     tally(c, f);
     tally(c, pdf);
-    tally(c, s.pdf);
     tally(c, s.weight);
-    tally_dir(c, s.wi);
-    // A sample exactly on the fiber axis (u.y at 0 or 1 puts sinθi at ±1) has no azimuth:
-    // the density there depends on the direction of approach, so it is counted, not compared.
-    if (s.wi.y == T(0) && s.wi.z == T(0)) {
-        ++c.pole;
-    } else if (s.pdf > T(0) && hs::is_finite(s.pdf) && hs::is_finite(s.wi)) {
-        const T back = fiber.pdf(wo, s.wi);
-        ++c.calls;
-        const double diff = std::fabs(double(back) - double(s.pdf)), scale = std::fmax(double(back), double(s.pdf));
-        const double rel = diff / scale;
-        if (!(diff <= kRelTolerance * scale + kAbsTolerance)) {
-            if (within_rounding(fiber, wo, s.wi, s.pdf)) {
-                ++c.ulp;
-            } else {
-                ++c.mismatch;
-                if (rel > c.max_rel_mismatch) c.max_rel_mismatch = rel;
-            }
+    check_sample(c, s.wi, s.pdf, [&] { return fiber.pdf(wo, s.wi); },
+                 [&] { return within_rounding(fiber, wo, s.wi, s.pdf); });
+}
+
+// A light state for the dual-scattering BCSDF: documented values (direct fraction in
+// [0, 1], counts from 0 to far beyond any hair, kUnbounded, a renderer's own T_f and σ̄²_f)
+// and, one call in 16, a NaN, negative or infinite field, which must still give a finite,
+// non-negative value (dual/settings.hpp: the BCSDF clamps what a density source reports).
+template <typename T> hs::DualScatteringLight<T> light_state(Rng& r) {
+    hs::DualScatteringLight<T> l;
+    const T df[4] = {T(0), T(1), T(0.5), T(r.uniform())};
+    l.direct_fraction = df[r.below(4)];
+    const T counts[6] = {T(0), T(20 * r.uniform()), T(1e-9), T(1e7), T(1e30), hs::kUnbounded<T>};
+    l.n = counts[r.below(6)];
+    l.beyond = counts[r.below(6)];
+    if (r.below(4) == 0) {
+        l.use_transmittance = true;
+        l.T_f = glm::vec<3, T>(T(r.uniform()), T(0), T(1));
+        l.sigma2_f = counts[r.below(5)];
+    }
+    if (r.below(16) == 0) {
+        const T bad[4] = {std::numeric_limits<T>::quiet_NaN(), T(-1), -hs::kUnbounded<T>, hs::kUnbounded<T>};
+        const T v = bad[r.below(4)];
+        switch (r.below(6)) {
+            case 0: l.direct_fraction = v; break;
+            case 1: l.n = v; break;
+            case 2: l.beyond = v; break;
+            case 3: l.T_f.y = v; break;
+            case 4: l.sigma2_f = v; break;
+            default: l.use_transmittance = true, l.T_f = glm::vec<3, T>(v); break;
         }
     }
+    return l;
+}
+
+// One round of calls on the dual-scattering BCSDF: eval under a light state, pdf, sample
+// through at(wo, spread) with a spread hint, and the pdf of the sample at the same hint.
+template <typename T, typename Dual> void dual_round(const Dual& dual, Rng& r, Counts& c) {
+    using V3 = glm::vec<3, T>;
+    const auto [wo, wi, u, bad] = inputs<T>(r);
+    const hs::DualScatteringLight<T> light = light_state<T>(r);
+    const T hints[6] = {T(0), T(0), T(0.05 * r.uniform()), T(1), T(1e6), hs::kUnbounded<T>};
+    T spread = hints[r.below(6)];
+    if (r.below(64) == 0) spread = poison<T>(r);  // a broken hint: still a valid density
+    const V3 f = dual.eval(wo, wi, light);
+    const T pdf = dual.pdf(wo, wi);
+    const auto at = dual.at(wo, spread);
+    const hs::DualSample<T> s = at.sample(u);
+    c.calls += 3;
+    if (bad) {
+        bool ok = true;
+        if (!hs::is_finite(wi) || !hs::is_finite(wo)) ok = ok && f == V3(T(0)) && pdf == T(0);
+        if (!hs::is_finite(wo) || !hs::is_finite(u)) ok = ok && s.pdf == T(0);
+        if (!ok) ++c.contract;
+        return;
+    }
+    tally(c, f);
+    tally(c, pdf);
+    // The sampler's pdf is at.pdf of its direction by construction; the comparison checks
+    // that this holds on every path (no mismatch is explained by rounding here).
+    check_sample(c, s.wi, s.pdf, [&] { return at.pdf(s.wi); }, [] { return false; });
 }
 
 // The parameter sets every model cycles through: defaults, both roughnesses at the lower
@@ -253,9 +336,13 @@ struct Row {
     int materials;
 };
 
+// --only: run just the models whose name contains this text (timing a model alone).
+std::string g_only;
+
 template <typename T, typename MakeRound>
 Row run(const char* model, std::uint64_t calls, int materials, std::uint64_t seed, const MakeRound& per_material) {
     Row row{model, sizeof(T) == 4 ? "float" : "double", {}, 0, materials};
+    if (std::string(model).find(g_only) == std::string::npos) return row;
     Rng r{seed};
     const auto t0 = std::chrono::steady_clock::now();
     for (int m = 0; m < materials; ++m) {
@@ -270,7 +357,8 @@ Row run(const char* model, std::uint64_t calls, int materials, std::uint64_t see
     return row;
 }
 
-template <typename T> void models(std::vector<Row>& rows, std::uint64_t calls, std::uint64_t slow, std::uint64_t seed) {
+template <typename T>
+void models(std::vector<Row>& rows, std::uint64_t calls, std::uint64_t slow, std::uint64_t dual, std::uint64_t seed) {
     const auto fp = fiber_params<T>();
     const int nf = int(fp.size());
     rows.push_back(run<T>("Chiang", calls, nf, seed + 1, [&](int m, auto&& loop) {
@@ -296,6 +384,19 @@ template <typename T> void models(std::vector<Row>& rows, std::uint64_t calls, s
         const hs::DeonFarFieldFiber<T> fiber(mat);
         loop([&](Rng& r, Counts& c) { round<T>(fiber, r, c); });
     }));
+    // Dual scattering over the Chiang fiber (h as above), the tables of each material, the
+    // improved formulation on even materials and Zinke 2008's on odd ones.
+    rows.push_back(run<T>("dual (Chiang)", dual, nf, seed + 6, [&](int m, auto&& loop) {
+        const hs::ChiangMaterial<T> mat(fp[std::size_t(m)]);
+        hs::DualTableOptions<T> o;
+        o.settings = m % 2 ? hs::DualScatteringSettings<T>::zinke2008() : hs::DualScatteringSettings<T>::improved();
+        const auto tables = hs::DualScatteringTables<T>::template build<hs::ChiangFiber<T>>(mat, o);
+        loop([&](Rng& r, Counts& c) {
+            const int k = r.below(8);
+            const T h = k == 0 ? T(1) : k == 1 ? T(-1) : k == 2 ? T(0) : T(2 * r.uniform() - 1);
+            dual_round<T>(hs::DualScatteringBcsdf<hs::ChiangFiber<T>>(hs::ChiangFiber<T>(mat, h), tables), r, c);
+        });
+    }));
     const auto mp = marschner_params<T>();
     rows.push_back(run<T>("Marschner", slow, int(mp.size()), seed + 5, [&](int m, auto&& loop) {
         const hs::MarschnerMaterial<T> mat(mp[std::size_t(m)]);
@@ -307,7 +408,7 @@ template <typename T> void models(std::vector<Row>& rows, std::uint64_t calls, s
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::uint64_t calls = 100000000, slow = 0, seed = 1;
+    std::uint64_t calls = 100000000, slow = 0, dual = 0, seed = 1;
     std::string out;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -322,19 +423,27 @@ int main(int argc, char** argv) {
             calls = std::uint64_t(std::atof(value()));
         else if (a == "--slow-calls")
             slow = std::uint64_t(std::atof(value()));
+        else if (a == "--dual-calls")
+            dual = std::uint64_t(std::atof(value()));
+        else if (a == "--only")
+            g_only = value();
         else if (a == "--seed")
             seed = std::uint64_t(std::atoll(value()));
         else if (a == "--out")
             out = value();
         else {
-            std::fprintf(stderr, "usage: stress [--calls N] [--slow-calls N] [--seed S] [--out FILE]\n");
+            std::fprintf(stderr, "usage: stress [--calls N] [--slow-calls N] [--dual-calls N] [--only MODEL] [--seed S] "
+                                 "[--out FILE]\n");
             return 2;
         }
     }
     if (slow == 0) slow = calls / 10;
-    std::vector<Row> rows;
-    models<float>(rows, calls, slow, seed);
-    models<double>(rows, calls, slow, seed + 100);
+    if (dual == 0) dual = calls;
+    std::vector<Row> all, rows;
+    models<float>(all, calls, slow, dual, seed);
+    models<double>(all, calls, slow, dual, seed + 100);
+    for (const Row& w : all)
+        if (w.c.calls > 0) rows.push_back(w);
 
     std::string table =
         "| model | precision | materials | calls | NaN | Inf | negative | non-finite input not 0 | sample/pdf "

@@ -1,23 +1,31 @@
 #!/usr/bin/env bash
-# hairscatter stress run (not CI): random and adversarial calls of every model in float and
-# double (bench/stress.cpp: edge directions, h = ±1, parameters at their limits, u at 0, 1
-# and 1 - ulp, non-finite inputs), then docs/stress.md with the counts.
+# hairscatter stress run (not CI): random and adversarial calls of every model and of the
+# dual-scattering BCSDF in float and double (bench/stress.cpp: edge directions, h = ±1,
+# parameters at their limits, u at 0, 1 and 1 - ulp, light states at their limits,
+# non-finite inputs), then docs/stress.md with the counts.
 #
-#   scripts/stress.sh                       1e8 calls per fast model and precision (long)
-#   scripts/stress.sh --calls 4e7 --slow-calls 1e6
+#   scripts/stress.sh                       1e8 calls per model and precision (Chiang,
+#                                           tabulated, tabulated fast(), dual), 1e7 for the
+#                                           far field and Marschner: about 35 min of one core
+#   scripts/stress.sh --calls 2e6           a quick run (slow models: a tenth of it)
+#   scripts/stress.sh --slow-calls N        the far field's and Marschner's count
+#   scripts/stress.sh --dual-calls N        the dual BCSDF's count (default: --calls)
 #   scripts/stress.sh --out FILE            another report file (default docs/stress.md)
 #
 # Builds build/stress/stress with the system C++ compiler (-O2, NDEBUG); needs only GLM.
+# Runs on one thread, under nice (the machine is shared).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 calls=1e8
 slow=""
+dual=""
 out="$ROOT/docs/stress.md"
 while [[ $# -gt 0 ]]; do
     case "$1" in
         --calls) calls="$2"; shift ;;
         --slow-calls) slow="$2"; shift ;;
+        --dual-calls) dual="$2"; shift ;;
         --out) out="$2"; shift ;;
         -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
         *) echo "stress.sh: unknown argument '$1'" >&2; exit 2 ;;
@@ -30,10 +38,11 @@ echo "+ $CXX -std=c++17 -O2 -DNDEBUG bench/stress.cpp -> build/stress/stress"
 "$CXX" -std=c++17 -O2 -DNDEBUG -Wall -Wextra -I include bench/stress.cpp -o build/stress/stress
 args=(--calls "$calls")
 [[ -n "$slow" ]] && args+=(--slow-calls "$slow")
+[[ -n "$dual" ]] && args+=(--dual-calls "$dual")
 table="$(mktemp)"
 start=$SECONDS
 rc=0
-build/stress/stress "${args[@]}" --out "$table" || rc=$?
+nice -n 10 build/stress/stress "${args[@]}" --out "$table" || rc=$?
 elapsed=$((SECONDS - start))
 {
     echo "# Stress counts"
@@ -50,6 +59,14 @@ elapsed=$((SECONDS - start))
     echo "component is uniform or exactly 0, 1 or 1 - ulp; one call in 64 has a NaN or ±Inf component in"
     echo "wo, wi or u, which must give the zero result (docs/robustness.md)."
     echo
+    echo "The dual-scattering BCSDF (over the Chiang fiber, the same materials, improved formulation on"
+    echo "even materials and Zinke 2008's on odd ones) is called as a renderer calls it: eval under a"
+    echo "light state, pdf, and at(wo, spread).sample with the pdf of the sample. Light states take"
+    echo "direct fractions 0, ½, 1 and uniform; counts n and beyond from 0 through 1e-9, 1e7, 1e30 to"
+    echo "kUnbounded; one in four a renderer's own T_f and σ̄²_f; one in 16 a NaN, negative or infinite"
+    echo "field. Spread hints run from 0 to 1e6 and kUnbounded, one in 64 NaN or ±Inf. All of these must"
+    echo "give finite, non-negative values; non-finite directions or u give 0 or no sample."
+    echo
     echo "Counted over eval, pdf, eval_pdf, sample and the pdf of each sample's direction: NaN, Inf and"
     echo "negative values of f, pdf and the sample's weight and pdf (NaN and Inf also in its direction);"
     echo "non-finite inputs that did not give 0; and sample/pdf mismatches, a sample whose pdf and"
@@ -57,7 +74,8 @@ elapsed=$((SECONDS - start))
     echo "the fiber axis (u.y at 0 or 1 can put sinθi at ±1) have no azimuth and are counted, not compared."
     echo "A difference that moving wi by 4 ulps of 1 along an axis explains (the pdf is that steep at the"
     echo "edge of a narrow lobe's support) is counted as rounding, not as a mismatch."
-    echo "The far field and Marschner cost 10–50× more per call and run fewer calls (the slow-calls count)."
+    echo "The far field and Marschner cost 10–50× more per call and run fewer calls (the slow-calls count:"
+    echo "10^8 calls of the far field alone would take about an hour of one core per precision)."
     echo
     cat "$table"
 } >"$out"

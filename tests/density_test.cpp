@@ -482,43 +482,35 @@ TEST(DensityInterface, DetectsDensitySources) {
     SUCCEED();
 }
 
-TEST(DensityInterface, ForwardTransmittanceAndSpread) {
-    const glm::dvec3 a_f(0.9, 0.7, 0.0), beta2(0.01, 0.02, 0.03);
-    const glm::dvec3 t = hs::forward_transmittance(a_f, 3.0);
-    EXPECT_NEAR(t.x, 0.729, 1e-15);
-    EXPECT_NEAR(t.y, 0.343, 1e-15);
-    EXPECT_EQ(t.z, 0.0);
-    EXPECT_EQ(hs::forward_transmittance(a_f, 0.0), glm::dvec3(1.0));  // no hair: a_f^0 = 1, even for 0
-    EXPECT_EQ(hs::forward_spread(beta2, 4.0), 4.0 * beta2);
-    EXPECT_FLOAT_EQ(hs::forward_spread(0.01f, 5.0f), 0.05f);
-}
-
-// The plug-in proof: forward_scattering(), the library's entry point for global multiple
-// scattering, runs on the renderer's types unchanged and gives T_f = a_f^n, σ̄²_f = n β̄²_f.
+// The plug-in proof: dual_light(), the library's entry point for global multiple
+// scattering, runs on the renderer's types unchanged: n toward the light only when hair
+// blocks it, the count beyond the point along -wi when asked.
 TEST(DensityInterface, RendererSourcesPlugInUnchanged) {
-    const glm::dvec3 a_f(0.8, 0.6, 0.3), beta2(0.02, 0.03, 0.05);
     const ConstantSlab slab{1.0, 3.0, 2.5};
     const glm::dvec3 x(0, 0, 0), wi = glm::normalize(glm::dvec3(0, 1, 1));
-    const auto fs = hs::forward_scattering(slab, x, wi, a_f, beta2);
+    const auto blocked = hs::dual_light(slab, x, wi, 0.0);
     const double n = 2.5 * 2.0 * std::sqrt(2.0);  // the slab's thickness 2 along wi at 45°
-    EXPECT_NEAR(fs.n, n, 1e-12);
-    for (int c = 0; c < 3; ++c) {
-        EXPECT_NEAR(fs.transmittance[c], std::pow(a_f[c], n), 1e-15);
-        EXPECT_NEAR(fs.spread[c], n * beta2[c], 1e-15);
-    }
-    EXPECT_NEAR(hs::forward_scattering(slab, x, wi, a_f, beta2, std::sqrt(2.0)).n, 0.0, 1e-12);  // stops at z = 1
-    EXPECT_EQ(hs::forward_scattering(slab, x, -wi, a_f, beta2).transmittance, glm::dvec3(1.0));  // away from it
+    EXPECT_EQ(blocked.direct_fraction, 0.0);
+    EXPECT_NEAR(blocked.n, n, 1e-12);
+    EXPECT_EQ(blocked.beyond, 0.0);  // no hair along -wi
+    EXPECT_FALSE(blocked.use_transmittance);
+    EXPECT_NEAR(hs::dual_light(slab, x, wi, 0.0, std::sqrt(2.0)).n, 0.0, 1e-12);  // stops at z = 1
+    EXPECT_EQ(hs::dual_light(slab, x, wi, 1.0).n, 0.0);                          // lit: no count toward the light
+    EXPECT_EQ(hs::dual_light(slab, x, wi, 0.5).n, blocked.n);                   // partly blocked: counted
+    const auto above = hs::dual_light(slab, x + glm::dvec3(0, 0, 4), wi, 0.0);  // the slab lies beyond
+    EXPECT_NEAR(above.n, 0.0, 1e-12);
+    EXPECT_NEAR(above.beyond, n, 1e-12);
+    EXPECT_EQ(hs::dual_light(slab, x, -wi, 0.0, hs::kUnbounded<double>, false).beyond, hs::kUnbounded<double>);
 
     const FakeDeepOpacityMap map;
-    const auto fm = hs::forward_scattering(map, glm::vec3(1.5f, 0.5f, 0), glm::vec3(0, 0, 1), glm::vec3(0.5f),
-                                           glm::vec3(0.01f));
+    const auto fm = hs::dual_light(map, glm::vec3(1.5f, 0.5f, 0), glm::vec3(0, 0, 1), 0.0f);
     EXPECT_EQ(fm.n, 1.5f);
-    EXPECT_NEAR(fm.transmittance.x, std::pow(0.5f, 1.5f), 1e-7);
-    EXPECT_NEAR(fm.spread.y, 0.015f, 1e-8);
+    EXPECT_EQ(fm.beyond, 1.5f);  // the map ignores the direction
 
     // The shipped grid and its view go through the same door.
     const auto g = aligned_grid<double>();
     const glm::dvec3 o(2, -1, 1.1), d(0, 1, 0);
-    EXPECT_EQ(hs::forward_scattering(g, o, d, a_f, beta2).n, g.fibers_crossed(o, d, kInf));
-    EXPECT_EQ(hs::forward_scattering(g.view(), o, d, a_f, beta2).n, g.fibers_crossed(o, d, kInf));
+    EXPECT_EQ(hs::dual_light(g, o, d, 0.0).n, g.fibers_crossed(o, d, kInf));
+    EXPECT_EQ(hs::dual_light(g.view(), o, d, 0.0).n, g.fibers_crossed(o, d, kInf));
+    EXPECT_EQ(hs::dual_light(g.view(), o, d, 0.0).beyond, g.fibers_crossed(o, -d, kInf));
 }

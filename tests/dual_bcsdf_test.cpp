@@ -375,6 +375,16 @@ TEST(DualBcsdf, NoNaNAtExtremes) {
     hs::DualScatteringLight<double> odd;
     odd.direct_fraction = nan;
     lights.push_back(odd);
+    // A renderer's own T_f and σ̄²_f, broken (found by bench/stress.cpp: a NaN T_f or an
+    // infinite σ̄²_f gave NaN).
+    for (double t : {nan, inf, -inf})
+        for (double s2 : {0.0, inf, nan}) {
+            hs::DualScatteringLight<double> own = shadowed(0);
+            own.use_transmittance = true;
+            own.T_f = dvec3(0.5, t, 0.5);
+            own.sigma2_f = s2;
+            lights.push_back(own);
+        }
     for (double h : {-1.0, 0.0, 1.0}) {
         const hs::ChiangFiber<double> fiber(s.material, h);
         const Dual d(fiber, s.tables);
@@ -395,6 +405,17 @@ TEST(DualBcsdf, NoNaNAtExtremes) {
                     const auto smp = d.sample(wo, u);  // must not crash; finite when inputs are
                     if (finite_in && std::isfinite(u.x + u.y + u.z + u.w)) {
                         EXPECT_TRUE(std::isfinite(smp.pdf));
+                    }
+                }
+                // Any spread hint, even an infinite one (n β̄²_f over unbounded hair), gives a
+                // finite density that its own sampler matches.
+                for (double spread : {1e-3, 1e7, inf, nan}) {
+                    const auto at = d.at(wo, spread);
+                    const auto smp = at.sample(dvec4(0.6, 0.3, 0.7, 0.2));
+                    if (finite_in) {
+                        const double pa = at.pdf(wi);
+                        EXPECT_TRUE(std::isfinite(pa) && pa >= 0) << "spread " << spread;
+                        EXPECT_TRUE(std::isfinite(smp.pdf) && smp.pdf >= 0) << "spread " << spread;
                     }
                 }
             }

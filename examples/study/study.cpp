@@ -24,6 +24,7 @@
 #include <hairscatter/hairscatter.hpp>
 
 #include "common/image_io.hpp"
+#include "common/options.hpp"
 #include "render.hpp"
 #include "scenes.hpp"
 
@@ -40,14 +41,13 @@ struct Common {
     std::string out = "study-out";
 };
 
+// σa of a colour preset of the examples (common/options.hpp: "white" is lossless, σa = 0,
+// the limit multiple scattering matters most in); throws std::invalid_argument naming the
+// presets for an unknown one.
 glm::vec3 melanin_sigma_a(const std::string& colour) {
-    // Eumelanin concentrations of the presets (Chiang 2016 §4.2 ranges): blond 0.3, brown
-    // 1.3, dark 8; white is lossless (σa = 0), the limit multiple scattering matters most in.
-    if (colour == "white") return glm::vec3(0.0f);
-    if (colour == "blond") return hairscatter::sigma_a_from_melanin(0.3f, 0.0f);
-    if (colour == "brown") return hairscatter::sigma_a_from_melanin(1.3f, 0.0f);
-    if (colour == "dark") return hairscatter::sigma_a_from_melanin(8.0f, 0.0f);
-    throw std::invalid_argument("study: unknown colour '" + colour + "' (white | blond | brown | dark)");
+    io::HairColourOptions c;
+    c.preset = colour;
+    return glm::vec3(io::sigma_a_of(c, colour, hairscatter::FiberParams<double>().beta_n));
 }
 
 // The origin study's hair block (5 × 5 × 5 on the ground plane; or a scalp). Lighting: "env" a white
@@ -355,7 +355,7 @@ int main(int argc, char** argv) {
     int max_spp = 256, reference_spp = 1024;
     std::string reference_sampling = "importance";
     double threshold = 1e-3;
-    conv->add_option("--colour", c.colour, "blond | brown | dark")->capture_default_str();
+    conv->add_option("--colour", c.colour, io::colour_preset_names())->capture_default_str();
     conv->add_option("--max-spp", max_spp, "largest spp level (levels 1, 2, 4, …)")->capture_default_str();
     conv->add_option("--reference-spp", reference_spp, "spp of the reference image")->capture_default_str();
     conv->add_option("--reference-sampling", reference_sampling, "uniform | importance")->capture_default_str();
@@ -384,7 +384,7 @@ int main(int argc, char** argv) {
     common(tte);
     int tte_ref = 4096, tte_dual = 256, tte_path = 2048;
     bool tte_no_ground = false;
-    tte->add_option("--colour", c.colour, "white | blond | brown | dark")->capture_default_str();
+    tte->add_option("--colour", c.colour, io::colour_preset_names())->capture_default_str();
     tte->add_option("--reference-spp", tte_ref, "spp of the path-traced reference")->capture_default_str();
     tte->add_option("--dual-max-spp", tte_dual, "largest dual-scattering spp level")->capture_default_str();
     tte->add_option("--path-max-spp", tte_path, "largest path-tracing spp level")->capture_default_str();

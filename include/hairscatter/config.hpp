@@ -30,8 +30,8 @@
 
 // HAIRSCATTER_INLINE forces the inlining of a model's internal per-call stages (the wo
 // terms, the lobe sum) into eval / pdf / sample. Without it GCC stops inlining them once a
-// program instantiates a model in several places (measured: pdf 77 → 94 ns, at(wo)
-// 33 → 45 ns in bench/chiang_bench.cpp), because the stages return ~200-byte structs.
+// program instantiates a model in several places (a measurable slowdown of pdf and at(wo):
+// docs/performance.md), because the stages return ~200-byte structs.
 #if defined(__CUDACC__)
 #define HAIRSCATTER_INLINE __forceinline__
 #elif defined(__GNUC__) || defined(__clang__)

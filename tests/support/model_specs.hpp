@@ -76,15 +76,29 @@ template <typename Setting> struct DeonChi2Case {
     std::string label() const { return specs::label(beta_m, beta_n, alpha_deg, sigma_a); }
 };
 
+// The chi-square cases of a far-field grid: make(params, setting, label) builds each.
+template <typename T, typename Fiber, typename Setting, typename Make>
+std::vector<Chi2Case<Fiber>> deon_chi2_cases(const std::vector<DeonChi2Case<Setting>>& grid, Make make) {
+    std::vector<Chi2Case<Fiber>> r;
+    for (const DeonChi2Case<Setting>& c : grid) r.push_back({make(c.template params<T>(), c.setting, c.label()), c.theta_o_deg});
+    return r;
+}
+
+// Invalid constructions, one bad field each: add(field, change) copies start, applies
+// change to the copy and records build(copy) as a construction that must be rejected.
+template <typename Value, typename Build> auto invalid_adder(std::vector<Invalid>& r, const Value& start, Build build) {
+    return [&r, start, build](const char* field, auto change) {
+        Value v = start;
+        change(v);
+        r.push_back({[v, build] { build(v); }, field});
+    };
+}
+
 // Every bad FiberParams field, for the three models built from FiberParams.
 template <typename Material> std::vector<Invalid> invalid_fiber_params() {
     using T = std::decay_t<decltype(std::declval<Material>().params().eta)>;
     std::vector<Invalid> r;
-    auto add = [&](const char* field, auto change) {
-        hs::FiberParams<T> p;
-        change(p);
-        r.push_back({[p] { Material m(p); }, field});
-    };
+    auto add = invalid_adder(r, hs::FiberParams<T>(), [](const hs::FiberParams<T>& p) { Material m(p); });
     add("eta", [](auto& p) { p.eta = T(1); });
     add("beta_m", [](auto& p) { p.beta_m = T(0); });
     add("beta_m", [](auto& p) { p.beta_m = T(1.5); });
@@ -245,12 +259,7 @@ struct FarFieldSpec : SpecBase<hs::DeonFarFieldFiber<T>, hs::DeonFarFieldMateria
         };
         return g;
     }
-    static std::vector<Chi2Case<Fiber>> chi2_cases() {
-        std::vector<Chi2Case<Fiber>> r;
-        for (const Case& c : grid())
-            r.push_back({make(c.params<T>(), c.setting, c.label()), c.theta_o_deg});
-        return r;
-    }
+    static std::vector<Chi2Case<Fiber>> chi2_cases() { return deon_chi2_cases<T, Fiber>(grid(), make); }
     // A 16 × 32 histogram, 2e5 samples and cell cubature from depth 1 keep each run well
     // under a second (the pdf costs ~0.1 µs per h node).
     // The float pdf's rounding noise keeps the cubature refining narrow lobes to its
@@ -321,9 +330,7 @@ template <typename T> struct TabulatedSpec : SpecBase<hs::TabulatedFiber<T>, hs:
         return g;
     }
     static std::vector<Chi2Case<Fiber>> chi2_cases() {
-        std::vector<Chi2Case<Fiber>> r;
-        for (const Case& c : grid())
-            r.push_back({make(c.params<T>(), c.setting, c.label()), c.theta_o_deg});
+        std::vector<Chi2Case<Fiber>> r = deon_chi2_cases<T, Fiber>(grid(), make);
         for (std::size_t k = 0; k < grid().size(); k += 3) {
             const Case& c = grid()[k];
             hs::TabulatedOptions o = with_table(c.setting);
@@ -340,11 +347,8 @@ template <typename T> struct TabulatedSpec : SpecBase<hs::TabulatedFiber<T>, hs:
     }
     static std::vector<Invalid> invalid() {
         std::vector<Invalid> r = invalid_fiber_params<Material>();
-        auto add = [&](const char* field, auto change) {
-            hs::TabulatedOptions o = hs::TabulatedOptions::fast();
-            change(o);
-            r.push_back({[o] { Material m(hs::FiberParams<T>(), o); }, field});
-        };
+        auto add = invalid_adder(r, hs::TabulatedOptions::fast(),
+                                 [](const hs::TabulatedOptions& o) { Material m(hs::FiberParams<T>(), o); });
         using O = hs::TabulatedOptions;
         add("phi_samples", [](O& o) { o.phi_samples = 1; });
         add("phi_samples", [](O& o) { o.phi_samples = 0; });
@@ -353,7 +357,7 @@ template <typename T> struct TabulatedSpec : SpecBase<hs::TabulatedFiber<T>, hs:
         add("theta_samples", [](O& o) { o.theta_samples = -4; });
         add("theta_samples", [](O& o) { o.theta_samples = O::kMaxThetaSamples + 1; });
         add("h_nodes", [](O& o) { o.h_nodes = -1; });
-        add("h_nodes", [](O& o) { o.h_nodes = hs::DeonFarFieldMaterial<double>::kMaxNodes + 1; });
+        add("h_nodes", [](O& o) { o.h_nodes = hs::FarFieldQuadrature<double>::kMaxNodes + 1; });
         add("m_rows", [](O& o) { o.m_rows = 1; });
         add("m_rows", [](O& o) { o.m_rows = O::kMaxLongitudinalRows + 1; });
         add("m_nodes", [](O& o) { o.m_nodes = 1; });
@@ -442,11 +446,7 @@ struct MarschnerSpec : SpecBase<hs::MarschnerFiber<T>, hs::MarschnerMaterial<T>,
     }
     static std::vector<Invalid> invalid() {
         std::vector<Invalid> r;
-        auto add = [&](const char* field, auto change) {
-            hs::MarschnerParams<T> p;
-            change(p);
-            r.push_back({[p] { Material m(p); }, field});
-        };
+        auto add = invalid_adder(r, hs::MarschnerParams<T>(), [](const hs::MarschnerParams<T>& p) { Material m(p); });
         const T inf = std::numeric_limits<T>::infinity(), nan = std::numeric_limits<T>::quiet_NaN();
         add("eta", [](auto& p) { p.eta = T(1); });
         add("eta", [](auto& p) { p.eta = T(0.5); });

@@ -56,22 +56,16 @@ class DualIntegrator final : public PixelIntegrator {
             return in;
         }
         in.visible = true;
-        const hs::DensityGrid<float>& grid = *c_.shading.grid();
         // A shadow ray decides the direct fraction; only shadowed points need the count
         // toward the light. The improved formulation also asks how much hair lies beyond
-        // the point along the light's direction of travel.
-        if (s.hair_occluded(sp.p, wi, dist, sp.strand)) {
-            in.state.direct_fraction = 0;
-            in.state.n = grid.fibers_crossed(sp.p, wi, std::isfinite(dist) ? dist : hs::kUnbounded<float>);
-        } else {
-            in.state.direct_fraction = 1;
-            in.state.n = 0;
-        }
-        // (a lit point seen from the far side reads only f_s: no query)
+        // the point along the light's direction of travel (a lit point seen from the far
+        // side reads only f_s: no query).
+        const float direct = s.hair_occluded(sp.p, wi, dist, sp.strand) ? 0.0f : 1.0f;
         const bool forward = std::abs(hs::relative_azimuth(sp.wo(), sp.to_local(wi))) > 0.5f * kPi;
-        if (c_.shading.tables().settings().formulation == hs::DualFormulation::kImproved &&
-            !(in.state.direct_fraction == 1 && forward))
-            in.state.beyond = grid.fibers_crossed(sp.p, -wi, hs::kUnbounded<float>);
+        const bool beyond = c_.shading.tables().settings().formulation == hs::DualFormulation::kImproved &&
+                            !(direct == 1 && forward);
+        in.state = hs::dual_light(*c_.shading.grid(), sp.p, wi, direct,
+                                  std::isfinite(dist) ? dist : hs::kUnbounded<float>, beyond);
         return in;
     }
 

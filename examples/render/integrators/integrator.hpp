@@ -36,6 +36,15 @@ std::unique_ptr<PixelIntegrator> make_single_integrator(const RenderContext& c);
 std::unique_ptr<PixelIntegrator> make_dual_integrator(const RenderContext& c);    // dual.cpp
 std::unique_ptr<PixelIntegrator> make_path_integrator(const RenderContext& c);    // path.cpp
 
+// An integrator templated on the fiber model (Integrator<MakeFiber>(context, make)), for
+// the model the shading setup chose: one instantiation per model, chosen once.
+template <template <class> class Integrator>
+std::unique_ptr<PixelIntegrator> make_for_model(const RenderContext& c) {
+    return c.shading.models().visit([&](auto make) -> std::unique_ptr<PixelIntegrator> {
+        return std::make_unique<Integrator<decltype(make)>>(c, make);
+    });
+}
+
 // Lambertian surface: one sample of the area light and one cosine-distributed sample of
 // the environment; everything (hair included) casts opaque shadows.
 glm::vec3 surface_direct(const RenderContext& c, const Hit& hit, Sampler& rng);

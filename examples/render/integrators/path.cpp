@@ -109,10 +109,6 @@ template <class MakeFiber> class PathIntegrator final : public PixelIntegrator {
 
 }  // namespace
 
-std::unique_ptr<PixelIntegrator> make_path_integrator(const RenderContext& c) {
-    return c.shading.models().visit([&](auto make) -> std::unique_ptr<PixelIntegrator> {
-        return std::make_unique<PathIntegrator<decltype(make)>>(c, make);
-    });
-}
+std::unique_ptr<PixelIntegrator> make_path_integrator(const RenderContext& c) { return make_for_model<PathIntegrator>(c); }
 
 }  // namespace render

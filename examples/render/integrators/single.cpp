@@ -32,10 +32,6 @@ template <class MakeFiber> class SingleIntegrator final : public PixelIntegrator
 
 }  // namespace
 
-std::unique_ptr<PixelIntegrator> make_single_integrator(const RenderContext& c) {
-    return c.shading.models().visit([&](auto make) -> std::unique_ptr<PixelIntegrator> {
-        return std::make_unique<SingleIntegrator<decltype(make)>>(c, make);
-    });
-}
+std::unique_ptr<PixelIntegrator> make_single_integrator(const RenderContext& c) { return make_for_model<SingleIntegrator>(c); }
 
 }  // namespace render

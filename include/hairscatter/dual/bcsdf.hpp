@@ -43,6 +43,11 @@ template <typename T> struct DualSample {
 // below, T_n / (1 - R_n R_{m+1}), which also counts the light the hair below sends back up
 // and the layers above return (lossless hair: the flux stays 1 at every depth).
 // Zinke 2008 eq. 6: a_f^n with the unconditional n for both.
+// The largest forward spread σ̄²_f used (a variance in rad²): M with a variance this wide is
+// uniform in θ to rounding, and an infinite one (a renderer's Σ β̄²_f over unbounded hair)
+// would turn M into ∞ · 0.
+template <typename T> inline constexpr T kMaxForwardSpread = T(1e6);
+
 template <typename T> struct DualForward {
     glm::vec<3, T> transmittance{T(1)};
     glm::vec<3, T> flux{T(1)};  // improved: the downward flux T_n / (1 - R_n R_{m+1}) that drives f_back^G
@@ -78,8 +83,11 @@ HAIRSCATTER_HD DualForward<T> dual_forward(const DualScatteringLight<T>& light, 
     DualForward<T> r;
     const T beta2 = (e.beta2_f.x + e.beta2_f.y + e.beta2_f.z) * T(1.0 / 3.0);
     if (light.use_transmittance) {
-        for (int c = 0; c < 3; ++c) r.transmittance[c] = clamp(light.T_f[c], T(0), T(1));
-        r.spread = light.sigma2_f > T(0) ? light.sigma2_f : T(0);
+        // A NaN transmittance lets nothing through, as a NaN count does below.
+        for (int c = 0; c < 3; ++c) r.transmittance[c] = is_finite(light.T_f[c]) ? clamp(light.T_f[c], T(0), T(1))
+                                                                               : (light.T_f[c] > T(0) ? T(1) : T(0));
+        r.spread = light.sigma2_f > T(0) ? (light.sigma2_f < kMaxForwardSpread<T> ? light.sigma2_f : kMaxForwardSpread<T>)
+                                         : T(0);
         return r;
     }
     // NaN → 0; beyond a million fibers nothing gets through, and the spread stays finite.
@@ -273,7 +281,7 @@ template <typename Fiber> class DualScatteringBcsdf {
             cos_back_ = cb < T(0) ? -cb : cb;
             const T s2b = mean(es.sigma2_b);
             s2_back_ = s2b > T(1e-6) ? s2b : T(1e-6);
-            s2_spread_ = spread > T(0) ? spread : T(0);
+            s2_spread_ = spread > T(0) ? (spread < kMaxForwardSpread<T> ? spread : kMaxForwardSpread<T>) : T(0);
             // A deep volume's A_b (the finite-depth factor is 1): the table value.
             const T ab = (improved() ? T(2) : T(1)) * mean(es.A_b);
 

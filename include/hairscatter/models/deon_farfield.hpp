@@ -17,11 +17,11 @@
 #include "../lobes/attenuation.hpp"
 #include "../lobes/azimuthal.hpp"
 #include "../lobes/deon_lobes.hpp"
+#include "../lobes/farfield_quadrature.hpp"
 #include "../math/constants.hpp"
 #include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
 #include "../math/functions.hpp"
-#include "../math/quadrature.hpp"
 #include "../math/wrapped_gaussian.hpp"
 #include "contract.hpp"
 
@@ -32,92 +32,38 @@ namespace hairscatter {
 // parameter). Trivially copyable (≈ 4.4 KB in double, over the 4 KB kernel-parameter
 // limit of CUDA < 12.1): copy it to device memory once and pass the fiber a pointer.
 //
-// The h integral: nodes of an n-point Gauss–Legendre rule placed in γ = asin h rather than
-// in h, because A_p and Φ go like √(1 - h²) at the rim and are smooth in γ:
-//   ½ ∫_{-1}^{1} f(h) dh = ½ ∫_{-π/2}^{π/2} f(sin γ) cos γ dγ ≈ Σ_k ŵ_k f(sin γ_k),
-//   ŵ_k ∝ (π/4) W_k cos γ_k,
-// with the ŵ_k renormalised to sum to exactly 1 (the rule's estimate of ½∫ dh = 1 is off
-// by 3e-2 at n = 2 and 1e-9 at n = 8): then the lossless fiber conserves energy exactly
-// at every n, since Σ_p A_p(h) = 1 at every node. The rule is symmetric and A_p is even in
-// h, so only the nodes with h ≥ 0 are stored and each carries its mirror image -h.
-//
-// Its d'Eon ingredients (longitudinal(p), tilt(), lobe_shift(p), lobe_variance(p)) are
-// DeonLobes'.
-template <typename T> class DeonFarFieldMaterial : public DeonLobes<T> {
+// The h integral is lobes/farfield_quadrature.hpp's rule (nodes(), node_h(j), …, and
+// auto_nodes(β_n) for the node count); its d'Eon ingredients (longitudinal(p), tilt(),
+// lobe_shift(p), lobe_variance(p)) are DeonLobes'.
+template <typename T> class DeonFarFieldMaterial : public DeonLobes<T>, public FarFieldQuadrature<T> {
   public:
+    using Quadrature = FarFieldQuadrature<T>;
     static constexpr int kLobes = DeonLobes<T>::kLobes;  // R, TT, TRT explicit; index 3 is the residual
-    static constexpr int kMaxNodes = 256;
-    static constexpr int kMaxHalfNodes = kMaxNodes / 2;
-    static constexpr int kAutoNodes = 0;  // choose the node count from β_n (auto_nodes)
-
-    // The node count that resolves the detector of width σ(β_n) to ~1e-4: the rule samples
-    // the exit azimuth Φ(p, h) at spacing |dΦ/dγ| Δγ ≤ 2 · π²/(2n) (R's |dΦ/dγ| = 2 is the
-    // largest away from the rim; Gauss–Legendre's widest gap, at the centre, is ≈ π/n in
-    // [-1, 1], π²/(2n) in γ), and a sum of Gaussians sampled at spacing Δ deviates from
-    // its integral by ≈ 2 exp(-2π²σ²/Δ²) (Poisson summation), 1e-4 at Δ = 1.45σ. So
-    // n = ⌈π²/(1.45σ)⌉, rounded up to even and kept in [24, kMaxNodes]: 34 nodes at
-    // β_n = 0.3, 156 at β_n = 0.1; below β_n ≈ 0.06 the cap leaves the comb visible (use the
-    // near-field ChiangFiber with a random h there). At least 24 nodes: wide detectors are
-    // limited instead by the smoothness of A_p and Φ in γ (8 nodes: 1e-3 at β_n = 1, 24:
-    // 1e-5). Measured in tests/deon_farfield_test.cpp.
-    static int auto_nodes(T beta_n) {
-        const double sigma = double(azimuthal_gaussian_width(beta_n));
-        const double n = std::ceil(9.8696044010893586188 / (1.45 * sigma));
-        int k = n > double(kMaxNodes) ? kMaxNodes : int(n);
-        k += k % 2;
-        return k < 24 ? 24 : (k > kMaxNodes ? kMaxNodes : k);
-    }
+    using Quadrature::kAutoNodes;
+    using Quadrature::kMaxHalfNodes;
+    using Quadrature::kMaxNodes;
 
     // nodes: the Gauss–Legendre order of the h integral, 1 … kMaxNodes, or kAutoNodes for
     // auto_nodes(β_n) (the cost of eval, pdf and sample is linear in it).
     explicit DeonFarFieldMaterial(const FiberParams<T>& params, int nodes = kAutoNodes)
-        : DeonLobes<T>(validated(params).beta_m, params.alpha), params_(params), nodes_(nodes) {
+        : DeonLobes<T>(validated(params).beta_m, params.alpha), Quadrature(checked_nodes(nodes, params.beta_n)),
+          params_(params), n_(azimuthal_gaussian_width(params.beta_n)) {}
+
+    HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
+    HAIRSCATTER_HD const WrappedGaussian<T>& azimuthal() const { return n_; }
+    HAIRSCATTER_HD const Quadrature& quadrature() const { return *this; }
+
+  private:
+    static int checked_nodes(int nodes, T beta_n) {
         if (!(nodes >= 0 && nodes <= kMaxNodes))
             HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DeonFarFieldMaterial: nodes = " + std::to_string(nodes) +
                                         " is outside its range [1, " + std::to_string(kMaxNodes) +
                                         "] (or 0 for the automatic choice)"));
-        if (nodes == kAutoNodes) nodes_ = nodes = auto_nodes(params.beta_n);
-        n_ = WrappedGaussian<T>(azimuthal_gaussian_width(params.beta_n));
-
-        const GaussLegendre<double> gl(nodes);
-        const double quarter_pi = 0.78539816339744830962;
-        double total = 0;
-        for (int k = 0; k < nodes; ++k) total += quarter_pi * gl.weights[std::size_t(k)] * std::cos(2 * quarter_pi * gl.nodes[std::size_t(k)]);
-        // gl.nodes is ascending and symmetric: the upper half (with the middle node h = 0
-        // when n is odd, which has no mirror) holds the h ≥ 0 nodes.
-        half_nodes_ = (nodes + 1) / 2;
-        for (int j = 0; j < half_nodes_; ++j) {
-            const int k = nodes - half_nodes_ + j;
-            // The middle node of an odd rule is 0 analytically; Newton leaves it at ~1e-17.
-            const bool middle = nodes % 2 == 1 && j == 0;
-            const double gamma = middle ? 0.0 : 2 * quarter_pi * gl.nodes[std::size_t(k)];
-            gamma_[j] = T(gamma);
-            h_[j] = T(std::sin(gamma));
-            cos_gamma_[j] = T(std::cos(gamma));
-            weight_[j] = T(quarter_pi * gl.weights[std::size_t(k)] * std::cos(gamma) / total);
-            mirrored_[j] = !middle;
-        }
+        return nodes == kAutoNodes ? Quadrature::auto_nodes(beta_n) : nodes;
     }
 
-    HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
-    HAIRSCATTER_HD const WrappedGaussian<T>& azimuthal() const { return n_; }
-
-    // The quadrature: n nodes in all, stored as half_nodes() nodes with h ≥ 0; node j
-    // stands for h_j and, when mirrored(j), also for -h_j, each with weight weight(j).
-    HAIRSCATTER_HD int nodes() const { return nodes_; }
-    HAIRSCATTER_HD int half_nodes() const { return half_nodes_; }
-    HAIRSCATTER_HD T node_h(int j) const { return h_[j]; }
-    HAIRSCATTER_HD T node_gamma(int j) const { return gamma_[j]; }
-    HAIRSCATTER_HD T node_cos_gamma(int j) const { return cos_gamma_[j]; }
-    HAIRSCATTER_HD T node_weight(int j) const { return weight_[j]; }
-    HAIRSCATTER_HD bool node_mirrored(int j) const { return mirrored_[j]; }
-
-  private:
     FiberParams<T> params_;
-    int nodes_ = 0, half_nodes_ = 0;
     WrappedGaussian<T> n_;
-    T h_[kMaxHalfNodes] = {}, gamma_[kMaxHalfNodes] = {}, cos_gamma_[kMaxHalfNodes] = {}, weight_[kMaxHalfNodes] = {};
-    bool mirrored_[kMaxHalfNodes] = {};
 };
 
 // The far-field fiber. Same frame and convention as ChiangFiber: unit vectors in the fiber
@@ -135,10 +81,10 @@ template <typename T> class DeonFarFieldMaterial : public DeonLobes<T> {
 // Holds a pointer to the material, which must outlive the fiber and its at(wo) objects (a
 // temporary material is rejected at compile time; on a GPU, a pointer to a device copy).
 // at(wo) caches θo, its tilts and the refraction set-up; the per-node A_p(h_j) (up to 128
-// nodes) are recomputed per call, to keep the bound object small. Each call loops over the ⌈n/2⌉ stored nodes, so the cost is
-// linear in n: at 32 nodes about 1 µs per eval in float (docs/tradeoff.md), some 12× the
-// ChiangFiber. Accuracy needs the nodes' exit azimuths closer than the Gaussian's σ; the
-// automatic node count (DeonFarFieldMaterial::auto_nodes) gives ~1e-4 down to β_n ≈ 0.06.
+// nodes) are recomputed per call, to keep the bound object small. Each call loops over the
+// ⌈n/2⌉ stored nodes, so the cost is linear in n (docs/tradeoff.md measures it against the
+// other models). Accuracy needs the nodes' exit azimuths closer than the Gaussian's σ; the
+// automatic node count (FarFieldQuadrature::auto_nodes) gives ~1e-4 down to β_n ≈ 0.06.
 // Energy and sampling are exact at any n.
 template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFiber<T>, T> {
   public:
@@ -163,22 +109,6 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
     HAIRSCATTER_HD LobeSplit lobe_split(const V3& wo, T centre = T(0)) const { return split<true>(wo, centre); }
 
 
-    // The quadrature's terms at wo's inclination, for tabulating N_p (models/tabulated.hpp):
-    // A_p(h_j) for every lobe (even in h, so shared with the mirror node -h_j) and the exit
-    // azimuths Φ(p, h_j) of R, TT, TRT (the mirror's is -Φ(p, h_j) modulo 2π). Then
-    //   N_p(φ) A_p = Σ_j ŵ_j A_p(h_j) [D(φ - Φ(p, h_j)) + (if mirrored(j)) D(φ + Φ(p, h_j))].
-    struct NodeTerms {
-        V3 a[kLobes + 1];
-        T phi[kLobes];
-    };
-    HAIRSCATTER_HD NodeTerms node_terms(const V3& wo, int j) const {
-        const Node nd = node(outgoing<false>(wo), j);
-        NodeTerms r;
-        for (int p = 0; p <= kLobes; ++p) r.a[p] = nd.att.a[p];
-        for (int p = 0; p < kLobes; ++p) r.phi[p] = exit_azimuth(p, mat_->node_gamma(j), nd.gamma_t);
-        return r;
-    }
-
   private:
     friend class FiberModel<DeonFarFieldFiber, T>;
     friend class BoundFiber<DeonFarFieldFiber>;
@@ -189,10 +119,7 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
         T sin_p[kLobes + 1], cos_p[kLobes + 1];  // tilted θo' per lobe
         FiberRefraction<T> refraction;            // γt and the chord, per h
     };
-    struct Node {
-        Attenuation<T, kLobes> att;
-        T gamma_t;
-    };
+    using Node = FarFieldNode<T, kLobes>;
 
     // lobe_split, with the backward fractions only when asked for (albedo needs none).
     template <bool kBackward> HAIRSCATTER_HD LobeSplit split(const V3& wo, T centre = T(0)) const {
@@ -286,13 +213,7 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
 
     // A_p(h_j) for all lobes (even in h, so shared with the mirror node) and γt(h_j).
     HAIRSCATTER_HD Node node(const Outgoing& o, int j) const {
-        const FiberParams<T>& prm = mat_->params();
-        const auto path = o.refraction.at(mat_->node_h(j), prm.sigma_a);
-        Node nd;
-        nd.att = attenuation<T, kLobes>(fresnel_dielectric(o.cos_o * mat_->node_cos_gamma(j), prm.eta),
-                                        path.transmittance);
-        nd.gamma_t = path.gamma_t;
-        return nd;
+        return far_field_node<kLobes>(mat_->quadrature(), j, o.refraction, o.cos_o, mat_->params());
     }
 
     // f and pdf at (θi, φ): the four M_p once, then per node A_p · D for both signs of h.
