@@ -102,17 +102,22 @@ template <typename T> void require_valid(const StrandVariation<T>& v) {
     detail::throw_if_invalid(validate(v), "strand variation");
 }
 
-// One strand's fiber parameters: base's η and α; β_m and β_n times the strand's roughness
-// scale, clamped into [kMinRoughness, 1] (so that every strand's parameters are valid);
-// σa from the strand's melanin and redness plus the dye's absorption at the strand's β_n
-// (base.sigma_a is replaced). For valid base parameters, variation and dye (channels in
-// (0, 1]), the result is valid.
+// base with β_m and β_n times a strand's roughness scale, clamped into [kMinRoughness, 1] so
+// that every strand's parameters stay valid; σa kept (for hair coloured another way).
+template <typename T> HAIRSCATTER_HD FiberParams<T> strand_roughness(const FiberParams<T>& base, T roughness_scale) {
+    FiberParams<T> p = base;
+    p.beta_m = clamp(base.beta_m * roughness_scale, kMinRoughness<T>, T(1));
+    p.beta_n = clamp(base.beta_n * roughness_scale, kMinRoughness<T>, T(1));
+    return p;
+}
+
+// One strand's fiber parameters: strand_roughness, and σa from the strand's melanin and
+// redness plus the dye's absorption at the strand's β_n (base.sigma_a is replaced). For
+// valid base parameters, variation and dye (channels in (0, 1]) the result is valid.
 template <typename T>
 HAIRSCATTER_HD FiberParams<T> strand_params(const FiberParams<T>& base, const StrandTraits<T>& s,
                                             const glm::vec<3, T>& dye = glm::vec<3, T>(T(1))) {
-    FiberParams<T> p = base;
-    p.beta_m = clamp(base.beta_m * s.roughness_scale, kMinRoughness<T>, T(1));
-    p.beta_n = clamp(base.beta_n * s.roughness_scale, kMinRoughness<T>, T(1));
+    FiberParams<T> p = strand_roughness(base, s.roughness_scale);
     p.sigma_a = sigma_a_from_pigments(HairPigments<T>{s.melanin, s.redness, dye}, p.beta_n);
     return p;
 }
