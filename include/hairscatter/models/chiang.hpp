@@ -38,20 +38,26 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
     explicit ChiangMaterial(const FiberParams<T>& params, const LobeControls<T>& controls = LobeControls<T>())
         : DeonLobes<T>(validated(params).beta_m, validated(controls).cuticle_tilt(params.alpha)), params_(params),
           controls_(controls), n_(logistic_scale(params.beta_n)) {
-        for (int p = 0; p <= kLobes; ++p) weight_[p] = controls.weight(p);
+        for (int p = 0; p <= kLobes; ++p) {
+            weight_[p] = controls.weight(p);
+            weighted_ = weighted_ || weight_[p] != glm::vec<3, T>(T(1));
+        }
     }
 
     HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
     HAIRSCATTER_HD const LobeControls<T>& controls() const { return controls_; }
     HAIRSCATTER_HD const TrimmedLogistic<T>& azimuthal() const { return n_; }
-    // Lobe p's factor on A_p, gain_p × tint_p (1 without controls).
+    // Lobe p's factor on A_p, gain_p × tint_p (1 without controls), and whether any differs
+    // from 1 (without, the fiber skips the products: the default path costs one branch).
     HAIRSCATTER_HD const glm::vec<3, T>& lobe_weight(int p) const { return weight_[p]; }
+    HAIRSCATTER_HD bool has_lobe_weights() const { return weighted_; }
 
   private:
     FiberParams<T> params_;
     LobeControls<T> controls_;
     TrimmedLogistic<T> n_;
     glm::vec<3, T> weight_[kLobes + 1];
+    bool weighted_ = false;
 };
 
 // One fiber hit: a material and the offset h ∈ [-1, 1] across the fiber. Directions are
@@ -60,8 +66,8 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
 // eval(wo, wi) has the cosine inside: Lo = ∫ eval(wo, wi) Li dωi, so ∫ eval dωi = 1 for
 // σa = 0 (pbrt's HairBxDF::f is eval / |wi.z|). eval, pdf, eval_pdf, sample and at(wo)
 // are the contract's (models/contract.hpp): sample is d'Eon, Marschner & Hanika 2013's,
-// u.x picks the lobe with probability ∝ mean(A_p) (A_p times the material's lobe_weight), (u.y, u.z) sample θi from M_p, u.w
-// samples φ from N_p.
+// u.x picks the lobe with probability ∝ mean(A_p) (A_p times the material's lobe_weight),
+// (u.y, u.z) sample θi from M_p, u.w samples φ from N_p.
 //
 // kKept selects the lobes at compile time (lobes/lobe_set.hpp); ChiangFiber<T> keeps all
 // four. BasicChiangFiber<float, LobeSet::kR> is a one-lobe preview that never computes the
@@ -185,8 +191,9 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         }
         // The lobe controls, in this one place: f, the selection weights w, albedo and
         // lobe_split all read the scaled A_p, so sampling stays proportional to eval.
-        for (int p = 0; p <= kLobes; ++p)
-            if (keeps(p)) o.a[p] *= mat_->lobe_weight(p);
+        if (mat_->has_lobe_weights())
+            for (int p = 0; p <= kLobes; ++p)
+                if (keeps(p)) o.a[p] *= mat_->lobe_weight(p);
         mat_->tilt_all(sin_o, cos_o, o.sin_o, o.cos_o, unsigned(kKept));
         for (int p = 0; p < kLobes; ++p)
             if (keeps(p)) o.phi_p[p] = exit_azimuth(p, gamma_o_, gamma_t);
