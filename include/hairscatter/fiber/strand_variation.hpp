@@ -2,7 +2,8 @@
 // melanin amount, a redness and a roughness scale within user ranges, by a stateless
 // integer hash (no generator to carry, the same value on every thread, pass and device).
 // Real hair varies from strand to strand; Cycles' principled hair ("Random Color",
-// "Random Roughness") and Arnold's standard_hair randomise the same quantities.
+// "Random Roughness") and RenderMan's PxrHairColor ("randomMelanin") randomise the same
+// quantities.
 #pragma once
 
 #include <cstdint>
