@@ -575,5 +575,9 @@ struct ChiangControlsSpec : SpecBase<hs::ChiangFiber<T>, hs::ChiangMaterial<T>, 
 
 namespace contract {
 using ControlledChiang = ::testing::Types<specs::ChiangControlsSpec<float>, specs::ChiangControlsSpec<double>>;
-INSTANTIATE_TYPED_TEST_SUITE_P(ChiangWithControls, ModelContract, ControlledChiang);
+// Named by position (the macro needs a name generator under clang's -Wpedantic).
+struct Numbered {
+    template <typename> static std::string GetName(int i) { return std::to_string(i); }
+};
+INSTANTIATE_TYPED_TEST_SUITE_P(ChiangWithControls, ModelContract, ControlledChiang, Numbered);
 }  // namespace contract
