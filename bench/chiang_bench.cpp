@@ -245,6 +245,44 @@ template <typename T, hairscatter::LobeSet kSet> void BM_LobesSample(benchmark::
     state.SetLabel(lobe_label(kSet));
 }
 
+// ---- lobe controls (lobes/lobe_controls.hpp) ---------------------------------------------
+// The same inputs at β_m = 0.3 through a material with gains, tints and a tilt override:
+// what the controls cost when used (their default costs nothing extra: compare BM_Eval etc.
+// with a build of the headers before them, bench/results/controls_*.txt).
+template <typename T> std::vector<hairscatter::ChiangFiber<T>> controlled_fibers() {
+    const auto& in = inputs<T>();
+    hairscatter::LobeControls<T> c;
+    c.gain[0] = T(1.5), c.gain[1] = T(0.7), c.gain[2] = T(2), c.gain[3] = T(0.5);
+    c.tint[1] = glm::vec<3, T>(T(1), T(0.8), T(0.6));
+    c.override_alpha(2, T(0.05));
+    static const hairscatter::ChiangMaterial<T> material(in.materials[1].params(), c);
+    std::vector<hairscatter::ChiangFiber<T>> f;
+    for (std::size_t i = 0; i < bench_ref::kInputs; ++i) f.emplace_back(material, in.h[i]);
+    return f;
+}
+
+template <typename T> void BM_ControlsEval(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto fibers = controlled_fibers<T>();
+    std::size_t i = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(fibers[i].eval(in.wo[i], in.wi[1][1][i]));
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel("beta_m=0.30 wi=sampled, gains");
+}
+
+template <typename T> void BM_ControlsSample(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto fibers = controlled_fibers<T>();
+    std::size_t i = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(fibers[i].sample(in.wo[i], in.u[i]));
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel("beta_m=0.30, gains");
+}
+
 }  // namespace
 
 BENCHMARK_TEMPLATE(BM_Calib, float);
@@ -278,6 +316,8 @@ BENCHMARK_TEMPLATE(BM_LobesSample, float, LobeSet::kPrimary);
 BENCHMARK_TEMPLATE(BM_LobesSample, float, LobeSet::kAll);
 BENCHMARK_TEMPLATE(BM_LobesEval, double, LobeSet::kR);
 BENCHMARK_TEMPLATE(BM_LobesEval, double, LobeSet::kAll);
+BENCHMARK_TEMPLATE(BM_ControlsEval, float);
+BENCHMARK_TEMPLATE(BM_ControlsSample, float);
 BENCHMARK_TEMPLATE(BM_FiberCtor, float)->Apply(beta_args);
 BENCHMARK_TEMPLATE(BM_FiberCtor, double)->Apply(beta_args);
 BENCHMARK_TEMPLATE(BM_MaterialCtor, float)->Apply(beta_args);

@@ -4,6 +4,7 @@
 // bound to their wo.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -92,19 +93,35 @@ template <class Fiber> auto bind_fiber(const Fiber& fiber, const typename Fiber:
     else return BoundFiber<Fiber>(fiber, wo);
 }
 
+// Chiang's extras (docs/controls.md): lobe controls, and one fiber per strand (a strand's
+// material is strand_params[strand % size]); empty: every strand is the base fiber.
+template <typename T> struct ChiangExtras {
+    hairscatter::LobeControls<T> controls{};
+    bool has_controls = false;
+    std::vector<hairscatter::FiberParams<T>> strand_params;
+};
+
 // The chosen model's material, built and validated once (throws std::invalid_argument
-// naming the bad parameter or option). visit(f) calls f(make) with make(h) → the per-hit
-// fiber (h is ignored by the h-integrated models: far field, tabulated, Marschner).
+// naming the bad parameter or option). visit(f) calls f(make) with make(h, strand = 0) →
+// the per-hit fiber (h is ignored by the h-integrated models: far field, tabulated,
+// Marschner; the strand selects Chiang's per-strand material).
 template <typename T> class FiberModels {
   public:
-    FiberModels(FiberModel model, unsigned lobes, const hairscatter::FiberParams<T>& params)
+    FiberModels(FiberModel model, unsigned lobes, const hairscatter::FiberParams<T>& params,
+                const ChiangExtras<T>& extras = {})
         : model_(model), lobes_(lobes) {
         namespace hs = hairscatter;
         if (model != FiberModel::kChiang && lobes != LobeBits::kAll)
             throw std::invalid_argument(std::string("--lobes: only --model chiang keeps a subset of lobes (--model ") +
                                         to_string(model) + " has all of its lobes)");
+        if (model != FiberModel::kChiang && (extras.has_controls || !extras.strand_params.empty()))
+            throw std::invalid_argument(std::string("--gain-*, --tint-*, --alpha-r/tt/trt and per-strand variation "
+                                                    "(--strand-seed, --*-range) need --model chiang (not ") +
+                                        to_string(model) + ")");
         with_chiang_lobes(lobes, [](auto) { return 0; });  // rejects an empty set
-        chiang_ = std::make_unique<hs::ChiangMaterial<T>>(params);
+        chiang_ = std::make_unique<hs::ChiangMaterial<T>>(params, extras.controls);
+        strands_.reserve(extras.strand_params.size());
+        for (const hs::FiberParams<T>& p : extras.strand_params) strands_.emplace_back(p, extras.controls);
         switch (model) {
             case FiberModel::kChiang: break;
             case FiberModel::kFarField: farfield_ = std::make_unique<hs::DeonFarFieldMaterial<T>>(params); break;
@@ -126,27 +143,33 @@ template <typename T> class FiberModels {
     unsigned lobes() const { return lobes_; }
     // Always built: the dual-scattering tables need Chiang's model whatever --model says.
     const hairscatter::ChiangMaterial<T>& chiang() const { return *chiang_; }
+    // Strand `strand`'s Chiang material (the base one without per-strand variation).
+    const hairscatter::ChiangMaterial<T>& chiang(std::uint32_t strand) const {
+        return strands_.empty() ? *chiang_ : strands_[strand % strands_.size()];
+    }
 
     template <class F> decltype(auto) visit(F&& f) const {
         namespace hs = hairscatter;
         switch (model_) {
             case FiberModel::kFarField: {
                 const hs::DeonFarFieldMaterial<T>* m = farfield_.get();
-                return f([m](T) { return hs::DeonFarFieldFiber<T>(*m); });
+                return f([m](T, std::uint32_t = 0) { return hs::DeonFarFieldFiber<T>(*m); });
             }
             case FiberModel::kTabulated: {
                 const hs::TabulatedMaterial<T>* m = tabulated_.get();
-                return f([m](T) { return hs::TabulatedFiber<T>(*m); });
+                return f([m](T, std::uint32_t = 0) { return hs::TabulatedFiber<T>(*m); });
             }
             case FiberModel::kMarschner: {
                 const hs::MarschnerMaterial<T>* m = marschner_.get();
-                return f([m](T) { return hs::MarschnerFiber<T>(*m); });
+                return f([m](T, std::uint32_t = 0) { return hs::MarschnerFiber<T>(*m); });
             }
             case FiberModel::kChiang: break;
         }
-        const hs::ChiangMaterial<T>* m = chiang_.get();
+        const FiberModels* self = this;
         return with_chiang_lobes(lobes_, [&](auto set) -> decltype(auto) {
-            return f([m](T h) { return hs::BasicChiangFiber<T, decltype(set)::value>(*m, h); });
+            return f([self](T h, std::uint32_t strand = 0) {
+                return hs::BasicChiangFiber<T, decltype(set)::value>(self->chiang(strand), h);
+            });
         });
     }
 
@@ -154,6 +177,7 @@ template <typename T> class FiberModels {
     FiberModel model_;
     unsigned lobes_;
     std::unique_ptr<hairscatter::ChiangMaterial<T>> chiang_;
+    std::vector<hairscatter::ChiangMaterial<T>> strands_;
     std::unique_ptr<hairscatter::DeonFarFieldMaterial<T>> farfield_;
     std::unique_ptr<hairscatter::TabulatedMaterial<T>> tabulated_;
     std::unique_ptr<hairscatter::MarschnerMaterial<T>> marschner_;

@@ -86,6 +86,40 @@ std::string colour_preset_names() {
     return s;
 }
 
+namespace {
+const char* const kLobeOption[4] = {"r", "tt", "trt", "res"};
+
+void add_control_options(CLI::App& app, ControlOptions& c) {
+    for (int p = 0; p < 4; ++p) {
+        const std::string lobe = kLobeNames[p];
+        app.add_option(std::string("--gain-") + kLobeOption[p], c.gain[p],
+                       "chiang: gain of the " + lobe + " lobe, in [0, 1e6] (default 1)");
+        app.add_option(std::string("--tint-") + kLobeOption[p], c.tint[p],
+                       "chiang: tint of the " + lobe + " lobe, R,G,B in [0, 1e6] (default 1,1,1)")
+            ->delimiter(',')
+            ->expected(3)
+            ->type_name("R,G,B");
+    }
+    for (int p = 0; p < 3; ++p)
+        app.add_option(std::string("--alpha-") + kLobeOption[p], c.alpha_deg[p],
+                       std::string("chiang: cuticle tilt of the ") + kLobeNames[p] +
+                           " lobe in degrees, |alpha| <= 22.5, instead of --alpha");
+    app.add_option("--strand-seed", c.strand_seed,
+                   "vary melanin, redness and roughness per strand (renderer; lobe_explorer: --strand) with this "
+                   "seed, within the --*-range intervals");
+    const std::pair<std::vector<double>*, const char*> ranges[3] = {
+        {&c.melanin_range, "--melanin-range|per-strand melanin amount LO,HI within [0, 1] (instead of --melanin)"},
+        {&c.redness_range, "--redness-range|per-strand redness LO,HI within [0, 1] (instead of --redness)"},
+        {&c.roughness_range, "--roughness-range|per-strand factor LO,HI on --beta-m and --beta-n, within (0, 1000]"}};
+    for (const auto& r : ranges) {
+        const std::string text = r.second;
+        const std::size_t bar = text.find('|');
+        app.add_option(text.substr(0, bar), *r.first, text.substr(bar + 1))->delimiter(',')->expected(2)->type_name(
+            "LO,HI");
+    }
+}
+}  // namespace
+
 void add_fiber_options(CLI::App& app, FiberOptions& o, const std::string& default_colour,
                        const std::string& model_note) {
     app.add_option("--model", o.model, "fiber model: chiang | farfield | tabulated | marschner" + model_note)
@@ -108,13 +142,24 @@ void add_fiber_options(CLI::App& app, FiberOptions& o, const std::string& defaul
                    ->delimiter(',')
                    ->expected(3)
                    ->type_name("R,G,B");
-    preset->excludes(eu)->excludes(rgb)->excludes(sa);
-    eu->excludes(rgb)->excludes(sa);
-    rgb->excludes(sa);
+    auto* mel = app.add_option("--melanin", o.colour.melanin,
+                               "melanin amount in [0, 1] (Cycles' parameterisation: 0 white, 1 black; instead of "
+                               "--colour)");
+    app.add_option("--redness", o.colour.redness, "pheomelanin fraction of --melanin, in [0, 1] (default 0)");
+    app.add_option("--dye", o.colour.dye,
+                   "dye colour R,G,B in (0, 1]: its absorption (Chiang et al. 2016 eq. 9) is added to the hair's")
+        ->delimiter(',')
+        ->expected(3)
+        ->type_name("R,G,B");
+    preset->excludes(eu)->excludes(rgb)->excludes(sa)->excludes(mel);
+    eu->excludes(rgb)->excludes(sa)->excludes(mel);
+    rgb->excludes(sa)->excludes(mel);
+    sa->excludes(mel);
     app.add_option("--beta-m", o.beta_m, "longitudinal roughness, (0, 1]")->capture_default_str();
     app.add_option("--beta-n", o.beta_n, "azimuthal roughness, (0, 1]")->capture_default_str();
     app.add_option("--alpha", o.alpha_deg, "cuticle tilt in degrees, |alpha| <= 22.5")->capture_default_str();
     app.add_option("--eta", o.eta, "index of refraction, > 1")->capture_default_str();
+    add_control_options(app, o.controls);
 }
 
 namespace {
@@ -128,8 +173,10 @@ void require(bool ok, const std::string& message) {
 }
 }  // namespace
 
-glm::dvec3 sigma_a_of(const HairColourOptions& c, const std::string& default_preset, double beta_n,
-                      std::string* source) {
+namespace {
+// σa of the colour source (without the dye).
+glm::dvec3 source_sigma_a(const HairColourOptions& c, const std::string& default_preset, double beta_n,
+                          std::string* source) {
     auto set_source = [&](const std::string& s) {
         if (source) *source = s;
     };
@@ -147,6 +194,16 @@ glm::dvec3 sigma_a_of(const HairColourOptions& c, const std::string& default_pre
         return hs::sigma_a_from_color(glm::dvec3(c.rgb[0], c.rgb[1], c.rgb[2]), beta_n);
     }
     const double none = HairColourOptions::kNotGiven;
+    if (c.melanin != none || c.redness != none) {
+        hs::HairPigments<double> p;
+        require(c.melanin != none, "--redness needs --melanin (or --melanin-range)");
+        p.melanin = c.melanin;
+        p.redness = c.redness == none ? 0.0 : c.redness;
+        const std::string m = hs::validate(p);
+        require(m.empty(), "--melanin/--redness: " + m);
+        set_source("--melanin " + num(p.melanin) + " --redness " + num(p.redness));
+        return hs::sigma_a_from_melanin_redness(p.melanin, p.redness);
+    }
     if (c.eumelanin != none || c.pheomelanin != none) {
         require(c.eumelanin != none, "--pheomelanin needs --eumelanin (the preset fixes both)");
         require(std::isfinite(c.eumelanin) && c.eumelanin >= 0,
@@ -166,6 +223,29 @@ glm::dvec3 sigma_a_of(const HairColourOptions& c, const std::string& default_pre
     throw std::invalid_argument("--colour: unknown preset '" + name + "' (" + colour_preset_names() + ")");
 }
 
+// The --dye colour (white when not given), validated.
+glm::dvec3 dye_of(const HairColourOptions& c) {
+    if (c.dye.empty()) return glm::dvec3(1.0);
+    require(c.dye.size() == 3, "--dye needs three values R,G,B");
+    hs::HairPigments<double> p;
+    p.dye = glm::dvec3(c.dye[0], c.dye[1], c.dye[2]);
+    const std::string m = hs::validate(p);
+    require(m.empty(), "--dye: " + m);
+    return p.dye;
+}
+}  // namespace
+
+glm::dvec3 sigma_a_of(const HairColourOptions& c, const std::string& default_preset, double beta_n,
+                      std::string* source) {
+    glm::dvec3 s = source_sigma_a(c, default_preset, beta_n, source);
+    if (!c.dye.empty()) {
+        const glm::dvec3 dye = dye_of(c);
+        s += hs::sigma_a_from_dye(dye, beta_n);
+        if (source) *source += " + --dye " + num(dye.r) + "," + num(dye.g) + "," + num(dye.b);
+    }
+    return s;
+}
+
 hs::FiberParams<double> fiber_params(const FiberOptions& o, const std::string& default_colour,
                                      std::string* sigma_a_source) {
     hs::FiberParams<double> p;
@@ -175,11 +255,111 @@ hs::FiberParams<double> fiber_params(const FiberOptions& o, const std::string& d
     p.alpha = hs::radians(o.alpha_deg);
     require(std::isfinite(o.beta_n) && o.beta_n > 0 && o.beta_n <= 1,
             "--beta-n: " + num(o.beta_n) + " is outside (0, 1]");
-    p.sigma_a = sigma_a_of(o.colour, default_colour, o.beta_n, sigma_a_source);
+    // With per-strand colour, the base fiber (the dual-scattering tables') has the
+    // intervals' midpoints; strand_setup checks the intervals first.
+    HairColourOptions colour = o.colour;
+    const StrandSetup strands = strand_setup(o);
+    if (strands.vary_colour) {
+        const hs::StrandVariation<double>& v = strands.variation;
+        colour.melanin = 0.5 * (v.melanin.lo + v.melanin.hi);
+        colour.redness = 0.5 * (v.redness.lo + v.redness.hi);
+    }
+    p.sigma_a = sigma_a_of(colour, default_colour, o.beta_n, sigma_a_source);
+    if (strands.vary_colour && sigma_a_source) *sigma_a_source += " (the midpoints of the per-strand intervals)";
     const std::string m = hs::validate(p);
     if (!m.empty())
         throw std::invalid_argument("invalid fiber (--eta, --beta-m, --beta-n, --alpha in degrees, colour): " + m);
     return p;
+}
+
+hs::LobeControls<double> lobe_controls(const FiberOptions& o) {
+    const ControlOptions& c = o.controls;
+    hs::LobeControls<double> r;
+    const double max = hs::kMaxLobeGain<double>;
+    auto in_range = [](double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
+    for (int p = 0; p < 4; ++p) {
+        const std::string lobe = kLobeOption[p];
+        require(in_range(c.gain[p], 0, max), "--gain-" + lobe + ": " + num(c.gain[p]) + " is outside [0, 1e6]");
+        r.gain[p] = c.gain[p];
+        if (!c.tint[p].empty()) {
+            require(c.tint[p].size() == 3, "--tint-" + lobe + " needs three values R,G,B");
+            for (double v : c.tint[p])
+                require(in_range(v, 0, max), "--tint-" + lobe + ": " + num(v) + " is outside [0, 1e6]");
+            r.tint[p] = glm::dvec3(c.tint[p][0], c.tint[p][1], c.tint[p][2]);
+        }
+    }
+    for (int p = 0; p < 3; ++p)
+        if (c.alpha_deg[p] != HairColourOptions::kNotGiven) {
+            require(in_range(c.alpha_deg[p], -22.5, 22.5),
+                    std::string("--alpha-") + kLobeOption[p] + ": " + num(c.alpha_deg[p]) +
+                        " degrees is outside [-22.5, 22.5]");
+            r.override_alpha(p, hs::radians(c.alpha_deg[p]));
+        }
+    const std::string m = hs::validate(r);
+    if (!m.empty())
+        throw std::invalid_argument("invalid lobe controls (--gain-r/tt/trt/res, --tint-r/tt/trt/res, "
+                                    "--alpha-r/tt/trt in degrees): " + m);
+    return r;
+}
+
+bool has_lobe_controls(const FiberOptions& o) {
+    const ControlOptions& c = o.controls;
+    bool any = false;
+    for (int p = 0; p < 4; ++p) any = any || c.gain[p] != 1.0 || !c.tint[p].empty();
+    for (int p = 0; p < 3; ++p) any = any || c.alpha_deg[p] != HairColourOptions::kNotGiven;
+    return any;
+}
+
+StrandSetup strand_setup(const FiberOptions& o) {
+    const ControlOptions& c = o.controls;
+    const HairColourOptions& colour = o.colour;
+    StrandSetup s;
+    s.enabled = c.strand_seed != ControlOptions::kNoSeed || !c.melanin_range.empty() || !c.redness_range.empty() ||
+                !c.roughness_range.empty();
+    if (!s.enabled) return s;
+    const bool seeded = c.strand_seed != ControlOptions::kNoSeed;
+    require(!seeded || (c.strand_seed >= 0 && c.strand_seed <= 0xffffffffLL),
+            "--strand-seed: " + std::to_string(c.strand_seed) + " is outside [0, 4294967295]");
+    s.variation.seed = std::uint32_t(seeded ? c.strand_seed : 0);
+    auto interval = [](const std::vector<double>& v, double fixed) { return v.empty() ? hs::Interval<double>{fixed, fixed}
+                                                                                      : hs::Interval<double>{v[0], v[1]}; };
+    const double none = HairColourOptions::kNotGiven;
+    s.vary_colour = !c.melanin_range.empty() || !c.redness_range.empty();
+    if (s.vary_colour) {
+        require(colour.preset.empty() && colour.eumelanin == none && colour.rgb.empty() && colour.sigma_a.empty(),
+                "--melanin-range/--redness-range colour each strand from melanin: drop --colour, --eumelanin, "
+                "--rgb and --sigma-a (use --melanin, --redness, --dye)");
+        require(!c.melanin_range.empty() || colour.melanin != none, "--redness-range needs --melanin or --melanin-range");
+        require(c.melanin_range.empty() || colour.melanin == none, "--melanin-range replaces --melanin: give one");
+        require(c.redness_range.empty() || colour.redness == none, "--redness-range replaces --redness: give one");
+        s.dye = dye_of(colour);
+    }
+    auto check = [](const std::vector<double>& v, const char* option, double lo, double hi, bool open_lo) {
+        if (v.empty()) return;
+        require(v.size() == 2, std::string(option) + " needs two values LO,HI");
+        const bool ok = std::isfinite(v[0]) && std::isfinite(v[1]) && (open_lo ? v[0] > lo : v[0] >= lo) &&
+                        v[0] <= v[1] && v[1] <= hi;
+        require(ok, std::string(option) + ": " + num(v[0]) + "," + num(v[1]) + " is not an interval LO <= HI within " +
+                        (open_lo ? "(" : "[") + num(lo) + ", " + num(hi) + "]");
+    };
+    check(c.melanin_range, "--melanin-range", 0, 1, false);
+    check(c.redness_range, "--redness-range", 0, 1, false);
+    check(c.roughness_range, "--roughness-range", 0, hs::kMaxRoughnessScale<double>, true);
+    s.variation.melanin = interval(c.melanin_range, colour.melanin == none ? 0.0 : colour.melanin);
+    s.variation.redness = interval(c.redness_range, colour.redness == none ? 0.0 : colour.redness);
+    s.variation.roughness_scale = interval(c.roughness_range, 1.0);
+    const std::string m = hs::validate(s.variation);
+    if (!m.empty())
+        throw std::invalid_argument("invalid per-strand variation (--melanin-range, --redness-range, "
+                                    "--roughness-range, or --melanin/--redness held fixed): " + m);
+    return s;
+}
+
+hs::FiberParams<double> strand_fiber_params(const hs::FiberParams<double>& base, const StrandSetup& s,
+                                            std::uint32_t strand) {
+    if (!s.enabled) return base;
+    const hs::StrandTraits<double> t = s.variation.at(strand);
+    return s.vary_colour ? hs::strand_params(base, t, s.dye) : hs::strand_roughness(base, t.roughness_scale);
 }
 
 std::string strip_image_extension(std::string base) {

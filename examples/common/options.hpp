@@ -27,13 +27,28 @@ struct ColourPreset {
 const std::vector<ColourPreset>& colour_presets();
 std::string colour_preset_names();  // "white | blond | brown | dark | red | black"
 
-// Where σa comes from: a preset (--colour), melanin (--eumelanin, --pheomelanin), a colour
-// (--rgb, Chiang et al. 2016 eq. 9) or σa itself (--sigma-a); the last three exclude a preset.
+// Where σa comes from: a preset (--colour), melanin (--eumelanin, --pheomelanin), a melanin
+// amount and redness (--melanin, --redness: Cycles' parameterisation), a colour (--rgb,
+// Chiang et al. 2016 eq. 9) or σa itself (--sigma-a); all but the first exclude a preset.
+// A dye (--dye) adds its absorption to any of them.
 struct HairColourOptions {
     static constexpr double kNotGiven = -1e300;
     std::string preset;  // the program's default preset when empty
     double eumelanin = kNotGiven, pheomelanin = kNotGiven;
-    std::vector<double> rgb, sigma_a;
+    double melanin = kNotGiven, redness = kNotGiven;
+    std::vector<double> rgb, sigma_a, dye;
+};
+
+// The production-shader controls (docs/controls.md): per-lobe gains, tints and tilts of
+// Chiang's model, and the per-strand variation of melanin, redness and roughness.
+struct ControlOptions {
+    double gain[4] = {1, 1, 1, 1};          // --gain-r, --gain-tt, --gain-trt, --gain-res
+    std::vector<double> tint[4];            // --tint-r … --tint-res, R,G,B
+    double alpha_deg[3] = {HairColourOptions::kNotGiven, HairColourOptions::kNotGiven,
+                           HairColourOptions::kNotGiven};  // --alpha-r, --alpha-tt, --alpha-trt
+    static constexpr long long kNoSeed = std::numeric_limits<long long>::min();
+    long long strand_seed = kNoSeed;        // --strand-seed
+    std::vector<double> melanin_range, redness_range, roughness_range;
 };
 
 // The fiber: model, lobes, colour and the roughness / tilt / index parameters.
@@ -41,10 +56,13 @@ struct FiberOptions {
     std::string model = "chiang", lobes = "all";
     HairColourOptions colour;
     double beta_m = 0.3, beta_n = 0.3, alpha_deg = 2.0, eta = 1.55;
+    ControlOptions controls;
 };
 
-// Adds --model, --lobes, --colour/--color, --eumelanin, --pheomelanin, --rgb, --sigma-a,
-// --beta-m, --beta-n, --alpha, --eta. model_note is appended to --model's help.
+// Adds --model, --lobes, --colour/--color, --eumelanin, --pheomelanin, --melanin,
+// --redness, --rgb, --sigma-a, --dye, --beta-m, --beta-n, --alpha, --eta and the controls
+// (--gain-*, --tint-*, --alpha-r/-tt/-trt, --strand-seed, --*-range). model_note is appended
+// to --model's help.
 void add_fiber_options(CLI::App& app, FiberOptions& o, const std::string& default_colour,
                        const std::string& model_note = "");
 
@@ -56,6 +74,37 @@ glm::dvec3 sigma_a_of(const HairColourOptions& c, const std::string& default_pre
 // options' names), the model and the lobe set.
 hairscatter::FiberParams<double> fiber_params(const FiberOptions& o, const std::string& default_colour,
                                               std::string* sigma_a_source = nullptr);
+
+// The lobe controls of the options (validated; throws std::invalid_argument naming the
+// options), and whether any differs from its default.
+hairscatter::LobeControls<double> lobe_controls(const FiberOptions& o);
+bool has_lobe_controls(const FiberOptions& o);
+
+// The per-strand variation: enabled by --strand-seed or a range. vary_colour when a
+// melanin or redness range is given (σa then comes from the strand's pigments and the dye);
+// otherwise only the roughness varies and σa is the base's.
+struct StrandSetup {
+    bool enabled = false, vary_colour = false;
+    hairscatter::StrandVariation<double> variation;
+    glm::dvec3 dye{1.0};
+};
+// Validated; throws std::invalid_argument naming the option.
+StrandSetup strand_setup(const FiberOptions& o);
+// Strand `strand`'s parameters from the base (fiber_params) under the setup.
+hairscatter::FiberParams<double> strand_fiber_params(const hairscatter::FiberParams<double>& base,
+                                                     const StrandSetup& s, std::uint32_t strand);
+
+// The parameters and controls in another precision (the renderer shades in float).
+template <typename T> hairscatter::FiberParams<T> params_as(const hairscatter::FiberParams<double>& p) {
+    return {T(p.eta), T(p.beta_m), T(p.beta_n), T(p.alpha), glm::vec<3, T>(p.sigma_a)};
+}
+template <typename T> hairscatter::LobeControls<T> controls_as(const hairscatter::LobeControls<double>& c) {
+    hairscatter::LobeControls<T> r;
+    for (int p = 0; p < 4; ++p) r.gain[p] = T(c.gain[p]), r.tint[p] = glm::vec<3, T>(c.tint[p]);
+    for (int p = 0; p < 3; ++p) r.alpha[p] = T(c.alpha[p]);
+    r.alpha_override = c.alpha_override;
+    return r;
+}
 
 // The output pair: "-o,--out" names <out>.exr and <out>.png (an .exr/.png extension on
 // the name is dropped).

@@ -48,6 +48,7 @@ struct Options {
     double h = 0.0;
     int average_h = 0;  // 0: the single offset h
     ex::FiberOptions fiber;
+    long long strand = -1;  // with per-strand variation: the strand shown (-1: strand 0)
     bool per_lobe = false;
     int width = 720, height = 360, supersample = 1, threads = 0;
     std::string tone = "log";
@@ -59,6 +60,8 @@ struct Options {
 // What the image is of, after the options have been turned into library parameters.
 struct Setup {
     hs::FiberParams<double> params;
+    ex::ChiangExtras<double> extras;  // the lobe controls
+    std::string strand_text;  // which strand, with per-strand variation
     ex::FiberModel model = ex::FiberModel::kChiang;
     unsigned lobes = ex::LobeBits::kAll;
     std::string sigma_a_source;  // how σa was given, for the summary
@@ -87,6 +90,20 @@ std::string rgb_string(const dvec3& c, const char* format = "%.4g") {
 // Fills s from the options; throws std::invalid_argument naming the bad option.
 void make_setup(const Options& o, Setup& s) {
     s.params = ex::fiber_params(o.fiber, "brown", &s.sigma_a_source);
+    s.extras.controls = ex::lobe_controls(o.fiber);
+    s.extras.has_controls = ex::has_lobe_controls(o.fiber);
+    const ex::StrandSetup strands = ex::strand_setup(o.fiber);
+    if (o.strand >= 0 && !strands.enabled)
+        throw std::invalid_argument("--strand needs per-strand variation (--strand-seed or a --*-range)");
+    if (strands.enabled) {
+        const std::uint32_t id = std::uint32_t(o.strand < 0 ? 0 : o.strand);
+        s.params = ex::strand_fiber_params(s.params, strands, id);
+        const hs::StrandTraits<double> t = strands.variation.at(id);
+        s.strand_text = "strand " + std::to_string(id) + " of seed " + std::to_string(strands.variation.seed) +
+                        ": melanin " + fmt("%.4g", t.melanin) + ", redness " + fmt("%.4g", t.redness) +
+                        ", roughness x" + fmt("%.4g", t.roughness_scale) + (strands.vary_colour ? "" : " (colour fixed)");
+        if (strands.vary_colour) s.sigma_a_source = "the strand's melanin and redness";
+    }
     s.model = ex::parse_model(o.fiber.model);
     s.lobes = ex::parse_lobes(o.fiber.lobes);
     if (!(o.h >= -1 && o.h <= 1)) throw std::invalid_argument("--h: " + fmt("%g", o.h) + " is outside [-1, 1]");
@@ -178,7 +195,7 @@ int supersample_needed(const hs::FiberParams<double>& p, const Options& o) {
 // The image of one lobe set of the chosen model: rendered, written to <base>.exr and
 // <base>.png, and summarised on stdout. Returns the exit code.
 int explore(const Options& o, const Setup& setup, unsigned lobes, const std::string& base) {
-    const ex::FiberModels<double> models(setup.model, lobes, setup.params);
+    const ex::FiberModels<double> models(setup.model, lobes, setup.params, setup.extras);
     const std::string model_text =
         setup.model == ex::FiberModel::kChiang
             ? "Chiang et al. 2016 (" + ex::lobes_to_string(lobes) + ")"
@@ -216,9 +233,18 @@ int explore(const Options& o, const Setup& setup, unsigned lobes, const std::str
                                                      " uniformly spaced offsets in (-1, 1)"
                                                : "h = " + fmt("%g", o.h);
     const ex::FiberOptions& fo = o.fiber;
-    const std::string fiber_text = "eta " + fmt("%g", fo.eta) + ", beta_m " + fmt("%g", fo.beta_m) + ", beta_n " +
-                                   fmt("%g", fo.beta_n) + ", alpha " + fmt("%g", fo.alpha_deg) +
+    const std::string fiber_text = "eta " + fmt("%g", fo.eta) + ", beta_m " + fmt("%g", setup.params.beta_m) +
+                                   ", beta_n " + fmt("%g", setup.params.beta_n) + ", alpha " + fmt("%g", fo.alpha_deg) +
                                    " deg, sigma_a " + rgb_string(setup.params.sigma_a);
+    std::string controls_text;  // the lobe controls that differ from their defaults
+    const hs::LobeControls<double>& lc = setup.extras.controls;
+    for (int p = 0; p < 4; ++p) {
+        const char* names[4] = {"R", "TT", "TRT", "residual"};
+        if (lc.gain[p] != 1.0) controls_text += std::string(" gain ") + names[p] + " " + fmt("%g", lc.gain[p]) + ";";
+        if (lc.tint[p] != dvec3(1.0)) controls_text += std::string(" tint ") + names[p] + " " + rgb_string(lc.tint[p]) + ";";
+        if (p < 3 && lc.lobe_alpha(p, -1e300) != -1e300)
+            controls_text += std::string(" alpha ") + names[p] + " " + fmt("%g", lc.alpha[p] * 180 / kPi) + " deg;";
+    }
     const std::string outgoing_text = "theta_o = " + fmt("%g", o.theta_o_deg) + " deg, phi_o = 0, " + h_text;
 
     // Outputs.
@@ -255,6 +281,9 @@ int explore(const Options& o, const Setup& setup, unsigned lobes, const std::str
     std::printf("  model     %s\n", model_text.c_str());
     std::printf("  outgoing  %s\n", outgoing_text.c_str());
     std::printf("  fiber     %s [from %s]\n", fiber_text.c_str(), setup.sigma_a_source.c_str());
+    if (!setup.strand_text.empty()) std::printf("  strand    %s\n", setup.strand_text.c_str());
+    if (!controls_text.empty())
+        std::printf("  controls %s (the albedo below includes them: sum of gain x tint x A_p)\n", controls_text.c_str());
     std::printf("  grid      x: phi -180..180 deg, y: theta_i +90 (top)..-90 (bottom); %d x %d sub-samples "
                 "per pixel; %.2f s\n",
                 o.supersample, o.supersample, r.seconds);
@@ -279,7 +308,7 @@ int run(const Options& o) {
         base = ex::strip_image_extension(o.output);
         ex::prepare_output(base);
         // The materials validate too (Marschner's mapped parameters, the lobe set).
-        const ex::FiberModels<double> check(setup.model, setup.lobes, setup.params);
+        const ex::FiberModels<double> check(setup.model, setup.lobes, setup.params, setup.extras);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "lobe_explorer: invalid parameters: %s\n", e.what());
         return 2;
@@ -317,6 +346,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 100000))
         ->excludes(h_opt);
     ex::add_fiber_options(app, o.fiber, "brown");
+    app.add_option("--strand", o.strand,
+                   "With per-strand variation (--strand-seed, --*-range): the strand whose fiber is shown (default 0)")
+        ->check(CLI::Range(0LL, 4294967295LL));
     app.add_flag("--per-lobe", o.per_lobe,
                  "chiang: also one image per lobe of --lobes, <out>_R.exr/.png, <out>_TT..., <out>_residual...");
     app.add_option("--width", o.width, "Image width in pixels (phi)")->check(CLI::Range(1, 16384))->capture_default_str();

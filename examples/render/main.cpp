@@ -116,8 +116,10 @@ int main(int argc, char** argv) {
             throw std::invalid_argument("--integrator dual shades with the full Chiang model only: drop --model/--lobes "
                                         "or use --integrator single or path");
         const hs::FiberParams<double> params = ex::fiber_params(fiber, "blond");
-        so.fiber = hs::FiberParams<float>{float(params.eta), float(params.beta_m), float(params.beta_n),
-                                          float(params.alpha), glm::vec3(params.sigma_a)};
+        so.fiber = ex::params_as<float>(params);
+        so.chiang_extras.controls = ex::controls_as<float>(ex::lobe_controls(fiber));
+        so.chiang_extras.has_controls = ex::has_lobe_controls(fiber);
+        const ex::StrandSetup strands = ex::strand_setup(fiber);
         so.dual_scattering = ro.integrator == render::Integrator::kDual;
         so.dual = dual_formulation == "zinke" ? hs::DualScatteringSettings<float>::zinke2008()
                                               : hs::DualScatteringSettings<float>::improved();
@@ -145,8 +147,13 @@ int main(int argc, char** argv) {
             file.info = "hairscatter render --scene " + desc.name;
             render::write_hair_file(write_hair, file);
         }
-        // The material and the grid's size are checked before the BVH is built.
-        { const hairscatter_examples::FiberModels<float> check(so.model, so.lobes, so.fiber); }
+        // One fiber per strand with --strand-seed or a --*-range (docs/controls.md).
+        if (strands.enabled)
+            for (std::size_t s = 0; s < desc.hair.strands.size(); ++s)
+                so.chiang_extras.strand_params.push_back(
+                    ex::params_as<float>(ex::strand_fiber_params(params, strands, std::uint32_t(s))));
+        // The materials and the grid's size are checked before the BVH is built.
+        { const hairscatter_examples::FiberModels<float> check(so.model, so.lobes, so.fiber, so.chiang_extras); }
         render::check_grid(desc.hair, so);
         std::fprintf(stderr, "render: building the scene (%zu strands)\n", desc.hair.strands.size());
         const render::Scene scene(std::move(desc));

@@ -95,6 +95,24 @@ template __global__ void evaluate_r_only<float>(hairscatter::ChiangMaterial<floa
                                                 const glm::vec<3, float>*, const glm::vec<4, float>*,
                                                 glm::vec<3, float>*, float*, int);
 
+// Per-strand variation and pigments on the device: each thread hashes its strand id to
+// melanin, redness and a roughness scale, and maps them to σa (fiber/strand_variation.hpp).
+template <typename T>
+__global__ void strand_absorption(hairscatter::StrandVariation<T> variation, hairscatter::FiberParams<T> base,
+                                  glm::vec<3, T> dye, glm::vec<3, T>* sigma_a, T* beta_m, int n) {
+    const int i = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
+    if (i >= n) return;
+    const hairscatter::FiberParams<T> p =
+        hairscatter::strand_params(base, variation.at(static_cast<std::uint32_t>(i)), dye);
+    sigma_a[i] = p.sigma_a + hairscatter::sigma_a_from_melanin_redness(T(0.5), T(0.2));
+    beta_m[i] = p.beta_m;
+}
+template __global__ void strand_absorption<float>(hairscatter::StrandVariation<float>, hairscatter::FiberParams<float>,
+                                                  glm::vec<3, float>, glm::vec<3, float>*, float*, int);
+template __global__ void strand_absorption<double>(hairscatter::StrandVariation<double>,
+                                                   hairscatter::FiberParams<double>, glm::vec<3, double>,
+                                                   glm::vec<3, double>*, double*, int);
+
 // The tabulated far-field fiber reads its table through a trivially copyable view of
 // device memory (material.view(device_copy_of_data)).
 template <typename T>
@@ -143,7 +161,10 @@ hairscatter::ChiangMaterial<T> make_material() {
     p.beta_n = T(0.3);
     p.alpha = T(0.035);
     p.sigma_a = hairscatter::sigma_a_from_melanin(T(1.3), T(0));
-    return hairscatter::ChiangMaterial<T>(p);
+    hairscatter::LobeControls<T> controls;  // gains and a tilt override reach the device copy
+    controls.gain[2] = T(1.5);
+    controls.override_alpha(0, T(0.05));
+    return hairscatter::ChiangMaterial<T>(p, controls);
 }
 
 }  // namespace

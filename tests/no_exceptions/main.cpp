@@ -46,6 +46,17 @@ int main() {
     const hs::TabulatedMaterial<float> tab(p, hs::TabulatedOptions::coarse());
     expect(hs::TabulatedFiber<float>(tab).pdf(wo, wi) > 0.0f, "tabulated pdf is positive");
 
+    // The controls' non-throwing checks.
+    hs::HairPigments<float> pigments;
+    pigments.redness = 1.5f;
+    expect(hs::validate(pigments).find("redness") != std::string::npos, "validate(HairPigments) names redness");
+    hs::StrandVariation<float> variation;
+    variation.melanin = {0.6f, 0.2f};
+    expect(hs::validate(variation).find("melanin") != std::string::npos, "validate(StrandVariation) names melanin");
+    hs::LobeControls<float> controls;
+    controls.gain[1] = -1.0f;
+    expect(hs::validate(controls).find("gain_tt") != std::string::npos, "validate(LobeControls) names gain_tt");
+
 #if HAS_FORK
     // A material from bad parameters: the child must die of SIGABRT (the message goes to
     // stderr), not run on with garbage.

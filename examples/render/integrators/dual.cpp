@@ -74,7 +74,7 @@ class DualIntegrator final : public PixelIntegrator {
         const Lights& lights = c_.lights;
         const RenderOptions& o = c_.options;
         if (!lights.any()) return vec3(0);
-        const hs::ChiangFiber<float> fiber(c_.shading.chiang(), sp.h());
+        const hs::ChiangFiber<float> fiber(c_.shading.models().chiang(sp.strand), sp.h());
         const Dual dual(fiber, c_.shading.tables());
         const bool uniform = o.sampling == Sampling::kUniform;
 

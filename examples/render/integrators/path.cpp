@@ -41,7 +41,7 @@ template <class MakeFiber> class PathIntegrator final : public PixelIntegrator {
             }
             if (hit.kind == Hit::kHair) {
                 const ShadingPoint sp(hit, -d);
-                const auto fiber = hairscatter_examples::bind_fiber(make_(sp.h()), sp.wo());
+                const auto fiber = hairscatter_examples::bind_fiber(make_(sp.h(), sp.strand), sp.wo());
                 if (mis && lights.any()) {
                     const float u0 = rng.u(), u1 = rng.u(), u2 = rng.u();
                     const Lights::Sample ls = lights.sample(sp.p, u0, u1, u2);

@@ -22,7 +22,7 @@ template <class MakeFiber> class SingleIntegrator final : public PixelIntegrator
         const Lights::Sample ls = lights.sample(sp.p, u0, u1, u2);
         if (!(ls.pdf > 0)) return glm::vec3(0);
         if (c_.scene.occluded(sp.p, ls.wi, ls.dist * kShadowShorten, sp.strand)) return glm::vec3(0);
-        const auto fiber = hairscatter_examples::bind_fiber(make_(sp.h()), sp.wo());
+        const auto fiber = hairscatter_examples::bind_fiber(make_(sp.h(), sp.strand), sp.wo());
         return fiber.eval(sp.to_local(ls.wi)) * ls.Le / ls.pdf;
     }
 

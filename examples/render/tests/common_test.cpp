@@ -73,4 +73,46 @@ TEST(ExamplesCommon, WhereSigmaAComesFrom) {
     EXPECT_THROW(ex::sigma_a_of(c, "blond", 0.3), std::invalid_argument);
 }
 
+// The controls' options become the library's values: σa from melanin, redness and dye,
+// the lobe controls, and one deterministic fiber per strand.
+TEST(ExamplesCommon, ControlsFromOptions) {
+    ex::HairColourOptions c;
+    c.melanin = 0.6;
+    c.redness = 0.25;
+    EXPECT_EQ(ex::sigma_a_of(c, "blond", 0.3), hs::sigma_a_from_melanin_redness(0.6, 0.25));
+    c.dye = {0.9, 0.8, 0.7};
+    EXPECT_EQ(ex::sigma_a_of(c, "blond", 0.3),
+              hs::sigma_a_from_melanin_redness(0.6, 0.25) + hs::sigma_a_from_color(glm::dvec3(0.9, 0.8, 0.7), 0.3));
+
+    ex::FiberOptions o;
+    o.controls.gain[2] = 1.5;
+    o.controls.tint[1] = {1.0, 0.5, 0.25};
+    o.controls.alpha_deg[0] = 4.0;
+    EXPECT_TRUE(ex::has_lobe_controls(o));
+    EXPECT_FALSE(ex::has_lobe_controls(ex::FiberOptions{}));
+    const hs::LobeControls<double> lc = ex::lobe_controls(o);
+    EXPECT_EQ(lc.gain[2], 1.5);
+    EXPECT_EQ(lc.tint[1], glm::dvec3(1.0, 0.5, 0.25));
+    EXPECT_EQ(lc.lobe_alpha(0, 0.0), hs::radians(4.0));
+    EXPECT_EQ(lc.lobe_alpha(1, 0.1), 0.1);
+
+    o.colour.melanin = 0.4;
+    o.controls.strand_seed = 9;
+    o.controls.redness_range = {0.1, 0.6};
+    o.controls.roughness_range = {0.5, 2.0};
+    const ex::StrandSetup s = ex::strand_setup(o);
+    ASSERT_TRUE(s.enabled && s.vary_colour);
+    const hs::FiberParams<double> base = ex::fiber_params(o, "blond");
+    ex::ChiangExtras<float> extras;
+    for (std::uint32_t k = 0; k < 8; ++k)
+        extras.strand_params.push_back(ex::params_as<float>(ex::strand_fiber_params(base, s, k)));
+    const ex::FiberModels<float> models(ex::FiberModel::kChiang, ex::LobeBits::kAll, ex::params_as<float>(base), extras);
+    EXPECT_NE(models.chiang(1).params().sigma_a, models.chiang(2).params().sigma_a);
+    EXPECT_EQ(models.chiang(3).params().sigma_a, models.chiang(11).params().sigma_a);  // strand % count
+    EXPECT_EQ(ex::strand_fiber_params(base, s, 5).sigma_a, ex::strand_fiber_params(base, s, 5).sigma_a);
+    EXPECT_EQ(hs::validate(ex::strand_fiber_params(base, s, 5)), "");
+    EXPECT_THROW(ex::FiberModels<float>(ex::FiberModel::kTabulated, ex::LobeBits::kAll, ex::params_as<float>(base), extras),
+                 std::invalid_argument);
+}
+
 }  // namespace

@@ -36,6 +36,28 @@ template <typename T> inline constexpr T kMinRoughness = T(1e-3);
 namespace detail {
 // x ∈ [lo, hi] and finite, decided without relying on NaN comparisons (fast-math safe).
 template <typename T> bool in_range(T x, T lo, T hi) { return is_finite(x) && x >= lo && x <= hi; }
+
+// The messages of a validate(), joined by "; ": "name = value is outside its range R" or a text.
+class Complaints {
+  public:
+    void add(const std::string& name, double value, const char* range) {
+        std::ostringstream m;
+        m << name << " = " << value << " is outside its range " << range;
+        add_text(m.str());
+    }
+    void add_text(const std::string& text) { msg_ << (msg_.tellp() > 0 ? "; " : "") << text; }
+    std::string str() const { return msg_.str(); }
+
+  private:
+    std::ostringstream msg_;
+};
+
+// require_valid's body for every parameter struct: throws std::invalid_argument
+// "hairscatter: invalid <what>: <message>" unless validate() gave an empty message.
+inline void throw_if_invalid(const std::string& message, const char* what) {
+    if (!message.empty())
+        HAIRSCATTER_THROW(std::invalid_argument(std::string("hairscatter: invalid ") + what + ": " + message));
+}
 }  // namespace detail
 
 // Checks every field; returns an empty string when the parameters are valid, else one
@@ -50,27 +72,22 @@ template <typename T> std::string validate(const FiberParams<T>& p) {
               in_range(p.alpha, -kMaxCuticleTilt<T>, kMaxCuticleTilt<T>);
     for (int c = 0; c < 3; ++c) ok = ok && in_range(p.sigma_a[c], T(0), inf);
     if (ok) return std::string();  // the common case builds no stream (materials may be made per strand)
-    std::ostringstream msg;
-    auto bad = [&](const char* name, double value, const char* range) {
-        if (msg.tellp() > 0) msg << "; ";
-        msg << name << " = " << value << " is outside its range " << range;
-    };
-    if (!eta_ok) bad("eta", double(p.eta), "(1, inf) (finite)");
-    if (!in_range(p.beta_m, kMinRoughness<T>, T(1))) bad("beta_m", double(p.beta_m), "[1e-3, 1]");
-    if (!in_range(p.beta_n, kMinRoughness<T>, T(1))) bad("beta_n", double(p.beta_n), "[1e-3, 1]");
+    detail::Complaints bad;
+    if (!eta_ok) bad.add("eta", double(p.eta), "(1, inf) (finite)");
+    if (!in_range(p.beta_m, kMinRoughness<T>, T(1))) bad.add("beta_m", double(p.beta_m), "[1e-3, 1]");
+    if (!in_range(p.beta_n, kMinRoughness<T>, T(1))) bad.add("beta_n", double(p.beta_n), "[1e-3, 1]");
     if (!in_range(p.alpha, -kMaxCuticleTilt<T>, kMaxCuticleTilt<T>))
-        bad("alpha", double(p.alpha), "[-pi/8, pi/8] radians");
+        bad.add("alpha", double(p.alpha), "[-pi/8, pi/8] radians");
     const char* channel[3] = {"sigma_a.r", "sigma_a.g", "sigma_a.b"};
     for (int c = 0; c < 3; ++c)
-        if (!in_range(p.sigma_a[c], T(0), inf)) bad(channel[c], double(p.sigma_a[c]), "[0, inf) (finite)");
-    return msg.str();
+        if (!in_range(p.sigma_a[c], T(0), inf)) bad.add(channel[c], double(p.sigma_a[c]), "[0, inf) (finite)");
+    return bad.str();
 }
 
 // Throws std::invalid_argument with validate()'s message when the parameters are bad
 // (without exceptions: prints it and aborts, config.hpp's HAIRSCATTER_THROW).
 template <typename T> void require_valid(const FiberParams<T>& p) {
-    const std::string m = validate(p);
-    if (!m.empty()) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: invalid fiber parameters: " + m));
+    detail::throw_if_invalid(validate(p), "fiber parameters");
 }
 
 // The parameters, after require_valid: for a material's member-initialiser list.
@@ -87,6 +104,16 @@ HAIRSCATTER_HD glm::vec<3, T> sigma_a_from_melanin(T eumelanin, T pheomelanin) {
            pheomelanin * glm::vec<3, T>(T(0.187), T(0.4), T(1.05));
 }
 
+namespace detail {
+// Chiang et al. 2016 eq. 9 for one channel, without checks: σa = (ln c / D(βn))², D the
+// quintic in βn below (evaluated by Horner's rule). c ∈ (0, 1], βn ∈ [kMinRoughness, 1].
+template <typename T> HAIRSCATTER_HD T absorption_from_reflectance(T c, T beta_n) {
+    using std::log;
+    const T denom = horner(beta_n, T(5.969), T(-0.215), T(2.532), T(-10.73), T(5.574), T(0.245));
+    return sqr(log(c) / denom);
+}
+}  // namespace detail
+
 // Absorption that gives roughly the diffuse-looking colour c for azimuthal roughness
 // β_n (Chiang et al. 2016, eq. 9): σa = (ln c / (5.969 - 0.215βn + 2.532βn² - 10.73βn³
 // + 5.574βn⁴ + 0.245βn⁵))². Colour channels must lie in (0, 1].
@@ -99,11 +126,8 @@ template <typename T> glm::vec<3, T> sigma_a_from_color(const glm::vec<3, T>& c,
     if (!detail::in_range(beta_n, kMinRoughness<T>, T(1)))
         HAIRSCATTER_THROW(std::invalid_argument("hairscatter: sigma_a_from_color: beta_n = " +
                                     std::to_string(double(beta_n)) + " is outside [1e-3, 1]"));
-    const T b = beta_n;
-    const T denom = T(5.969) - T(0.215) * b + T(2.532) * b * b - T(10.73) * b * b * b +
-                    T(5.574) * b * b * b * b + T(0.245) * b * b * b * b * b;
     glm::vec<3, T> s;
-    for (int i = 0; i < 3; ++i) s[i] = std::pow(std::log(c[i]) / denom, T(2));
+    for (int i = 0; i < 3; ++i) s[i] = detail::absorption_from_reflectance(c[i], beta_n);
     return s;
 }
 

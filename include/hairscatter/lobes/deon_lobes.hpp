@@ -19,7 +19,9 @@ template <typename T> class DeonLobes {
     static constexpr int kLobes = 3;
 
     DeonLobes() = default;
-    HAIRSCATTER_HD DeonLobes(T beta_m, T alpha) : tilt_(alpha) {
+    HAIRSCATTER_HD DeonLobes(T beta_m, T alpha) : DeonLobes(beta_m, CuticleTilt<T>(alpha)) {}
+    // With per-lobe tilts of their own (LobeControls::cuticle_tilt).
+    HAIRSCATTER_HD DeonLobes(T beta_m, const CuticleTilt<T>& tilt) : tilt_(tilt) {
         const T v0 = longitudinal_variance(beta_m);
         const T v[kLobes + 1] = {v0, T(0.25) * v0, T(4) * v0, T(4) * v0};
         for (int p = 0; p <= kLobes; ++p) m_[p] = DeonLongitudinal<T>(v[p]);

@@ -15,6 +15,7 @@
 #include "../lobes/attenuation.hpp"
 #include "../lobes/azimuthal.hpp"
 #include "../lobes/deon_lobes.hpp"
+#include "../lobes/lobe_controls.hpp"
 #include "../lobes/lobe_set.hpp"
 #include "../math/constants.hpp"
 #include "../math/distributions.hpp"
@@ -28,20 +29,35 @@ namespace hairscatter {
 // the host (validated: the constructor throws std::invalid_argument with a message that
 // names the bad parameter). Trivially copyable, so it can be copied to a GPU. Its d'Eon
 // ingredients (longitudinal(p), tilt(), lobe_shift(p), lobe_variance(p)) are DeonLobes'.
+// The optional lobe controls (lobes/lobe_controls.hpp) set per-lobe gains, tints and tilts;
+// the tilts go into DeonLobes, the gains and tints into lobe_weight(p).
 template <typename T> class ChiangMaterial : public DeonLobes<T> {
   public:
     static constexpr int kLobes = DeonLobes<T>::kLobes;  // R, TT, TRT explicit; index 3 is the residual
 
-    explicit ChiangMaterial(const FiberParams<T>& params)
-        : DeonLobes<T>(validated(params).beta_m, params.alpha), params_(params),
-          n_(logistic_scale(params.beta_n)) {}
+    explicit ChiangMaterial(const FiberParams<T>& params, const LobeControls<T>& controls = LobeControls<T>())
+        : DeonLobes<T>(validated(params).beta_m, validated(controls).cuticle_tilt(params.alpha)), params_(params),
+          controls_(controls), n_(logistic_scale(params.beta_n)) {
+        for (int p = 0; p <= kLobes; ++p) {
+            weight_[p] = controls.weight(p);
+            weighted_ = weighted_ || weight_[p] != glm::vec<3, T>(T(1));
+        }
+    }
 
     HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
+    HAIRSCATTER_HD const LobeControls<T>& controls() const { return controls_; }
     HAIRSCATTER_HD const TrimmedLogistic<T>& azimuthal() const { return n_; }
+    // Lobe p's factor on A_p, gain_p × tint_p (1 without controls), and whether any differs
+    // from 1 (without, the fiber skips the products: the default path costs one branch).
+    HAIRSCATTER_HD const glm::vec<3, T>& lobe_weight(int p) const { return weight_[p]; }
+    HAIRSCATTER_HD bool has_lobe_weights() const { return weighted_; }
 
   private:
     FiberParams<T> params_;
+    LobeControls<T> controls_;
     TrimmedLogistic<T> n_;
+    glm::vec<3, T> weight_[kLobes + 1];
+    bool weighted_ = false;
 };
 
 // One fiber hit: a material and the offset h ∈ [-1, 1] across the fiber. Directions are
@@ -50,8 +66,8 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
 // eval(wo, wi) has the cosine inside: Lo = ∫ eval(wo, wi) Li dωi, so ∫ eval dωi = 1 for
 // σa = 0 (pbrt's HairBxDF::f is eval / |wi.z|). eval, pdf, eval_pdf, sample and at(wo)
 // are the contract's (models/contract.hpp): sample is d'Eon, Marschner & Hanika 2013's,
-// u.x picks the lobe with probability ∝ mean(A_p), (u.y, u.z) sample θi from M_p, u.w
-// samples φ from N_p.
+// u.x picks the lobe with probability ∝ mean(A_p) (A_p times the material's lobe_weight),
+// (u.y, u.z) sample θi from M_p, u.w samples φ from N_p.
 //
 // kKept selects the lobes at compile time (lobes/lobe_set.hpp); ChiangFiber<T> keeps all
 // four. BasicChiangFiber<float, LobeSet::kR> is a one-lobe preview that never computes the
@@ -108,8 +124,8 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         return r;
     }
 
-    // Σ_p A_p(wo) over the kept lobes: the directional albedo, exact for this model
-    // because every M_p and N_p is normalised.
+    // Σ_p A_p(wo) over the kept lobes, each times its lobe_weight(p) (gain × tint): the
+    // directional albedo, exact for this model because every M_p and N_p is normalised.
     HAIRSCATTER_HD V3 albedo(const V3& wo) const {
         const Outgoing o = outgoing<false>(wo);
         V3 a(T(0));
@@ -173,6 +189,11 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         } else {
             o.a[0] = V3(fresnel);
         }
+        // The lobe controls, in this one place: f, the selection weights w, albedo and
+        // lobe_split all read the scaled A_p, so sampling stays proportional to eval.
+        if (mat_->has_lobe_weights())
+            for (int p = 0; p <= kLobes; ++p)
+                if (keeps(p)) o.a[p] *= mat_->lobe_weight(p);
         mat_->tilt_all(sin_o, cos_o, o.sin_o, o.cos_o, unsigned(kKept));
         for (int p = 0; p < kLobes; ++p)
             if (keeps(p)) o.phi_p[p] = exit_azimuth(p, gamma_o_, gamma_t);
@@ -182,8 +203,8 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
                 o.w[p] = keeps(p) ? (o.a[p].x + o.a[p].y + o.a[p].z) * T(1.0 / 3.0) : T(0);
                 total += o.w[p];
             }
-            // With R kept, total ≥ F ≥ ((η - 1)/(η + 1))² > 0. Without R every kept lobe can
-            // vanish (an opaque fiber): the weights stay 0 and so does the pdf.
+            // With R kept at a gain above 0, total ≥ gain F > 0. Otherwise every kept lobe can
+            // vanish (an opaque fiber, zero gains): the weights stay 0 and so does the pdf.
             const T inv_total = total > T(0) ? T(1) / total : T(0);
             for (int p = 0; p <= kLobes; ++p) o.w[p] *= inv_total;
         }

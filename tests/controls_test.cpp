@@ -1,0 +1,583 @@
+// The production-shader controls: melanin with redness and a dye (fiber/pigments.hpp),
+// per-strand variation by hashing (fiber/strand_variation.hpp), and per-lobe gains, tints
+// and tilts on Chiang's model (lobes/lobe_controls.hpp). The contract suite runs over
+// Chiang with controls (chi-square with a zero gain included).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <boost/math/distributions/chi_squared.hpp>
+#include <gtest/gtest.h>
+
+#include <hairscatter/hairscatter.hpp>
+
+#include "support/contract_suite.hpp"
+#include "support/model_specs.hpp"
+
+namespace hs = hairscatter;
+using glm::dvec3;
+
+namespace {
+
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+const double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPi = contract::kPi;
+
+void expect_names(const std::string& message, const std::string& field) {
+    EXPECT_NE(message.find(field), std::string::npos) << "message '" << message << "' does not name " << field;
+}
+
+// A default S changed by change(s) is rejected by validate (naming field) and require_valid;
+// returns it for further checks.
+template <typename S, typename Change> S expect_rejected(Change change, const char* field) {
+    S s;
+    change(s);
+    expect_names(hs::validate(s), field);
+    EXPECT_THROW(hs::require_valid(s), std::invalid_argument);
+    return s;
+}
+
+// ---- pigments ---------------------------------------------------------------------------
+
+// Cycles' mapping written out independently: c = -ln(max(1 - m, 1e-4)), split by r.
+TEST(Pigments, MelaninAmountMapsToConcentrations) {
+    const auto zero = hs::melanin_concentrations(0.0, 0.7);
+    EXPECT_EQ(zero.eumelanin, 0.0);
+    EXPECT_EQ(zero.pheomelanin, 0.0);
+    EXPECT_FALSE(std::signbit(zero.eumelanin));  // +0: σa = 0 exactly for white hair
+    const auto half = hs::melanin_concentrations(0.5, 0.25);
+    EXPECT_NEAR(half.eumelanin, std::log(2.0) * 0.75, 1e-15);
+    EXPECT_NEAR(half.pheomelanin, std::log(2.0) * 0.25, 1e-15);
+    // m = 1 meets the floor: c = ln 1e4, finite.
+    const auto black = hs::melanin_concentrations(1.0, 0.0);
+    EXPECT_NEAR(black.eumelanin, std::log(1e4), 1e-12);
+    EXPECT_EQ(black.pheomelanin, 0.0);
+    // σa is sigma_a_from_melanin of the concentrations.
+    const dvec3 s = hs::sigma_a_from_melanin_redness(0.6, 0.3);
+    const auto c = hs::melanin_concentrations(0.6, 0.3);
+    EXPECT_EQ(s, hs::sigma_a_from_melanin(c.eumelanin, c.pheomelanin));
+}
+
+TEST(Pigments, MoreMelaninIsDarkerAndRednessShiftsTheHue) {
+    double prev = -1;
+    for (double m = 0; m <= 1.0; m += 0.05) {
+        const dvec3 s = hs::sigma_a_from_melanin_redness(m, 0.5);
+        EXPECT_GT(s.b, prev);
+        prev = s.b;
+    }
+    // Pheomelanin absorbs relatively less red than eumelanin: red hair has the lower σa.r/σa.b.
+    const dvec3 eu = hs::sigma_a_from_melanin_redness(0.5, 0.0), ph = hs::sigma_a_from_melanin_redness(0.5, 1.0);
+    EXPECT_LT(ph.r / ph.b, eu.r / eu.b);
+}
+
+TEST(Pigments, DyeIsTheColourMapping) {
+    EXPECT_EQ(hs::sigma_a_from_dye(dvec3(1.0), 0.3), dvec3(0.0));
+    for (double bn : {1e-3, 0.3, 1.0}) {
+        const dvec3 d(0.8, 0.4, 0.05);
+        EXPECT_EQ(hs::sigma_a_from_dye(d, bn), hs::sigma_a_from_color(d, bn));
+    }
+    hs::HairPigments<double> p;
+    p.melanin = 0.4;
+    p.redness = 0.2;
+    p.dye = dvec3(0.9, 0.5, 0.7);
+    EXPECT_EQ(hs::sigma_a_from_pigments(p, 0.25),
+              hs::sigma_a_from_melanin_redness(0.4, 0.2) + hs::sigma_a_from_color(p.dye, 0.25));
+}
+
+TEST(Pigments, ValidationNamesTheField) {
+    EXPECT_EQ(hs::validate(hs::HairPigments<double>{}), "");
+    EXPECT_EQ(hs::validate(hs::HairPigments<float>{}), "");
+    using P = hs::HairPigments<double>;
+    for (double m : {-0.01, 1.01, kNaN, kInf}) {
+        expect_rejected<P>([m](P& p) { p.melanin = m; }, "melanin");
+        expect_rejected<P>([m](P& p) { p.redness = m; }, "redness");
+    }
+    for (double d : {0.0, -0.5, 1.5, kNaN}) expect_rejected<P>([d](P& p) { p.dye.g = d; }, "dye.g");
+    hs::HairPigments<double> edge;
+    edge.melanin = 1.0, edge.redness = 1.0, edge.dye = dvec3(1e-300, 1.0, 1.0);
+    EXPECT_EQ(hs::validate(edge), "");
+}
+
+// Every valid input, at the edges too, gives a finite σa ≥ 0 that FiberParams accepts.
+template <typename T> void pigment_sweep() {
+    using V3 = glm::vec<3, T>;
+    const T tiny = std::numeric_limits<T>::denorm_min(), small = std::numeric_limits<T>::min();
+    long checked = 0;
+    for (T m : {T(0), tiny, T(0.5), T(0.9999), T(1)})
+        for (T r : {T(0), T(0.5), T(1)})
+            for (T d : {small, T(1e-3), T(0.5), T(1)})
+                for (T bn : {hs::kMinRoughness<T>, T(0.3), T(1)}) {
+                    hs::HairPigments<T> p;
+                    p.melanin = m, p.redness = r, p.dye = V3(d, T(1), d);
+                    ASSERT_EQ(hs::validate(p), "");
+                    hs::FiberParams<T> f;
+                    f.beta_n = bn;
+                    f.sigma_a = hs::sigma_a_from_pigments(p, bn);
+                    ASSERT_EQ(hs::validate(f), "") << double(m) << " " << double(r) << " " << double(d);
+                    ++checked;
+                }
+    std::printf("[ sweep    ] %ld pigment sets give valid sigma_a\n", checked);
+}
+TEST(Pigments, ExtremesGiveValidAbsorption) {
+    pigment_sweep<float>();
+    pigment_sweep<double>();
+}
+
+// ---- per-strand variation -----------------------------------------------------------------
+
+// p-value of Pearson's statistic over equiprobable bins.
+double uniform_p_value(const std::vector<long>& counts) {
+    long n = 0;
+    for (long c : counts) n += c;
+    const double expected = double(n) / double(counts.size());
+    double stat = 0;
+    for (long c : counts) stat += (double(c) - expected) * (double(c) - expected) / expected;
+    return boost::math::cdf(boost::math::complement(boost::math::chi_squared(double(counts.size() - 1)), stat));
+}
+
+// Uniformity of u(strand) over consecutive strands 0 … n-1 (the realistic ids) in `bins` bins.
+double uniformity(const std::function<double(std::uint32_t)>& u, std::uint32_t n, int bins) {
+    std::vector<long> counts(std::size_t(bins), 0);
+    for (std::uint32_t s = 0; s < n; ++s) ++counts[std::size_t(std::min(bins - 1, int(u(s) * bins)))];
+    return uniform_p_value(counts);
+}
+
+// Joint uniformity of (u(strand), v(strand)) in bins × bins cells: independence.
+double joint_uniformity(const std::function<double(std::uint32_t)>& u, const std::function<double(std::uint32_t)>& v,
+                        std::uint32_t n, int bins) {
+    std::vector<long> counts(std::size_t(bins * bins), 0);
+    for (std::uint32_t s = 0; s < n; ++s) {
+        const int i = std::min(bins - 1, int(u(s) * bins)), j = std::min(bins - 1, int(v(s) * bins));
+        ++counts[std::size_t(i * bins + j)];
+    }
+    return uniform_p_value(counts);
+}
+
+TEST(StrandVariation, IsDeterministicAndStateless) {
+    hs::StrandVariation<double> v;
+    v.seed = 42;
+    v.melanin = {0.2, 0.9};
+    v.redness = {0.0, 0.6};
+    v.roughness_scale = {0.5, 1.5};
+    const hs::StrandVariation<double> copy = v;
+    for (std::uint32_t s : {0u, 1u, 77u, 123456u, 0xffffffffu}) {
+        const auto a = v.at(s), b = copy.at(s);
+        EXPECT_EQ(a.melanin, b.melanin);
+        EXPECT_EQ(a.redness, b.redness);
+        EXPECT_EQ(a.roughness_scale, b.roughness_scale);
+    }
+    // The same uniform number in float and double (24 bits): the precisions agree.
+    for (std::uint32_t s = 0; s < 1000; ++s) {
+        const std::uint32_t h = hs::strand_hash(s, 9u, 0u);
+        EXPECT_EQ(double(hs::hash_to_unit<float>(h)), hs::hash_to_unit<double>(h));
+    }
+    // A constant expression: usable in tables built at compile time.
+    static_assert(hs::pcg_hash(0u) != hs::pcg_hash(1u));
+    // Another seed, other values; a strand's three quantities are drawn apart.
+    int same_seed = 0, same_stream = 0;
+    for (std::uint32_t s = 0; s < 1000; ++s) {
+        same_seed += hs::strand_hash(s, 1u, 0u) == hs::strand_hash(s, 2u, 0u);
+        same_stream += hs::strand_hash(s, 1u, 0u) == hs::strand_hash(s, 1u, 1u);
+    }
+    EXPECT_LE(same_seed, 1);
+    EXPECT_LE(same_stream, 1);
+}
+
+TEST(StrandVariation, StaysInItsIntervals) {
+    hs::StrandVariation<float> v;
+    v.seed = 7;
+    v.melanin = {0.1f, 0.35f};
+    v.redness = {0.5f, 0.5f};  // fixed
+    v.roughness_scale = {0.8f, 1.25f};
+    ASSERT_EQ(hs::validate(v), "");
+    float lo = 1, hi = 0;
+    for (std::uint32_t s = 0; s < 200000; ++s) {
+        const auto t = v.at(s);
+        ASSERT_GE(t.melanin, 0.1f);
+        ASSERT_LE(t.melanin, 0.35f);
+        ASSERT_EQ(t.redness, 0.5f);
+        ASSERT_GE(t.roughness_scale, 0.8f);
+        ASSERT_LE(t.roughness_scale, 1.25f);
+        lo = std::min(lo, t.melanin), hi = std::max(hi, t.melanin);
+    }
+    // The draws fill the interval (200000 draws leave gaps of ~1e-6 at the ends).
+    EXPECT_LT(lo, 0.1f + 1e-4f);
+    EXPECT_GT(hi, 0.35f - 1e-4f);
+    // An interval whose rounding would overshoot: the draw stays ≤ hi.
+    hs::StrandVariation<float> w;
+    w.melanin = {0.1f, std::nextafter(0.1f, 1.0f)};
+    for (std::uint32_t s = 0; s < 10000; ++s) ASSERT_LE(w.at(s).melanin, w.melanin.hi);
+}
+
+// Pearson's chi-square over 64 equiprobable bins of 10⁶ consecutive strands, for three
+// seeds and each stream, then joint 16 × 16 cells of two streams (independence) and of
+// neighbouring strands (no serial correlation). 12 tests at a family-wise 1 %: each must
+// reach p > 0.01/12. Negative controls: an unmixed hash (the id itself), a biased map (u²)
+// and two identical streams must be rejected.
+TEST(StrandVariation, HashedValuesAreUniformChi2) {
+    const std::uint32_t n = 1000000;
+    const double threshold = 0.01 / 12;
+    double min_p = 1;
+    for (std::uint32_t seed : {0u, 1u, 0xdeadbeefu})
+        for (std::uint32_t stream : {0u, 1u, 2u}) {
+            if (stream == 2u && seed != 0u) continue;  // 7 marginal tests
+            const double p = uniformity(
+                [&](std::uint32_t s) { return hs::hash_to_unit<double>(hs::strand_hash(s, seed, stream)); }, n, 64);
+            EXPECT_GT(p, threshold) << "seed " << seed << " stream " << stream;
+            min_p = std::min(min_p, p);
+        }
+    for (std::uint32_t seed : {0u, 5u, 0xdeadbeefu}) {  // 3 independence tests
+        const double p = joint_uniformity([&](std::uint32_t s) { return hs::hash_to_unit<double>(hs::strand_hash(s, seed, 0u)); },
+                                          [&](std::uint32_t s) { return hs::hash_to_unit<double>(hs::strand_hash(s, seed, 1u)); },
+                                          n, 16);
+        EXPECT_GT(p, threshold) << "streams 0 and 1, seed " << seed;
+        min_p = std::min(min_p, p);
+    }
+    for (std::uint32_t seed : {3u, 11u}) {  // 2 serial tests
+        const double p = joint_uniformity([&](std::uint32_t s) { return hs::hash_to_unit<double>(hs::strand_hash(s, seed, 2u)); },
+                                          [&](std::uint32_t s) { return hs::hash_to_unit<double>(hs::strand_hash(s + 1, seed, 2u)); },
+                                          n, 16);
+        EXPECT_GT(p, threshold) << "neighbouring strands, seed " << seed;
+        min_p = std::min(min_p, p);
+    }
+    std::printf("[ chi2     ] strand hash: 12 tests, smallest p-value %.3g (threshold %.3g)\n", min_p, threshold);
+
+    // Negative controls.
+    EXPECT_LT(uniformity([](std::uint32_t s) { return hs::hash_to_unit<double>(s); }, n, 64), threshold);
+    EXPECT_LT(uniformity([](std::uint32_t s) {
+                  const double u = hs::hash_to_unit<double>(hs::strand_hash(s, 0u, 0u));
+                  return u * u;
+              }, n, 64),
+              threshold);
+    EXPECT_LT(joint_uniformity([](std::uint32_t s) { return hs::hash_to_unit<double>(hs::strand_hash(s, 4u, 0u)); },
+                               [](std::uint32_t s) { return hs::hash_to_unit<double>(hs::strand_hash(s, 4u, 0u)); }, n,
+                               16),
+              threshold);
+}
+
+TEST(StrandVariation, ValidationNamesTheInterval) {
+    EXPECT_EQ(hs::validate(hs::StrandVariation<double>{}), "");
+    using V = hs::StrandVariation<double>;
+    auto bad = [](auto change, const char* field) { expect_rejected<V>(change, field); };
+    bad([](V& v) { v.melanin = {0.5, 0.4}; }, "melanin");
+    bad([](V& v) { v.melanin = {-0.1, 0.4}; }, "melanin");
+    bad([](V& v) { v.melanin = {0.1, 1.1}; }, "melanin");
+    bad([](V& v) { v.redness = {kNaN, 0.4}; }, "redness");
+    bad([](V& v) { v.redness = {0.0, kInf}; }, "redness");
+    bad([](V& v) { v.roughness_scale = {0.0, 1.0}; }, "roughness_scale");
+    bad([](V& v) { v.roughness_scale = {1.0, 1e4}; }, "roughness_scale");
+    bad([](V& v) { v.roughness_scale = {2.0, 1.0}; }, "roughness_scale");
+}
+
+// Every strand of a valid variation gets valid fiber parameters, at extreme scales too.
+TEST(StrandVariation, StrandParamsAreValid) {
+    hs::FiberParams<float> base;
+    base.beta_m = 0.9f, base.beta_n = 2e-3f;
+    hs::StrandVariation<float> v;
+    v.melanin = {0.0f, 1.0f};
+    v.redness = {0.0f, 1.0f};
+    v.roughness_scale = {1e-3f, 1000.0f};
+    ASSERT_EQ(hs::validate(v), "");
+    for (std::uint32_t s = 0; s < 20000; ++s) {
+        const hs::StrandTraits<float> t = v.at(s);
+        const hs::FiberParams<float> p = hs::strand_params(base, t, glm::vec3(0.3f, 1.0f, 1e-30f));
+        ASSERT_EQ(hs::validate(p), "") << "strand " << s;
+    }
+    // With scale 1 and no dye the strand's σa is the pigments' own.
+    const hs::StrandTraits<float> t{0.5f, 0.2f, 1.0f};
+    const hs::FiberParams<float> p = hs::strand_params(base, t);
+    EXPECT_EQ(p.beta_m, base.beta_m);
+    EXPECT_EQ(p.sigma_a, hs::sigma_a_from_melanin_redness(0.5f, 0.2f));
+}
+
+// ---- lobe controls --------------------------------------------------------------------------
+
+hs::LobeControls<double> some_controls() {
+    hs::LobeControls<double> c;
+    c.gain[0] = 2.0, c.gain[1] = 0.5, c.gain[2] = 1.5, c.gain[3] = 0.25;
+    c.tint[1] = dvec3(1.0, 0.6, 0.3);
+    c.tint[2] = dvec3(0.9, 1.2, 1.0);
+    return c;
+}
+
+hs::FiberParams<double> test_params(double sigma) {
+    hs::FiberParams<double> p;
+    p.beta_m = 0.25, p.beta_n = 0.35;
+    p.sigma_a = dvec3(sigma, 0.6 * sigma, 0.3 * sigma);
+    return p;
+}
+
+TEST(LobeControls, ValidationNamesTheField) {
+    EXPECT_EQ(hs::validate(hs::LobeControls<double>{}), "");
+    using C = hs::LobeControls<double>;
+    auto bad = [](auto change, const char* field) {
+        const C c = expect_rejected<C>(change, field);
+        EXPECT_THROW(hs::ChiangMaterial<double>(hs::FiberParams<double>(), c), std::invalid_argument);
+    };
+    bad([](C& c) { c.gain[0] = -1; }, "gain_r");
+    bad([](C& c) { c.gain[1] = kNaN; }, "gain_tt");
+    bad([](C& c) { c.gain[2] = kInf; }, "gain_trt");
+    bad([](C& c) { c.gain[3] = 2e6; }, "gain_residual");
+    bad([](C& c) { c.tint[1].b = -0.1; }, "tint_tt.b");
+    bad([](C& c) { c.tint[3].r = kNaN; }, "tint_residual.r");
+    bad([](C& c) { c.override_alpha(2, 0.5); }, "alpha_trt");
+    bad([](C& c) { c.override_alpha(0, kNaN); }, "alpha_r");
+    bad([](C& c) { c.alpha_override = 8u; }, "alpha_override");
+    // An alpha that is not overridden is not read.
+    hs::LobeControls<double> unused;
+    unused.alpha[1] = 5.0;
+    EXPECT_EQ(hs::validate(unused), "");
+    hs::LobeControls<double> zero;
+    for (double& g : zero.gain) g = 0;
+    EXPECT_EQ(hs::validate(zero), "");
+}
+
+// albedo(wo) with controls is Σ_p gain_p tint_p A_p of the plain model's lobe split, and eval
+// is Σ_p gain_p tint_p f_p over the one-lobe fibers.
+TEST(LobeControls, GainsScaleEachLobe) {
+    const hs::FiberParams<double> params = test_params(0.4);
+    const hs::LobeControls<double> c = some_controls();
+    const hs::ChiangMaterial<double> plain(params), controlled(params, c);
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> uni(0, 1);
+    for (int k = 0; k < 50; ++k) {
+        const double h = -1 + 2 * uni(rng);
+        const dvec3 wo = contract::dir(std::asin(-1 + 2 * uni(rng)), 2 * kPi * uni(rng));
+        const dvec3 wi = contract::dir(std::asin(-1 + 2 * uni(rng)), 2 * kPi * uni(rng));
+        const hs::ChiangFiber<double> a(plain, h), b(controlled, h);
+        const auto split = a.lobe_split(wo);
+        dvec3 expected(0.0);
+        for (int p = 0; p <= 3; ++p) expected += c.weight(p) * split.a[p];
+        const dvec3 got = b.albedo(wo);
+        for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(got[ch], expected[ch], 1e-14 * expected[ch]);
+
+        const dvec3 f_lobes = c.weight(0) * hs::BasicChiangFiber<double, hs::LobeSet::kR>(plain, h).eval(wo, wi) +
+                              c.weight(1) * hs::BasicChiangFiber<double, hs::LobeSet::kTT>(plain, h).eval(wo, wi) +
+                              c.weight(2) * hs::BasicChiangFiber<double, hs::LobeSet::kTRT>(plain, h).eval(wo, wi) +
+                              c.weight(3) * hs::BasicChiangFiber<double, hs::LobeSet::kResidual>(plain, h).eval(wo, wi);
+        const dvec3 f = b.eval(wo, wi);
+        for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(f[ch], f_lobes[ch], 1e-12 * f_lobes[ch] + 1e-300);
+    }
+}
+
+// Default controls change nothing; an override equal to the global α changes nothing but
+// rounding; an override of R's α moves the R lobe as a global α would and leaves TT alone.
+TEST(LobeControls, AlphaOverridesMoveOnlyTheirLobe) {
+    const hs::FiberParams<double> params = test_params(0.2);
+    const hs::ChiangMaterial<double> plain(params), defaults(params, hs::LobeControls<double>{});
+    hs::LobeControls<double> same;
+    same.override_alpha(0, params.alpha).override_alpha(1, params.alpha).override_alpha(2, params.alpha);
+    const hs::ChiangMaterial<double> same_alpha(params, same);
+    hs::LobeControls<double> r_only;
+    r_only.override_alpha(0, hs::radians(7.0));
+    const hs::ChiangMaterial<double> moved(params, r_only);
+    hs::FiberParams<double> global7 = params;
+    global7.alpha = hs::radians(7.0);
+    const hs::ChiangMaterial<double> all_moved(global7);
+    for (double theta : {-1.2, -0.3, 0.0, 0.5, 1.4}) {
+        const dvec3 wo = contract::dir(theta, 0.2);
+        for (double ti : {-1.0, -0.2, 0.4})
+            for (double phi : {0.1, 1.5, 3.0}) {
+                const dvec3 wi = contract::dir(ti, phi);
+                EXPECT_EQ(hs::ChiangFiber<double>(plain, 0.3).eval(wo, wi), hs::ChiangFiber<double>(defaults, 0.3).eval(wo, wi));
+                const dvec3 a = hs::ChiangFiber<double>(plain, 0.3).eval(wo, wi);
+                const dvec3 b = hs::ChiangFiber<double>(same_alpha, 0.3).eval(wo, wi);
+                for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(a[ch], b[ch], 1e-12 * a[ch] + 1e-300);
+                using R = hs::BasicChiangFiber<double, hs::LobeSet::kR>;
+                using TT = hs::BasicChiangFiber<double, hs::LobeSet::kTT>;
+                const dvec3 r_moved = R(moved, -0.4).eval(wo, wi), r_global = R(all_moved, -0.4).eval(wo, wi);
+                for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(r_moved[ch], r_global[ch], 1e-12 * r_global[ch] + 1e-300);
+                const dvec3 tt_moved = TT(moved, -0.4).eval(wo, wi), tt_plain = TT(plain, -0.4).eval(wo, wi);
+                // TT's rotation is rebuilt from sin/cos of α instead of the double-angle ladder: rounding.
+                for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(tt_moved[ch], tt_plain[ch], 1e-12 * tt_plain[ch] + 1e-300);
+            }
+    }
+    EXPECT_NEAR(moved.lobe_shift(0), 2 * hs::radians(7.0), 1e-15);
+    EXPECT_EQ(moved.lobe_shift(1), plain.lobe_shift(1));
+}
+
+// The furnace with gains: ∫ eval dω (cubature) equals albedo(wo) = Σ_p gain_p A_p, and the
+// energy the gains add or remove is Σ_p (gain_p - 1) A_p (printed). σa = 0, so the plain
+// model's albedo is 1.
+TEST(LobeControls, FurnaceReportsTheEnergyChange) {
+    const hs::FiberParams<double> params = test_params(0.0);
+    hs::LobeControls<double> c;
+    c.gain[0] = 2.0, c.gain[1] = 0.5, c.gain[2] = 1.5, c.gain[3] = 0.0;
+    const hs::ChiangMaterial<double> plain(params), controlled(params, c);
+    for (double h : {-0.7, 0.2})
+        for (double theta_o : {-60.0, 0.0, 30.0}) {
+            const dvec3 wo = contract::dir(theta_o * kPi / 180, 0.3);
+            const hs::ChiangFiber<double> fiber(controlled, h);
+            const chi2::CellIntegrator integrate(
+                [&](double x, double phi) {
+                    const double cs = std::sqrt(std::max(0.0, 1 - x * x));
+                    return fiber.eval(wo, dvec3(x, cs * std::cos(phi), cs * std::sin(phi))).g;
+                },
+                2, 5);
+            double total = 0;
+            for (int i = 0; i < 8; ++i)
+                for (int j = 0; j < 16; ++j)
+                    total += integrate.integrate(-1 + i * 0.25, -1 + (i + 1) * 0.25, -kPi + j * kPi / 8,
+                                                 -kPi + (j + 1) * kPi / 8);
+            const auto split = hs::ChiangFiber<double>(plain, h).lobe_split(wo);
+            double change = 0, plain_total = 0;
+            for (int p = 0; p <= 3; ++p) change += (c.gain[p] - 1) * split.a[p].g, plain_total += split.a[p].g;
+            const double albedo = fiber.albedo(wo).g;
+            std::printf("[ furnace  ] gains R 2, TT 0.5, TRT 1.5, residual 0; h %.1f θo %.0f°: ∫ f dω = %.6f, "
+                        "albedo %.6f, energy change %+.6f (plain %.6f)\n",
+                        h, theta_o, total, albedo, change, plain_total);
+            EXPECT_NEAR(plain_total, 1.0, 1e-12);
+            EXPECT_NEAR(total, albedo, 1e-5);
+            EXPECT_NEAR(albedo - 1.0, change, 1e-12);
+        }
+}
+
+// A zero gain removes its lobe from sampling: it is never drawn, and the pdf still
+// integrates to 1 over the others (the contract suite's chi-square checks the shape).
+TEST(LobeControls, ZeroGainLobeIsNeverSampled) {
+    hs::LobeControls<double> c;
+    c.gain[1] = 0.0;  // no TT
+    const hs::ChiangMaterial<double> m(test_params(0.1), c);
+    const hs::ChiangFiber<double> fiber(m, 0.1);
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> uni(0, 1);
+    int drawn[4] = {};
+    for (int k = 0; k < 20000; ++k) {
+        const dvec3 wo = contract::dir(std::asin(-1 + 2 * uni(rng)), 0.0);
+        const double u0 = uni(rng), u1 = uni(rng), u2 = uni(rng), u3 = uni(rng);
+        const auto s = fiber.sample(wo, glm::dvec4(u0, u1, u2, u3));
+        ASSERT_GT(s.pdf, 0.0);
+        ++drawn[hs::lobe_index(s.lobe)];
+    }
+    EXPECT_EQ(drawn[1], 0);
+    EXPECT_GT(drawn[0], 0);
+    EXPECT_GT(drawn[2], 0);
+    EXPECT_GT(drawn[3], 0);
+    // All gains 0: f and pdf are 0 and a sample carries no weight (no NaN).
+    hs::LobeControls<double> none;
+    for (double& g : none.gain) g = 0;
+    const hs::ChiangMaterial<double> dark(test_params(0.1), none);
+    const auto s = hs::ChiangFiber<double>(dark, 0.1).sample(contract::dir(0.3, 0.0), glm::dvec4(0.3, 0.5, 0.5, 0.5));
+    EXPECT_EQ(s.pdf, 0.0);
+    EXPECT_EQ(s.weight, dvec3(0.0));
+}
+
+// Negative control for the chi-square below: the sampler of a material with gains against
+// the pdf of the same fiber without them (lobe selection by the unscaled weights) must be
+// rejected, so the test sees whether the gains reach the sampler.
+TEST(LobeControls, Chi2RejectsUnscaledSelection) {
+    const hs::FiberParams<double> params = test_params(0.3);
+    hs::LobeControls<double> c;
+    c.gain[0] = 3.0, c.gain[1] = 0.0;
+    const hs::ChiangMaterial<double> plain(params), controlled(params, c);
+    const hs::ChiangFiber<double> a(plain, 0.2), b(controlled, 0.2);
+    const dvec3 wo = contract::dir(0.5, 0.7);
+    const auto sample = [&](const glm::dvec4& u) { return b.sample(wo, u).wi; };
+    const auto good = chi2::test(sample, [&](const dvec3& wi) { return b.pdf(wo, wi); }, chi2::Options());
+    EXPECT_TRUE(good.passed) << good.report;
+    const auto bad = chi2::test(sample, [&](const dvec3& wi) { return a.pdf(wo, wi); }, chi2::Options());
+    EXPECT_FALSE(bad.passed) << "the unscaled pdf was accepted (p = " << bad.p_value << ")";
+}
+
+}  // namespace
+
+// ---- the contract suite over Chiang with controls -------------------------------------------
+
+namespace specs {
+
+// Chiang's full model with random gains (a zero on some lobe), tints and tilt overrides.
+template <typename T>
+struct ChiangControlsSpec : SpecBase<hs::ChiangFiber<T>, hs::ChiangMaterial<T>, 60, 100, false> {
+    using Fiber = hs::ChiangFiber<T>;
+    using Material = hs::ChiangMaterial<T>;
+    using V3 = glm::vec<3, T>;
+    static constexpr double kFurnaceTolerance = 1e-5;
+    static constexpr int kFurnaceDepth = 5;
+    static constexpr double kPdfTotalTolerance = 1e-3;
+
+    static hs::LobeControls<T> controls(double g0, double g1, double g2, double g3, double alpha_tt_deg) {
+        hs::LobeControls<T> c;
+        const double g[4] = {g0, g1, g2, g3};
+        for (int p = 0; p < 4; ++p) c.gain[p] = T(g[p]);
+        c.tint[0] = V3(T(1), T(0.8), T(0.6));
+        c.tint[2] = V3(T(0.5), T(1), T(2));
+        if (alpha_tt_deg != 0) c.override_alpha(1, T(deg(alpha_tt_deg)));
+        return c;
+    }
+    static Instance<Fiber> make(const hs::FiberParams<T>& p, const hs::LobeControls<T>& c, double h, std::string name) {
+        return make_instance<Fiber>(std::make_shared<const Material>(p, c), std::move(name), T(h));
+    }
+    static Instance<Fiber> random(std::mt19937_64& rng, int k) {
+        const hs::FiberParams<T> p = random_params<T>(rng, k);
+        std::uniform_real_distribution<double> uni(0, 1);
+        double g[4];
+        for (double& x : g) x = 3 * uni(rng);
+        g[k % 4] = k % 3 == 0 ? 0.0 : g[k % 4];  // a zero gain on every third material
+        const double h = -1 + 2 * uni(rng), tilt = -10 + 20 * uni(rng);
+        return make(p, controls(g[0], g[1], g[2], g[3], tilt), h, "random " + std::to_string(k));
+    }
+    static std::vector<Instance<Fiber>> extremes() {
+        std::vector<Instance<Fiber>> r;
+        for_extreme_params<T>({0.01, 1.0}, {-22.5, 22.5}, [&](const hs::FiberParams<T>& p, const std::string& l) {
+            for (double g : {0.0, 1e-30, 1e6})
+                for (double h : {-1.0, 0.5}) {
+                    hs::LobeControls<T> c = controls(g, 1e6 - g, g, 1, 22.5 * 0.9999);
+                    c.tint[3] = V3(T(1e6), T(0), T(1e-30));
+                    r.push_back(make(p, c, h, l + " gain " + std::to_string(g) + " h " + std::to_string(h)));
+                }
+        });
+        return r;
+    }
+    // Zero gains on each lobe in turn, large and small gains, tints, TT's tilt overridden.
+    static std::vector<Chi2Case<Fiber>> chi2_cases() {
+        const glm::dvec3 sa(0.5, 0.3, 0.15);
+        std::vector<Chi2Case<Fiber>> r;
+        r.push_back({make(fiber_params<T>(0.3, 0.3, 2, sa), controls(1, 0, 1, 1, 0), 0.1, "no TT"), 30});
+        r.push_back({make(fiber_params<T>(0.2, 0.5, 2, sa), controls(0, 1, 1, 1, 0), -0.5, "no R"), -40});
+        r.push_back({make(fiber_params<T>(0.1, 0.2, 2, sa), controls(1, 1, 0, 1, 0), 0.7, "no TRT"), 60});
+        r.push_back({make(fiber_params<T>(0.5, 0.4, -2, sa), controls(2, 0.5, 1.5, 0, 8), 0.3, "no residual, tilt"), 10});
+        r.push_back({make(fiber_params<T>(0.3, 0.3, 5, glm::dvec3(0)), controls(10, 0.1, 3, 0.5, -6), -0.9, "wide"), 75});
+        r.push_back({make(fiber_params<T>(0.05, 0.1, 2, sa), controls(0.2, 4, 0.7, 2, 0), 0.0, "sharp"), -80});
+        return r;
+    }
+    static chi2::Options chi2_options() {
+        chi2::Options o;
+        o.num_tests = 12;  // 6 cases × 2 precisions
+        return o;
+    }
+    static bool may_sample(hs::SampledLobe lobe) { return hs::lobe_index(lobe) >= 0 && hs::lobe_index(lobe) <= 3; }
+    static Instance<Fiber> lossless() {
+        return make(fiber_params<T>(0.3, 0.3, 2, glm::dvec3(0)), controls(2, 0.5, 1.5, 0.25, 5), 0.3, "lossless, gains");
+    }
+    static std::vector<Invalid> invalid() {
+        std::vector<Invalid> r = invalid_fiber_params<Material>();
+        auto add = [&](const char* field, auto change) {
+            hs::LobeControls<T> c;
+            change(c);
+            r.push_back({[c] { Material m(hs::FiberParams<T>(), c); }, field});
+        };
+        add("gain_r", [](hs::LobeControls<T>& c) { c.gain[0] = T(-1); });
+        add("tint_trt.g", [](hs::LobeControls<T>& c) { c.tint[2].g = std::numeric_limits<T>::infinity(); });
+        add("alpha_tt", [](hs::LobeControls<T>& c) { c.override_alpha(1, T(1)); });
+        return r;
+    }
+};
+
+}  // namespace specs
+
+namespace contract {
+using ControlledChiang = ::testing::Types<specs::ChiangControlsSpec<float>, specs::ChiangControlsSpec<double>>;
+// Named by position (the macro needs a name generator under clang's -Wpedantic).
+struct Numbered {
+    template <typename> static std::string GetName(int i) { return std::to_string(i); }
+};
+INSTANTIATE_TYPED_TEST_SUITE_P(ChiangWithControls, ModelContract, ControlledChiang, Numbered);
+}  // namespace contract
