@@ -15,11 +15,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 # shellcheck source=SCRIPTDIR/lib.sh
 source "$ROOT/scripts/lib.sh"
-case "${1:-}" in
-    "") ;;
-    -h | --help) hs_usage; exit 0 ;;
-    *) hs_usage_error "unknown argument '$1'" ;;
-esac
+hs_no_args "$@"
 
 find_nvcc() {
     local c

@@ -9,11 +9,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 # shellcheck source=SCRIPTDIR/lib.sh
 source "$ROOT/scripts/lib.sh"
-case "${1:-}" in
-    "") ;;
-    -h | --help) hs_usage; exit 0 ;;
-    *) hs_usage_error "unknown argument '$1'" ;;
-esac
+hs_no_args "$@"
 bash scripts/install-deps.sh tests
 cmake -S . -B build/figures -DCMAKE_BUILD_TYPE=Release -DHAIRSCATTER_BUILD_TESTS=ON >/dev/null
 cmake --build build/figures -j "$(nproc 2>/dev/null || echo 2)"

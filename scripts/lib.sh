@@ -18,3 +18,18 @@ hs_usage_error() {
     _hs_header "${BASH_SOURCE[1]}" >&2
     exit 2
 }
+
+# hs_no_args "$@": for a script that takes no arguments: --help prints its usage and exits 0,
+# anything else is a usage error.
+hs_no_args() {
+    local script="${BASH_SOURCE[1]}"
+    case "${1:-}" in
+        "") ;;
+        -h | --help) _hs_header "$script"; exit 0 ;;
+        *)
+            echo "$(basename "$script"): unknown argument '$1'" >&2
+            _hs_header "$script" >&2
+            exit 2
+            ;;
+    esac
+}

@@ -40,6 +40,7 @@ args=(--calls "$calls")
 [[ -n "$slow" ]] && args+=(--slow-calls "$slow")
 [[ -n "$dual" ]] && args+=(--dual-calls "$dual")
 table="$(mktemp)"
+commit="$(git rev-parse --short HEAD 2>/dev/null || echo unknown)"  # what was built, before a long run
 start=$SECONDS
 rc=0
 nice -n 10 build/stress/stress "${args[@]}" --out "$table" || rc=$?
@@ -48,7 +49,7 @@ elapsed=$((SECONDS - start))
     echo "# Stress counts"
     echo
     echo "Written by \`scripts/stress.sh ${args[*]}\` (bench/stress.cpp) on $(date -u +%Y-%m-%d), commit"
-    echo "$(git rev-parse --short HEAD 2>/dev/null || echo unknown), $($CXX --version | head -n 1), -O2, one core, ${elapsed} s."
+    echo "$commit, $($CXX --version | head -n 1), -O2, one core, ${elapsed} s."
     echo
     echo "Each model and precision cycles through its parameter sets (materials): the defaults, both"
     echo "roughnesses at the documented lower limit (β_m = β_n = 1e-3; Marschner β_R = 1e-4 rad,"

@@ -65,6 +65,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--seed", ro.seed, "random seed (each pixel's generator depends on it and the pixel only)")
         ->capture_default_str();
+    app.add_option("--threads", ro.threads, "rendering threads (0: one per core; the image does not depend on it)")
+        ->capture_default_str();
     std::string dual_formulation = "improved";
     float d_f = -1, d_b = -1;
     app.add_option("--dual", dual_formulation,

@@ -37,6 +37,7 @@ struct RenderOptions {
     bool hair_only = false;      // render only pixels whose primary (centre) ray hits hair
     bool progress = false;       // progress bar with ETA on stderr (for runs over a second)
     int tile = 16;               // tile side in pixels (tiles are rendered in parallel)
+    int threads = 0;             // worker threads for the tiles; 0: TBB's default (one per core)
 };
 
 struct RenderResult {

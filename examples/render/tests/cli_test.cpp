@@ -71,6 +71,7 @@ TEST(RenderCli, RefusesBadValuesNamingTheOption) {
     expect_refused("--beta-m 0", "beta_m");
     expect_refused("--spp 0", "--spp");
     expect_refused("--max-depth 0", "--max-depth");
+    expect_refused("--threads -1", "--threads");
     expect_refused("--d-f 2", "--d-f");
     expect_refused("--grid-cell -1", "--grid-cell");
     expect_refused("--model tabulated --lobes R", "--lobes");

@@ -200,6 +200,9 @@ TEST(Render, SameSeedSameImageWhateverTheThreads) {
             c = render::render(scene, shading, o);
         }
         EXPECT_EQ(a.rgb, c.rgb) << to_string(i);
+        RenderOptions many = o;  // --threads: more threads than cores
+        many.threads = 7;
+        EXPECT_EQ(render::render(scene, shading, many).rgb, a.rgb) << to_string(i);
         o.seed = 2;
         EXPECT_NE(render::render(scene, shading, o).rgb, a.rgb) << to_string(i);
         o.seed = 1;
