@@ -65,8 +65,11 @@ template <typename T> class DeonLobes {
     // lobes/lobe_set.hpp), for their per-θi evaluation side by side (DeonLanes).
     template <LobeSet kSet, int N>
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void condition(DeonLanes<T, N>& lanes, T sin_o, T cos_o) const {
-        static_assert(N == lobe_count(kSet), "one lane per lobe of the set");
-        for (int k = 0; k < N; ++k) {
+        static_assert(N >= lobe_count(kSet), "a lane per lobe of the set");
+        for (int k = lobe_count(kSet); k < N; ++k) {  // padding: M = 0
+            lanes.sin_o[k] = lanes.cos_o[k] = lanes.a_scale[k] = lanes.half_inv_v[k] = lanes.norm[k] = T(0);
+        }
+        for (int k = 0; k < lobe_count(kSet); ++k) {
             const int p = lane_lobe(kSet, k);
             const typename CuticleTilt<T>::Rotated r = tilt_.rotate(p, sin_o, cos_o);
             lanes.sin_o[k] = r.sin_theta;

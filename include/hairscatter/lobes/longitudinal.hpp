@@ -63,6 +63,16 @@ template <typename T, int N> struct DeonLanes {
         exponent = -d2 * half_inv_v[k] - select(small, a, T(0));
         factor = norm[k] * select(small, series, asymptotic);
     }
+
+    // M of every lane at (sinθi, cosθi): the terms, then their exps as one batch.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void eval_all(T sin_i, T cos_i, T (&m)[N]) const {
+        using std::sqrt;
+        const T sqrt_cos_i = sqrt(cos_i);
+        T e[elem::exp_batch<T>(N)] = {}, factor[N];
+        for (int k = 0; k < N; ++k) terms(k, sin_i, cos_i, sqrt_cos_i, e[k], factor[k]);
+        elem::exp_each(e);
+        for (int k = 0; k < N; ++k) m[k] = factor[k] * e[k];
+    }
 };
 
 template <typename T> class DeonLobes;

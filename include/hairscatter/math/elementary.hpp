@@ -38,7 +38,10 @@ template <bool kLanes> HAIRSCATTER_FORCE_INLINE float exp_float(float x) {
     const std::int32_t ni = round_to_int(xc * 1.44269504088896341f);
     const float n = float(ni);
     const float r = (xc - n * 0.693145751953125f) - n * 1.42860682030941723212e-6f;
-    const float p = hairscatter::detail::horner(r, 1.0f, 1.0f, 0.5f, 1.0f / 6, 1.0f / 24, 1.0f / 120, 1.0f / 720, 1.0f / 5040);
+    // The terms from r² on by Estrin's scheme (a short FMA chain), the last two steps as in
+    // Horner's, so that the rounding of the result stays that of Horner's scheme.
+    const float q = hairscatter::detail::estrin(r, 0.5f, 1.0f / 6, 1.0f / 24, 1.0f / 120, 1.0f / 720, 1.0f / 5040);
+    const float p = 1.0f + r * (1.0f + r * q);
     const std::int32_t bits = (ni + 127) * (1 << 23);
     float scale;
     std::memcpy(&scale, &bits, sizeof scale);
@@ -50,9 +53,11 @@ template <bool kLanes> HAIRSCATTER_FORCE_INLINE float exp_float(float x) {
 // against mpmath): absolute error 1e-8.
 HAIRSCATTER_FORCE_INLINE float atan_unit(float a) {
     const float z = a * a;
-    return a * hairscatter::detail::horner(z, 0.99999998178865573f, -0.33333036709286276f, 0.19991872029109072f,
-                      -0.14197797794085123f, 0.10618370636953849f, -0.074568548260045474f,
-                      0.042137623589193041f, -0.015731249122183653f, 0.002766283501762026f);
+    // c0 + z·Q(z), Q by Estrin's scheme, as in exp_float.
+    return a * (0.99999998178865573f + z * hairscatter::detail::estrin(z, -0.33333036709286276f, 0.19991872029109072f,
+                                                                     -0.14197797794085123f, 0.10618370636953849f,
+                                                                     -0.074568548260045474f, 0.042137623589193041f,
+                                                                     -0.015731249122183653f, 0.002766283501762026f));
 }
 
 // asin(x) for x ∈ [0, 1/2] as x + x³Q(x²), Q fitted likewise: relative error 2e-8.

@@ -104,7 +104,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
             r.a[p] = V3(T(0));
             r.backward[p] = T(0);
         }
-        for (int k = 0; k < kLanes; ++k) {
+        for (int k = 0; k < kKeptLanes; ++k) {
             const int p = lane_lobe(kKept, k);
             r.a[p] = o.a[k];
             r.backward[p] = k < kExplicit ? mat_->azimuthal().arc_mass(centre - kHalfPi<T> - o.phi_p[k], kPi<T>)
@@ -119,7 +119,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     HAIRSCATTER_HD V3 albedo(const V3& wo) const {
         const Outgoing o = outgoing<false>(wo);
         V3 a(T(0));
-        for (int k = 0; k < kLanes; ++k) a += o.a[k];
+        for (int k = 0; k < kKeptLanes; ++k) a += o.a[k];
         return a;
     }
 
@@ -129,8 +129,12 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
 
     // The kept lobes side by side: lane k holds lobe lane_lobe(kKept, k) (lobes/lobe_set.hpp).
     // The explicit lobes (R, TT, TRT) come first; the residual, if kept, is the last lane.
-    static constexpr int kLanes = lobe_count(kKept);
-    static constexpr int kExplicit = kLanes - (keeps(kLobes) ? 1 : 0);
+    static constexpr int kKeptLanes = lobe_count(kKept);
+    // The lanes stored and computed: in float a power of two, so that the loops are whole
+    // vectors (three lanes would leave them scalar); the extra lane is zero and adds
+    // nothing. In double (scalar exps) the kept lobes only.
+    static constexpr int kLanes = std::is_same<T, float>::value && kKeptLanes == 3 ? 4 : kKeptLanes;
+    static constexpr int kExplicit = kKeptLanes - (keeps(kLobes) ? 1 : 0);
     // The N_p lanes computed per query: every lane in float, where the residual's is a
     // discarded part of a whole vector; only the explicit ones in double (one libm exp each).
     static constexpr int kAzimuthal = std::is_same<T, float>::value ? kLanes : kExplicit;
@@ -161,7 +165,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         // Finite wo and u: checked by the callers, as in query.
         // The lane ∝ w (normalised). All-zero weights (an opaque fiber without R) pick
         // lane 0, a kept lobe.
-        const int k = sample_discrete(o.w, kLanes, u.x, T(1)).index;
+        const int k = sample_discrete(o.w, kKeptLanes, u.x, T(1)).index;
         const int p = lane_lobe(kKept, k);
 
         const T sin_i = mat_->longitudinal(p).sample_sin_theta(o.m.sin_o[k], o.m.cos_o[k], u.y, u.z);
@@ -191,8 +195,8 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         mat_->template condition<kKept>(o.m, sin_o, cos_o);
         for (int k = 0; k < kLanes; ++k) {
             const int p = lane_lobe(kKept, k);
-            o.a[k] = a[p];
-            o.phi_p[k] = p < kLobes ? exit_azimuth_wrapped(p, gamma_o_, gamma_t) : T(0);
+            o.a[k] = k < kKeptLanes ? a[p] : V3(T(0));
+            o.phi_p[k] = k < kExplicit ? exit_azimuth_wrapped(p, gamma_o_, gamma_t) : T(0);
         }
         if constexpr (kW) {
             T total = T(0);
@@ -225,7 +229,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         T mn[kLanes];
         for (int k = 0; k < kAzimuthal; ++k) mn[k] = m_factor[k] * e[kM + k] * n.density(e[k]);
         // The residual lumps all orders: uniform in φ.
-        for (int k = kExplicit; k < kLanes; ++k) mn[k] = m_factor[k] * e[kM + k] * kInvTwoPi<T>;
+        for (int k = kExplicit; k < kKeptLanes; ++k) mn[k] = m_factor[k] * e[kM + k] * kInvTwoPi<T>;
         HairEvalPdf<T> r;
         for (int k = 0; k < kLanes; ++k) {
             if constexpr (kF) r.f += mn[k] * o.a[k];
