@@ -13,6 +13,12 @@
 #                                         code and build files are the working tree's. Builds in
 #                                         build/bench-REV; default file chiang_<date>_<REV>.txt
 #   scripts/bench.sh --no-deps            skip the apt package check (or HAIRSCATTER_SKIP_DEPS=1)
+#   scripts/bench.sh --vs-pbrt            ours against pbrt-v4's algorithm in one process
+#                                         (bench/vs_pbrt.cpp, built at -O2 and at -O3, float and
+#                                         double; --reps N repetitions, default 15): writes
+#                                         bench/results/vs_pbrt.md, then regenerates the tables
+#                                         of README.md and docs/performance.md from it (~3 min)
+#   scripts/bench.sh --tables             only that last step, from the committed vs_pbrt.md
 #
 # Build tree: build/bench (Release; the bench targets add -O2 -march=native themselves,
 # bench/CMakeLists.txt). Timings are the medians of the repetitions' CPU times: on a
@@ -33,6 +39,8 @@ filter=""
 out=""
 quick=0
 install_deps=1
+mode=chiang
+vs_reps=15
 [[ "${HAIRSCATTER_SKIP_DEPS:-0}" == 1 ]] && install_deps=0
 
 while [[ $# -gt 0 ]]; do
@@ -43,14 +51,58 @@ while [[ $# -gt 0 ]]; do
         --out) out="$2"; shift ;;
         --headers) headers_rev="$2"; shift ;;
         --no-deps) install_deps=0 ;;
+        --vs-pbrt) mode=vs_pbrt ;;
+        --tables) mode=tables ;;
+        --reps) vs_reps="$2"; shift ;;
         -h | --help) hs_usage; exit 0 ;;
         *) hs_usage_error "unknown option '$1'" ;;
     esac
     shift
 done
 
+VS_MD="$ROOT/bench/results/vs_pbrt.md"
+regenerate_tables() {
+    python3 "$ROOT/scripts/vs_pbrt.py" tables "$VS_MD" "$ROOT/README.md" "$ROOT/docs/performance.md"
+    echo "bench.sh: regenerated the tables of README.md and docs/performance.md from ${VS_MD#"$ROOT"/}"
+}
+if [[ $mode == tables ]]; then
+    regenerate_tables
+    exit 0
+fi
+
 # --- dependencies ---------------------------------------------------------------------
 [[ $install_deps == 1 ]] && bash "$ROOT/scripts/install-deps.sh" bench
+
+# --- ours against pbrt-v4's algorithm (bench/vs_pbrt.cpp) --------------------------------
+if [[ $mode == vs_pbrt ]]; then
+    cmake -S "$SRC" -B "$BUILD" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF -DHAIRSCATTER_DOCS=OFF \
+        -DCMAKE_BUILD_TYPE=Release >/dev/null
+    cmake --build "$BUILD" --target vs_pbrt_o2 vs_pbrt_o3 -j "$(nproc 2>/dev/null || echo 2)"
+    cxx="$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$BUILD/CMakeCache.txt")"
+    header="$BUILD/vs_pbrt.header.txt"
+    load_before="$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
+    args=(--benchmark_repetitions="$vs_reps" --benchmark_min_time=0.1 --benchmark_enable_random_interleaving=true)
+    for level in 2 3; do
+        echo "bench.sh: vs_pbrt_o$level ${args[*]}"
+        "$BUILD/bench/vs_pbrt_o$level" "${args[@]}" 2>&1 | tee "$BUILD/vs_pbrt_o$level.txt"
+    done
+    {
+        echo "date:      $(date -u '+%Y-%m-%d %H:%M:%S UTC')"
+        dirty="$(git -C "$ROOT" status --porcelain -- include bench 2>/dev/null | head -1 || true)"
+        echo "commit:    $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')${dirty:+ (with uncommitted changes in include/ or bench/)}"
+        echo "cpu:       $(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -1), $(nproc) cores"
+        echo "compiler:  $("$cxx" --version | head -1)"
+        for level in 2 3; do
+            echo "flags -O$level: $(sed -n 's/.*"flags": "\(.*\)".*/\1/p; s/^flags: //p' "$BUILD/vs_pbrt_o$level.txt" | head -1)"
+        done
+        echo "run:       vs_pbrt_o2, then vs_pbrt_o3, each ${args[*]}"
+        echo "load:      average before ${load_before}, after $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
+    } >"$header"
+    python3 "$ROOT/scripts/vs_pbrt.py" results "$VS_MD" "$header" "$BUILD/vs_pbrt_o2.txt" "$BUILD/vs_pbrt_o3.txt"
+    echo "bench.sh: wrote ${VS_MD#"$ROOT"/}"
+    regenerate_tables
+    exit 0
+fi
 
 # --- build ------------------------------------------------------------------------------
 if [[ -n "$headers_rev" ]]; then

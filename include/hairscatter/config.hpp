@@ -28,19 +28,23 @@
 #error "hairscatter: built with -ffast-math (__FAST_MATH__): the float exp/sincos lose accuracy (4e-6 / 1e-5 instead of 2e-7) and comparison-based NaN checks fold away. Build without -ffast-math (or with -fno-fast-math for the files that include hairscatter), or define HAIRSCATTER_ALLOW_FAST_MATH to accept this (docs/robustness.md)."
 #endif
 
-// HAIRSCATTER_INLINE forces the inlining of a model's internal per-call stages (the wo
-// terms, the lobe sum) into eval / pdf / sample. Without it GCC stops inlining them once a
-// program instantiates a model in several places (a measurable slowdown of pdf and at(wo):
-// docs/performance.md), because the stages return ~200-byte structs.
+// HAIRSCATTER_FORCE_INLINE forces the inlining of the hot helpers (exp, atan2, asin, the
+// Bessel polynomials, Fresnel, the relative azimuth) and of a model's internal per-call
+// stages (the wo terms, the lobe sum) into eval / pdf / sample. Without it GCC keeps some
+// of them as real calls once a program instantiates a model in several places, or at -O3
+// where inlining budgets go to the loops around them: each call then spills the
+// registers that hold the lobes' values (docs/performance.md measures the cost).
 #if defined(__CUDACC__)
-#define HAIRSCATTER_INLINE __forceinline__
+#define HAIRSCATTER_FORCE_INLINE __forceinline__
 #elif defined(__GNUC__) || defined(__clang__)
-#define HAIRSCATTER_INLINE inline __attribute__((always_inline))
+#define HAIRSCATTER_FORCE_INLINE inline __attribute__((always_inline))
 #elif defined(_MSC_VER)
-#define HAIRSCATTER_INLINE __forceinline
+#define HAIRSCATTER_FORCE_INLINE __forceinline
 #else
-#define HAIRSCATTER_INLINE inline
+#define HAIRSCATTER_FORCE_INLINE inline
 #endif
+// The earlier spelling, kept as an alias.
+#define HAIRSCATTER_INLINE HAIRSCATTER_FORCE_INLINE
 
 // Debug-only internal invariant checks; the hot path carries none in release builds.
 #if !defined(NDEBUG) && !defined(__CUDA_ARCH__)

@@ -55,7 +55,7 @@ HAIRSCATTER_HD glm::vec<3, T> direction_from_azimuth(const glm::vec<3, T>& wo, T
 // azimuth: φ is then wi's own, from the y axis, as direction_from_azimuth measures it (so
 // that pdf(wo, wi) is the density sample() draws from; with atan2(0, 0) = 0 it was the
 // density at φ = 0 for every wi).
-template <typename T> HAIRSCATTER_HD T relative_azimuth(const glm::vec<3, T>& wo, const glm::vec<3, T>& wi) {
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T relative_azimuth(const glm::vec<3, T>& wo, const glm::vec<3, T>& wi) {
     const bool on_axis = wo.y == T(0) && wo.z == T(0);
     const T oy = on_axis ? T(1) : wo.y, oz = wo.z;
     return elem::atan2(oy * wi.z - oz * wi.y, oy * wi.y + oz * wi.z);

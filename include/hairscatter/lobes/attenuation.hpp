@@ -37,7 +37,7 @@ template <typename T> HAIRSCATTER_HD T refracted_cos(T cos_i, T n) {
 // Unpolarised Fresnel reflectance of a dielectric interface from index 1 to η > 1, for
 // the cosine of the incident angle. No total internal reflection on this side, and the
 // denominators stay positive for η > 1 even at grazing incidence (cos_i = 0 gives F = 1).
-template <typename T> HAIRSCATTER_HD T fresnel_dielectric(T cos_i, T eta) {
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T fresnel_dielectric(T cos_i, T eta) {
     cos_i = clamp(cos_i, T(0), T(1));
     const T sin2_t = (T(1) - cos_i * cos_i) / (eta * eta);
     const T cos_t = safe_sqrt(T(1) - sin2_t);
@@ -70,7 +70,7 @@ template <typename T, int P> struct Attenuation {
 // reflectance (equal for one index by reciprocity), Marschner et al. 2003 their
 // F(1/η', 1/η'', γt), which differs when η' ≠ η''.
 template <typename T, int P>
-HAIRSCATTER_HD HAIRSCATTER_INLINE Attenuation<T, P> attenuation(T fresnel, T fresnel_internal, const glm::vec<3, T>& transmittance) {
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE Attenuation<T, P> attenuation(T fresnel, T fresnel_internal, const glm::vec<3, T>& transmittance) {
     using V = glm::vec<3, T>;
     Attenuation<T, P> r;
     const T f = fresnel, fi = fresnel_internal;
@@ -94,7 +94,7 @@ HAIRSCATTER_HD HAIRSCATTER_INLINE Attenuation<T, P> attenuation(T fresnel, T fre
 }
 
 template <typename T, int P>
-HAIRSCATTER_HD HAIRSCATTER_INLINE Attenuation<T, P> attenuation(T fresnel, const glm::vec<3, T>& transmittance) {
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE Attenuation<T, P> attenuation(T fresnel, const glm::vec<3, T>& transmittance) {
     return attenuation<T, P>(fresnel, fresnel, transmittance);
 }
 
@@ -117,7 +117,7 @@ template <typename T> struct FiberRefraction {
         T gamma_t;
         glm::vec<3, T> transmittance;
     };
-    HAIRSCATTER_HD HAIRSCATTER_INLINE AtOffset at(T h, const glm::vec<3, T>& sigma_a) const {
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE AtOffset at(T h, const glm::vec<3, T>& sigma_a) const {
         const T sin_gamma_t = h * gamma_t_scale;
         const T chord = chord_scale * cos_from_sin(sin_gamma_t);
         return {elem::asin(sin_gamma_t), glm::vec<3, T>(elem::exp(-sigma_a.x * chord), elem::exp(-sigma_a.y * chord),

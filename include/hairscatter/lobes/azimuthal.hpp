@@ -33,6 +33,12 @@ template <typename T> HAIRSCATTER_HD T exit_azimuth(int p, T gamma_o, T gamma_t)
     return T(2 * p) * gamma_t - T(2) * gamma_o + T(p) * kPi<T>;
 }
 
+// Φ(p, h) wrapped to [-π, π], without floor: with pπ taken modulo 2π first, the angle lies
+// within [-3π, 3π] (|γo|, |γt| ≤ π/2, p ≤ 2), one turn from the range at most.
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T exit_azimuth_wrapped(int p, T gamma_o, T gamma_t) {
+    return wrap_pi_once(T(2 * p) * gamma_t - T(2) * gamma_o + T(p & 1) * kPi<T>);
+}
+
 // Chiang et al. 2016 eq. 6: N_p(φ) is the trimmed logistic of φ - Φ(p, h), wrapped.
 template <typename T>
 HAIRSCATTER_HD T azimuthal_logistic(const TrimmedLogistic<T>& d, T phi, T phi_p) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "../config.hpp"
+#include "lobe_set.hpp"
 #include "longitudinal.hpp"
 #include "tilt.hpp"
 
@@ -24,10 +25,23 @@ template <typename T> class DeonLobes {
     HAIRSCATTER_HD DeonLobes(T beta_m, const CuticleTilt<T>& tilt) : tilt_(tilt) {
         const T v0 = longitudinal_variance(beta_m);
         const T v[kLobes + 1] = {v0, T(0.25) * v0, T(4) * v0, T(4) * v0};
-        for (int p = 0; p <= kLobes; ++p) m_[p] = DeonLongitudinal<T>(v[p]);
+        for (int p = 0; p <= kLobes; ++p) {
+            const DeonLongitudinal<T> m(v[p]);
+            v_[p] = m.v_;
+            inv_v_[p] = m.inv_v_;
+            exp_m2_over_v_[p] = m.exp_m2_over_v_;
+            norm_[p] = m.norm_;
+        }
     }
 
-    HAIRSCATTER_HD const DeonLongitudinal<T>& longitudinal(int p) const { return m_[p]; }
+    HAIRSCATTER_HD DeonLongitudinal<T> longitudinal(int p) const {
+        DeonLongitudinal<T> m;
+        m.v_ = v_[p];
+        m.inv_v_ = inv_v_[p];
+        m.exp_m2_over_v_ = exp_m2_over_v_[p];
+        m.norm_ = norm_[p];
+        return m;
+    }
     HAIRSCATTER_HD const CuticleTilt<T>& tilt() const { return tilt_; }
 
     // The longitudinal shift of lobe p's peak in θi + θo (Marschner's α_p in d'Eon's
@@ -35,11 +49,11 @@ template <typename T> class DeonLobes {
     // -α (TT), -4α (TRT), 0 (residual).
     HAIRSCATTER_HD T lobe_shift(int p) const { return -tilt_.angle(p); }
     // The longitudinal variance v_p of lobe p (β_p² of the dual-scattering tables).
-    HAIRSCATTER_HD T lobe_variance(int p) const { return m_[p].variance(); }
+    HAIRSCATTER_HD T lobe_variance(int p) const { return v_[p]; }
 
     // (sinθo'_p, cosθo'_p) of every lobe p whose bit is set in `keep` (bit p), into the
     // arrays sin_p[0 … kLobes], cos_p[0 … kLobes]; the others are left untouched.
-    HAIRSCATTER_HD HAIRSCATTER_INLINE void tilt_all(T sin_o, T cos_o, T* sin_p, T* cos_p,
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void tilt_all(T sin_o, T cos_o, T* sin_p, T* cos_p,
                                                     unsigned keep = (1u << (kLobes + 1)) - 1u) const {
         for (int p = 0; p <= kLobes; ++p) {
             if (((keep >> p) & 1u) == 0u) continue;
@@ -49,8 +63,30 @@ template <typename T> class DeonLobes {
         }
     }
 
+    // The lobes of kSet conditioned on θo, each tilted (lane k: lobe lane_lobe(kSet, k),
+    // lobes/lobe_set.hpp), for their per-θi evaluation side by side (DeonLanes).
+    template <LobeSet kSet, int N>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void condition(DeonLanes<T, N>& lanes, T sin_o, T cos_o) const {
+        static_assert(N >= lobe_count(kSet), "a lane per lobe of the set");
+        for (int k = lobe_count(kSet); k < N; ++k) {  // padding: M = 0
+            lanes.sin_o[k] = lanes.cos_o[k] = lanes.a_scale[k] = lanes.half_inv_v[k] = lanes.norm[k] = T(0);
+        }
+        for (int k = 0; k < lobe_count(kSet); ++k) {
+            const int p = lane_lobe(kSet, k);
+            const typename CuticleTilt<T>::Rotated r = tilt_.rotate(p, sin_o, cos_o);
+            lanes.sin_o[k] = r.sin_theta;
+            lanes.cos_o[k] = r.cos_theta;
+            lanes.a_scale[k] = r.cos_theta * inv_v_[p];
+            lanes.half_inv_v[k] = T(0.5) * inv_v_[p];
+            lanes.norm[k] = norm_[p];
+        }
+        lanes.take_roots();
+    }
+
   private:
-    DeonLongitudinal<T> m_[kLobes + 1];
+    // The constants of the four DeonLongitudinal lobes, one array each, so that the lanes
+    // read them as vectors.
+    T v_[kLobes + 1], inv_v_[kLobes + 1], exp_m2_over_v_[kLobes + 1], norm_[kLobes + 1];
     CuticleTilt<T> tilt_;
 };
 

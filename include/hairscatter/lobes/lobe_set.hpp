@@ -29,4 +29,26 @@ HAIRSCATTER_HD constexpr LobeSet operator~(LobeSet a) { return LobeSet(~unsigned
 // Whether the set keeps lobe p (0 R, 1 TT, 2 TRT, 3 residual).
 HAIRSCATTER_HD constexpr bool keeps_lobe(LobeSet set, int p) { return ((unsigned(set) >> p) & 1u) != 0u; }
 
+// Lanes: a model that evaluates its kept lobes side by side stores them densely, lane
+// k = 0 … lobe_count(set) - 1 holding the k-th kept lobe in the order R, TT, TRT, residual.
+HAIRSCATTER_HD constexpr int lobe_count(LobeSet set) {
+    int n = 0;
+    for (int p = 0; p < 4; ++p) n += keeps_lobe(set, p) ? 1 : 0;
+    return n;
+}
+// The lobe of lane k (k < lobe_count(set)).
+HAIRSCATTER_HD constexpr int lane_lobe(LobeSet set, int k) {
+    if ((unsigned(set) & (unsigned(set) + 1u)) == 0u) return k;  // R, R+TT, …: lane k is lobe k
+    int p = 0;
+    for (int seen = -1; p < 4; ++p)
+        if (keeps_lobe(set, p) && ++seen == k) break;
+    return p;
+}
+// The lane of a kept lobe p.
+HAIRSCATTER_HD constexpr int lobe_lane(LobeSet set, int p) {
+    int k = 0;
+    for (int q = 0; q < p; ++q) k += keeps_lobe(set, q) ? 1 : 0;
+    return k;
+}
+
 }  // namespace hairscatter

@@ -27,6 +27,56 @@ template <typename T> HAIRSCATTER_HD T longitudinal_variance(T beta_m) {
 //   d² = (cosθi - cosθo)² + (sinθi + sinθo)² = 2 - 2 cos(θi + θo),
 // because a - b - 1/v = -d²/2v exactly. d² is a sum of squares, so it has no
 // cancellation near the peak, and the exponent is never positive.
+//
+// DeonLanes holds N such lobes conditioned on their θo (lane k: one lobe, its tilted θo'),
+// as a structure of arrays: the per-θi work of all lanes is then one loop that GCC and
+// Clang vectorise (and nvcc runs as scalar code). terms() splits M = factor · exp(exponent)
+// so that a model can take the exps of all its lobe terms in one batch. The I0 split at
+// a = 6 is a select, not a branch (both forms are computed, each on an argument kept in
+// its own range so that the unused one stays finite): which side a lobe falls on depends
+// on θi and is not predictable.
+template <typename T, int N> struct DeonLanes {
+    T sin_o[N], cos_o[N];  // θo' per lane (cos folded ≥ 0)
+    T a_scale[N];          // cosθo' / v: a = cosθi · a_scale
+    T sqrt_a_scale[N];     // its square root: 1/√a = 1/(√cosθi √a_scale), no sqrt per lane
+    T half_inv_v[N], norm[N];
+
+    // sqrt_a_scale from a_scale, after the lanes are conditioned: a loop of its own, since
+    // the sqrt (which may set errno) keeps the compilers from vectorising a loop it is in.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void take_roots() {
+        using std::sqrt;
+        for (int k = 0; k < N; ++k) sqrt_a_scale[k] = sqrt(a_scale[k]);
+    }
+
+    // Lane k of M at (sinθi, cosθi), with sqrt_cos_i = √cosθi.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void terms(int k, T sin_i, T cos_i, T sqrt_cos_i, T& exponent,
+                                                       T& factor) const {
+        constexpr T split = T(detail::kI0SmallSplit);
+        const T d2 = sqr(cos_i - cos_o[k]) + sqr(sin_i + sin_o[k]);
+        const T a = cos_i * a_scale[k];
+        const bool small = a <= split;
+        // a ≤ 6: e^(-a) I0(a), the e^(-a) folded into the exponent.
+        const T series = T(1) + detail::i0_small_minus_one(select(small, a, split));
+        // a > 6: e^(-a) I0(a) = Q(6/a) · 1/√a.
+        const T inv_sqrt_a = select(small, T(0.40824829046386301637), T(1) / (sqrt_cos_i * sqrt_a_scale[k]));
+        const T asymptotic = detail::i0_large_scaled_sqrt_t(split * sqr(inv_sqrt_a)) * inv_sqrt_a;
+        exponent = -d2 * half_inv_v[k] - select(small, a, T(0));
+        factor = norm[k] * select(small, series, asymptotic);
+    }
+
+    // M of every lane at (sinθi, cosθi): the terms, then their exps as one batch.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void eval_all(T sin_i, T cos_i, T (&m)[N]) const {
+        using std::sqrt;
+        const T sqrt_cos_i = sqrt(cos_i);
+        T e[elem::exp_batch<T>(N)] = {}, factor[N];
+        for (int k = 0; k < N; ++k) terms(k, sin_i, cos_i, sqrt_cos_i, e[k], factor[k]);
+        elem::exp_each(e);
+        for (int k = 0; k < N; ++k) m[k] = factor[k] * e[k];
+    }
+};
+
+template <typename T> class DeonLobes;
+
 template <typename T> class DeonLongitudinal {
   public:
     DeonLongitudinal() = default;
@@ -38,17 +88,24 @@ template <typename T> class DeonLongitudinal {
 
     HAIRSCATTER_HD T variance() const { return v_; }
 
-    HAIRSCATTER_HD HAIRSCATTER_INLINE T eval(T sin_i, T cos_i, T sin_o, T cos_o) const {
-        using elem::exp;
+    // Writes this lobe, conditioned on θo', into lane k of `lanes` (then lanes.take_roots()).
+    template <int N>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void condition(DeonLanes<T, N>& lanes, int k, T sin_o, T cos_o) const {
+        lanes.sin_o[k] = sin_o;
+        lanes.cos_o[k] = cos_o;
+        lanes.a_scale[k] = cos_o * inv_v_;
+        lanes.half_inv_v[k] = T(0.5) * inv_v_;
+        lanes.norm[k] = norm_;
+    }
+
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T eval(T sin_i, T cos_i, T sin_o, T cos_o) const {
         using std::sqrt;
-        const T d2 = sqr(cos_i - cos_o) + sqr(sin_i + sin_o);
-        const T half_inv_v = T(0.5) * inv_v_;
-        const T a = cos_i * cos_o * inv_v_;
-        if (a <= T(detail::kI0SmallSplit))
-            return norm_ * exp(-d2 * half_inv_v - a) * (T(1) + detail::i0_small_minus_one(a));
-        const T inv_a = T(1) / a;  // e^(-a) I0(a) = Q(6/a) · sqrt(1/a)
-        return norm_ * exp(-d2 * half_inv_v) * detail::i0_large_scaled_sqrt_t(T(detail::kI0SmallSplit) * inv_a) *
-               sqrt(inv_a);
+        DeonLanes<T, 1> lane;
+        condition(lane, 0, sin_o, cos_o);
+        lane.take_roots();
+        T exponent, factor;
+        lane.terms(0, sin_i, cos_i, sqrt(cos_i), exponent, factor);
+        return factor * elem::exp(exponent);
     }
 
     // Samples sinθi for the lobe conditioned on θo (d'Eon, Marschner & Hanika 2013): the
@@ -56,7 +113,7 @@ template <typename T> class DeonLongitudinal {
     // as 1 - c so that sharp lobes keep their precision, and an azimuth 2π u2 around it.
     // The log argument is floored at the smallest normal number instead of clamping u1,
     // so the distribution is exact wherever e^(-2/v) does not underflow.
-    HAIRSCATTER_HD HAIRSCATTER_INLINE T sample_sin_theta(T sin_o, T cos_o, T u1, T u2) const {
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T sample_sin_theta(T sin_o, T cos_o, T u1, T u2) const {
         const T arg = u1 + (T(1) - u1) * exp_m2_over_v_;
         const T one_minus_c = clamp(-v_ * elem::log(arg > kMinNormal<T> ? arg : kMinNormal<T>), T(0), T(2));
         const T c = T(1) - one_minus_c;
@@ -67,6 +124,8 @@ template <typename T> class DeonLongitudinal {
     }
 
   private:
+    friend class DeonLobes<T>;  // stores the constants of its four lobes per lane
+
     T v_ = T(1), inv_v_ = T(1), exp_m2_over_v_ = T(0), norm_ = T(1);
 };
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 #include "../config.hpp"
 #include "constants.hpp"
@@ -21,35 +22,46 @@ namespace detail {
 // Rounds y (|y| < 2^30) to the nearest integer, halves away from zero, through a
 // float → int conversion. The classic (y + 1.5·2^23) - 1.5·2^23 trick is folded to y by
 // -ffast-math (-fassociative-math); a conversion cannot be.
-inline std::int32_t round_to_int(float y) { return std::int32_t(y + (y < 0.0f ? -0.5f : 0.5f)); }
+HAIRSCATTER_FORCE_INLINE std::int32_t round_to_int(float y) { return std::int32_t(y + std::copysign(0.5f, y)); }
 
 // e^x for x ≤ 88 (callers pass x ≤ 0): Cody–Waite reduction x = n ln2 + r, |r| ≤ ln2/2,
 // the degree-7 Taylor polynomial of e^r (truncation 5e-9 relative), and 2^n written into
 // the exponent bits. Below -87.3 (where e^x is subnormal) it returns 0; NaN returns NaN
 // (the clamp sends it to -87.3 first, so no NaN is ever converted to an integer).
-inline float exp_float(float x) {
-    const float xc = x > -87.3f ? (x < 88.0f ? x : 88.0f) : -87.3f;
+// kLanes: the two range selects as integer masks (math/functions.hpp: select), the form in
+// which a loop of exps vectorises (exp_each); a single scalar exp uses plain conditionals,
+// because the masks move the value between float and integer registers (measured: eval
+// 28 % slower with the mask form in its scalar exps).
+template <bool kLanes> HAIRSCATTER_FORCE_INLINE float exp_float(float x) {
+    const float xc = kLanes ? select(x > -87.3f, select(x < 88.0f, x, 88.0f), -87.3f)
+                            : (x > -87.3f ? (x < 88.0f ? x : 88.0f) : -87.3f);
     const std::int32_t ni = round_to_int(xc * 1.44269504088896341f);
     const float n = float(ni);
     const float r = (xc - n * 0.693145751953125f) - n * 1.42860682030941723212e-6f;
-    const float p = hairscatter::detail::horner(r, 1.0f, 1.0f, 0.5f, 1.0f / 6, 1.0f / 24, 1.0f / 120, 1.0f / 720, 1.0f / 5040);
+    // The terms from r² on by Estrin's scheme (a short FMA chain), the last two steps as in
+    // Horner's, so that the rounding of the result stays that of Horner's scheme.
+    const float q = hairscatter::detail::estrin(r, 0.5f, 1.0f / 6, 1.0f / 24, 1.0f / 120, 1.0f / 720, 1.0f / 5040);
+    const float p = 1.0f + r * (1.0f + r * q);
     const std::int32_t bits = (ni + 127) * (1 << 23);
     float scale;
     std::memcpy(&scale, &bits, sizeof scale);
+    if (kLanes) return select(x > -87.3f, p * scale, select(x <= -87.3f, 0.0f, x));
     return x > -87.3f ? p * scale : (x <= -87.3f ? 0.0f : x);
 }
 
 // atan(a) for a ∈ [0, 1] as a·P(a²), P fitted for this library (Chebyshev interpolation
 // against mpmath): absolute error 1e-8.
-inline float atan_unit(float a) {
+HAIRSCATTER_FORCE_INLINE float atan_unit(float a) {
     const float z = a * a;
-    return a * hairscatter::detail::horner(z, 0.99999998178865573f, -0.33333036709286276f, 0.19991872029109072f,
-                      -0.14197797794085123f, 0.10618370636953849f, -0.074568548260045474f,
-                      0.042137623589193041f, -0.015731249122183653f, 0.002766283501762026f);
+    // c0 + z·Q(z), Q by Estrin's scheme, as in exp_float.
+    return a * (0.99999998178865573f + z * hairscatter::detail::estrin(z, -0.33333036709286276f, 0.19991872029109072f,
+                                                                     -0.14197797794085123f, 0.10618370636953849f,
+                                                                     -0.074568548260045474f, 0.042137623589193041f,
+                                                                     -0.015731249122183653f, 0.002766283501762026f));
 }
 
 // asin(x) for x ∈ [0, 1/2] as x + x³Q(x²), Q fitted likewise: relative error 2e-8.
-inline float asin_half(float x) {
+HAIRSCATTER_FORCE_INLINE float asin_half(float x) {
     const float z = x * x;
     return x + x * z *
                    hairscatter::detail::horner(z, 0.16666672414795305f, 0.074988550726008211f, 0.045001380069910168f,
@@ -58,7 +70,7 @@ inline float asin_half(float x) {
 
 // log x for positive normal x: x = m·2^e with m ∈ [√½, √2), log m = 2 atanh(s),
 // s = (m - 1)/(m + 1), |s| ≤ 0.172, by its series to s⁹ (truncation 1e-9 relative).
-inline float log_float(float x) {
+HAIRSCATTER_FORCE_INLINE float log_float(float x) {
     std::int32_t bits;
     std::memcpy(&bits, &x, sizeof bits);
     std::int32_t e = ((bits >> 23) & 0xff) - 127;
@@ -80,7 +92,7 @@ inline float log_float(float x) {
 // sin and cos of |x| ≲ 100: x = qπ/2 + r with |r| ≤ π/4 (three-part Cody–Waite), then the
 // Taylor series of sin r to r⁹ and cos r to r¹⁰ (truncation below 2e-9), rotated by q.
 // |x| > 8192, ±Inf and NaN go to the standard library (NaN results for the last two).
-inline void sincos_float(float x, float& s, float& c) {
+HAIRSCATTER_FORCE_INLINE void sincos_float(float x, float& s, float& c) {
     if (!(std::fabs(x) <= 8192.0f)) {
         s = std::sin(x);
         c = std::cos(x);
@@ -105,33 +117,56 @@ inline void sincos_float(float x, float& s, float& c) {
 
 // Results that would be subnormal are flushed to 0 (e^-708 for double): libm's
 // underflow path is many times slower, and lobes far from their peak land there.
-template <typename T> HAIRSCATTER_HD T exp(T x) {
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T exp(T x) {
     using std::exp;
     return x > T(-708.39) ? exp(x) : T(0);
 }
-template <> HAIRSCATTER_HD inline float exp(float x) {
+template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float exp(float x) {
 #if defined(__CUDA_ARCH__)
     return ::expf(x);
 #else
-    return detail::exp_float(x);
+    return detail::exp_float<false>(x);
 #endif
 }
 
-template <typename T> HAIRSCATTER_HD T atan2(T y, T x) {
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T atan2(T y, T x) {
     using std::atan2;
     return atan2(y, x);
 }
-template <> HAIRSCATTER_HD inline float atan2(float y, float x) {
+template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float atan2(float y, float x) {
 #if defined(__CUDA_ARCH__)
     return ::atan2f(y, x);
 #else
-    // Octant reduction to atan(min/max) ∈ [0, π/4], then the quadrant from the signs.
+    // Octant reduction to atan(min/max) ∈ [0, π/4], then the quadrant from the signs, with
+    // selects (math/functions.hpp), not branches: the octant of a random direction is
+    // unpredictable, and a mispredicted branch costs more than the whole polynomial.
     const float ax = std::fabs(x), ay = std::fabs(y);
-    const float hi = ax > ay ? ax : ay, lo = ax > ay ? ay : ax;
-    float r = detail::atan_unit(hi > 0.0f ? lo / hi : 0.0f);
-    if (ay > ax) r = kHalfPi<float> - r;
-    if (x < 0.0f) r = kPi<float> - r;
-    return std::copysign(r, y);
+    const bool steep = ay > ax;
+    const float hi = select(steep, ay, ax), lo = select(steep, ax, ay);
+    const float r = detail::atan_unit(lo / select(hi > 0.0f, hi, 1.0f));  // lo = 0 when hi = 0
+    const float r1 = select(steep, kHalfPi<float> - r, r);
+    return std::copysign(select(x < 0.0f, kPi<float> - r1, r1), y);
+#endif
+}
+
+// e^x of every element, in one loop: in float the compilers vectorise it (exp_float is
+// branch-free), so a batch of lobe terms costs about one exp. exp_batch<T>(n) is the size
+// to pad a batch of n exps to (with zeros): a whole vector for float, n itself for double,
+// whose exp is libm's, one call per element.
+template <typename T> HAIRSCATTER_HD constexpr int exp_batch(int n) {
+    if (!std::is_same<T, float>::value) return n;
+    int b = 1;
+    while (b < n) b *= 2;
+    return b;
+}
+template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void exp_each(T (&x)[N]) {
+    for (int k = 0; k < N; ++k) x[k] = exp(x[k]);
+}
+template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void exp_each(float (&x)[N]) {
+#if defined(__CUDA_ARCH__)
+    for (int k = 0; k < N; ++k) x[k] = ::expf(x[k]);
+#else
+    for (int k = 0; k < N; ++k) x[k] = detail::exp_float<true>(x[k]);
 #endif
 }
 
@@ -140,7 +175,7 @@ template <typename T> HAIRSCATTER_HD T log(T x) {
     using std::log;
     return log(x);
 }
-template <> HAIRSCATTER_HD inline float log(float x) {
+template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float log(float x) {
 #if defined(__CUDA_ARCH__)
     return ::logf(x);
 #else
@@ -155,7 +190,7 @@ template <typename T> HAIRSCATTER_HD void sincos(T x, T& s, T& c) {
     s = sin(x);
     c = cos(x);
 }
-template <> HAIRSCATTER_HD inline void sincos(float x, float& s, float& c) {
+template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sincos(float x, float& s, float& c) {
 #if defined(__CUDA_ARCH__)
     ::sincosf(x, &s, &c);
 #else
@@ -164,13 +199,15 @@ template <> HAIRSCATTER_HD inline void sincos(float x, float& s, float& c) {
 }
 
 // asin with the argument clamped to [-1, 1] (rounding can leave it a hair outside).
-template <typename T> HAIRSCATTER_HD T asin(T x) { return safe_asin(x); }
-template <> HAIRSCATTER_HD inline float asin(float x) {
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T asin(T x) { return safe_asin(x); }
+template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float asin(float x) {
 #if defined(__CUDA_ARCH__)
     return safe_asin(x);
 #else
     const float ax = clamp(std::fabs(x), 0.0f, 1.0f);
-    // |x| > 1/2: asin(a) = π/2 - 2 asin(sqrt((1 - a)/2)) keeps the polynomial's argument small.
+    // |x| > 1/2: asin(a) = π/2 - 2 asin(sqrt((1 - a)/2)) keeps the polynomial's argument
+    // small. A branch, not a select: it is mispredicted when h is random, but computing
+    // both forms puts a sqrt on the wo terms' critical path, which costs more (measured).
     const float r = ax <= 0.5f ? detail::asin_half(ax)
                                : kHalfPi<float> - 2.0f * detail::asin_half(std::sqrt(0.5f * (1.0f - ax)));
     return std::copysign(r, x);

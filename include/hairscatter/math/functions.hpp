@@ -14,8 +14,11 @@ namespace hairscatter {
 
 template <typename T> HAIRSCATTER_HD constexpr T sqr(T x) { return x * x; }
 
+// Two separate selects, each the form of one max / min instruction (x86 SSE, CUDA): the
+// compilers emit no branch for it. NaN stays NaN.
 template <typename T> HAIRSCATTER_HD constexpr T clamp(T x, T lo, T hi) {
-    return x < lo ? lo : (x > hi ? hi : x);
+    const T above = x < lo ? lo : x;
+    return above > hi ? hi : above;
 }
 
 // x is neither NaN nor ±Inf, read from the exponent bits: -ffast-math (-ffinite-math-only)
@@ -32,8 +35,32 @@ HAIRSCATTER_HD inline bool is_finite(double x) {
 }
 template <int N, typename T> HAIRSCATTER_HD bool is_finite(const glm::vec<N, T>& v) {
     bool ok = true;
-    for (int i = 0; i < N; ++i) ok = ok && is_finite(v[i]);
+    for (int i = 0; i < N; ++i) ok &= is_finite(v[i]);  // & not &&: no branch per component
     return ok;
+}
+
+// c ? a : b without a branch, for the loops over lobes that the compilers vectorise: GCC
+// (under the default -ftrapping-math) does not if-convert a floating-point `c ? a : b`
+// whose arms it would have to speculate, and leaves the whole loop scalar; selecting the
+// bits with an integer mask it does vectorise (to a blend). Both arms are evaluated.
+namespace detail {
+template <typename T, typename Bits> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T select_bits(bool c, T a, T b) {
+    static_assert(sizeof(T) == sizeof(Bits), "an unsigned integer of the real's width");
+    Bits ba, bb;
+    std::memcpy(&ba, &a, sizeof ba);
+    std::memcpy(&bb, &b, sizeof bb);
+    const Bits m = Bits(0) - Bits(c);
+    const Bits r = (ba & m) | (bb & ~m);
+    T out;
+    std::memcpy(&out, &r, sizeof out);
+    return out;
+}
+}  // namespace detail
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float select(bool c, float a, float b) {
+    return detail::select_bits<float, std::uint32_t>(c, a, b);
+}
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE double select(bool c, double a, double b) {
+    return detail::select_bits<double, std::uint64_t>(c, a, b);
 }
 
 // The cell of a table coordinate x ∈ [0, last + 1], in [0, last]: NaN and values below 0
@@ -45,27 +72,34 @@ template <typename T> HAIRSCATTER_HD int table_cell(T x, int last) {
 }
 
 // sqrt that tolerates arguments rounded slightly below zero (e.g. 1 - sin² at θ = ±90°).
-template <typename T> HAIRSCATTER_HD T safe_sqrt(T x) {
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T safe_sqrt(T x) {
     HAIRSCATTER_DCHECK(!(x < T(-1e-3)));  // NaN passes: non-finite input is the models' to zero
     using std::sqrt;
     return sqrt(x > T(0) ? x : T(0));
 }
 
 // asin that tolerates |x| rounded slightly above one.
-template <typename T> HAIRSCATTER_HD T safe_asin(T x) {
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T safe_asin(T x) {
     HAIRSCATTER_DCHECK(!(x < T(-1.0001) || x > T(1.0001)));  // NaN passes, as in safe_sqrt
     using std::asin;
     return asin(clamp(x, T(-1), T(1)));
 }
 
 // cos θ from sin θ, accurate near θ = ±90° where 1 - s² cancels: (1 - s)(1 + s).
-template <typename T> HAIRSCATTER_HD T cos_from_sin(T s) { return safe_sqrt((T(1) - s) * (T(1) + s)); }
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T cos_from_sin(T s) { return safe_sqrt((T(1) - s) * (T(1) + s)); }
 
 // Wraps a finite angle to [-π, π] (differences of azimuths and Φ(p, h) reach ±4π).
-template <typename T> HAIRSCATTER_HD T wrap_pi(T x) {
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T wrap_pi(T x) {
     using std::floor;
     x -= kTwoPi<T> * floor((x + kPi<T>) * kInvTwoPi<T>);
     return clamp(x, -kPi<T>, kPi<T>);  // rounding can leave it a hair outside
+}
+
+// Wraps x ∈ [-3π, 3π] (the difference of two angles in [-π, π]) to [-π, π] by at most one
+// turn, without floor or a branch: the form the lane loops vectorise (on SSE2 as well).
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T wrap_pi_once(T x) {
+    x = select(x > kPi<T>, x - kTwoPi<T>, select(x < -kPi<T>, x + kTwoPi<T>, x));
+    return clamp(x, -kPi<T>, kPi<T>);
 }
 
 namespace detail {
@@ -75,6 +109,28 @@ namespace detail {
 template <typename T> HAIRSCATTER_HD constexpr T horner(T, T c0) { return c0; }
 template <typename T, typename... Cs> HAIRSCATTER_HD constexpr T horner(T x, T c0, Cs... cs) {
     return c0 + x * horner(x, cs...);
+}
+
+// The same polynomial by Estrin's scheme, for the hot paths: c_0 … c_{M-1} + x^M · (the
+// rest), M the largest power of two below the count, recursively. The FMA chain is
+// log₂(n) deep instead of n - 1 (evaluated on its own, a polynomial is latency-bound), at
+// the price of a few multiplications; the rounding error is of the same order.
+template <int M, typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T power_of_two_power(T x) {
+    if constexpr (M == 1) return x;
+    else return sqr(power_of_two_power<M / 2>(x));
+}
+template <int N, typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T estrin_array(T x, const T* c) {
+    if constexpr (N == 1) {
+        return c[0];
+    } else {
+        constexpr int M = N > 8 ? 8 : N > 4 ? 4 : N > 2 ? 2 : 1;
+        return estrin_array<M>(x, c) + power_of_two_power<M>(x) * estrin_array<N - M>(x, c + M);
+    }
+}
+template <typename T, typename... Cs> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T estrin(T x, Cs... cs) {
+    static_assert(sizeof...(Cs) <= 16, "up to degree 15");
+    const T c[] = {T(cs)...};
+    return estrin_array<int(sizeof...(Cs))>(x, c);
 }
 
 // Modified Bessel function I0, split at x = 6 (fitted for this library by Chebyshev
@@ -88,18 +144,18 @@ template <typename T, typename... Cs> HAIRSCATTER_HD constexpr T horner(T x, T c
 // pbrt's 10-term series is off by 1.5 % at large x and runs into subnormals; this is not.
 constexpr double kI0SmallSplit = 6.0;
 
-template <typename T> HAIRSCATTER_HD T i0_small_minus_one(T x) {
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T i0_small_minus_one(T x) {
     const T y = T(0.25) * x * x;
-    return y * horner(y, T(1.0000000003133483716), T(0.249999994362186269057),
+    return y * (T(1.0000000003133483716) + y * estrin(y, T(0.249999994362186269057),
                       T(0.027777794445482060956), T(0.00173609217789404810854),
                       T(0.0000694551895274435695843), T(0.00000192560003122220105341),
                       T(4.00000626509952145251e-8), T(5.47656410364662669124e-10),
-                      T(1.1352864748412762681e-11));
+                      T(1.1352864748412762681e-11)));
 }
 
 // Takes t = 6/x ∈ (0, 1].
-template <typename T> HAIRSCATTER_HD T i0_large_scaled_sqrt_t(T t) {
-    return horner(t, T(0.398942279781196684609), T(0.00831139763790257582454),
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T i0_large_scaled_sqrt_t(T t) {
+    return T(0.398942279781196684609) + t * estrin(t, T(0.00831139763790257582454),
                   T(0.000776561216222653930921), T(0.000161276754668690157394),
                   T(-0.0000915198354603106014836), T(0.000342097117170683312368),
                   T(-0.000471667343606663586999), T(0.000354470865047110757867),

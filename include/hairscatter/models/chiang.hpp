@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include <glm/glm.hpp>
 
@@ -115,12 +116,17 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     HAIRSCATTER_HD LobeSplit lobe_split(const V3& wo, T centre = T(0)) const {
         const Outgoing o = outgoing<false>(wo);
         LobeSplit r;
-        for (int p = 0; p < kLobes; ++p) {
-            r.a[p] = keeps(p) ? o.a[p] : V3(T(0));
-            r.backward[p] = keeps(p) ? mat_->azimuthal().arc_mass(centre - kHalfPi<T> - o.phi_p[p], kPi<T>) : T(0);
+        for (int p = 0; p <= kLobes; ++p) {
+            r.a[p] = V3(T(0));
+            r.backward[p] = T(0);
         }
-        r.a[kLobes] = keeps(kLobes) ? o.a[kLobes] : V3(T(0));
-        r.backward[kLobes] = T(0.5);  // the residual is uniform in φ
+        for (int k = 0; k < kKeptLanes; ++k) {
+            const int p = lane_lobe(kKept, k);
+            r.a[p] = o.a[k];
+            r.backward[p] = k < kExplicit ? mat_->azimuthal().arc_mass(centre - kHalfPi<T> - o.phi_p[k], kPi<T>)
+                                          : T(0.5);  // the residual is uniform in φ
+        }
+        if (!keeps(kLobes)) r.backward[kLobes] = T(0.5);
         return r;
     }
 
@@ -129,8 +135,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     HAIRSCATTER_HD V3 albedo(const V3& wo) const {
         const Outgoing o = outgoing<false>(wo);
         V3 a(T(0));
-        for (int p = 0; p <= kLobes; ++p)
-            if (keeps(p)) a += o.a[p];
+        for (int k = 0; k < kKeptLanes; ++k) a += o.a[k];
         return a;
     }
 
@@ -138,97 +143,118 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     friend class FiberModel<BasicChiangFiber, T>;
     friend class BoundFiber<BasicChiangFiber>;
 
-    // The terms that depend on wo only, shared by eval, pdf and sample.
+    // The kept lobes side by side: lane k holds lobe lane_lobe(kKept, k) (lobes/lobe_set.hpp).
+    // The explicit lobes (R, TT, TRT) come first; the residual, if kept, is the last lane.
+    static constexpr int kKeptLanes = lobe_count(kKept);
+    // The lanes stored and computed: in float a power of two, so that the loops are whole
+    // vectors (three lanes would leave them scalar); the extra lane is zero and adds
+    // nothing. In double (scalar exps) the kept lobes only.
+    static constexpr int kLanes = std::is_same<T, float>::value && kKeptLanes == 3 ? 4 : kKeptLanes;
+    static constexpr int kExplicit = kKeptLanes - (keeps(kLobes) ? 1 : 0);
+    // The N_p lanes computed per query: every lane in float, where the residual's is a
+    // discarded part of a whole vector; only the explicit ones in double (one libm exp each).
+    static constexpr int kAzimuthal = std::is_same<T, float>::value ? kLanes : kExplicit;
+    // The exps of one query: N_p of the kAzimuthal lanes, then M_p of every lane, padded.
+    static constexpr int kExps = elem::exp_batch<T>(kAzimuthal + kLanes);
+
+    // The terms that depend on wo only, shared by eval, pdf and sample, per lane.
     struct Outgoing {
-        V3 a[kLobes + 1];          // A_p
-        T w[kLobes + 1];           // lobe selection probabilities (only when asked for)
-        T sin_o[kLobes + 1], cos_o[kLobes + 1];  // tilted θo' per lobe
-        T phi_p[kLobes];           // Φ(p, h)
+        V3 a[kLanes];                  // A_p
+        T w[kLanes];                   // lobe selection probabilities (only when asked for)
+        DeonLanes<T, kLanes> m;        // M_p conditioned on the tilted θo'
+        T phi_p[kLanes];               // Φ(p, h), wrapped to [-π, π] (0 for the residual)
     };
 
-    static constexpr int kFirstKept = keeps(0) ? 0 : keeps(1) ? 1 : keeps(2) ? 2 : 3;
     // Only R needs no refracted path (no transmittance, no γt).
     static constexpr bool kRefracts = (kKept & ~LobeSet::kR) != LobeSet::kNone;
 
     // eval, pdf and eval_pdf: f and/or pdf at (wo, wi).
     template <bool kF, bool kPdf>
-    HAIRSCATTER_HD HAIRSCATTER_INLINE HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
-        if (!(is_finite(wo) && is_finite(wi))) return HairEvalPdf<T>{};  // non-finite input: 0 (see HairSample)
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
+        // Finite wo and wi: FiberModel and BoundFiber (models/contract.hpp) check before calling.
         const T sin_i = clamp(wi.x, T(-1), T(1));
         const T phi = relative_azimuth(wo, wi);
         return combine<kF, kPdf>(o, sin_i, cos_from_sin(sin_i), phi);
     }
 
     HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
-        if (!(is_finite(wo) && is_finite(u))) return HairSample<T>{};  // non-finite input: pdf 0, weight 0
-        // The lobe ∝ w_p (normalised; 0 for dropped lobes). Counted from the first kept
-        // lobe, so that all-zero weights (an opaque fiber without R) pick a kept lobe.
-        const int p = kFirstKept + sample_discrete(o.w + kFirstKept, kLobes + 1 - kFirstKept, u.x, T(1)).index;
+        // Finite wo and u: checked by the callers, as in query.
+        // The lane ∝ w (normalised). All-zero weights (an opaque fiber without R) pick
+        // lane 0, a kept lobe.
+        const int k = sample_discrete(o.w, kKeptLanes, u.x, T(1)).index;
+        const int p = lane_lobe(kKept, k);
 
-        const T sin_i = mat_->longitudinal(p).sample_sin_theta(o.sin_o[p], o.cos_o[p], u.y, u.z);
+        const T sin_i = mat_->longitudinal(p).sample_sin_theta(o.m.sin_o[k], o.m.cos_o[k], u.y, u.z);
         const T cos_i = cos_from_sin(sin_i);
-        const T phi = wrap_pi(p < kLobes ? o.phi_p[p] + mat_->azimuthal().sample(u.w)
-                                         : kTwoPi<T> * u.w - kPi<T>);
+        const T phi = wrap_pi(k < kExplicit ? o.phi_p[k] + mat_->azimuthal().sample(u.w) : kTwoPi<T> * u.w - kPi<T>);
 
         return make_sample(direction_from_azimuth(wo, sin_i, phi), lobe_tag(p), combine<true, true>(o, sin_i, cos_i, phi));
     }
 
     // kW: also the lobe selection probabilities w (pdf and sample need them, eval not).
-    template <bool kW> HAIRSCATTER_HD HAIRSCATTER_INLINE Outgoing outgoing(const V3& wo) const {
+    template <bool kW> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE Outgoing outgoing(const V3& wo) const {
         const FiberParams<T>& prm = mat_->params();
         Outgoing o;
         const T sin_o = clamp(wo.x, T(-1), T(1));
         const T cos_o = cos_from_sin(sin_o);
         const T fresnel = fresnel_dielectric(cos_o * cos_gamma_o_, prm.eta);
+        V3 a[kLobes + 1];
         T gamma_t = T(0);
         if constexpr (kRefracts) {
             const auto path = FiberRefraction<T>(sin_o, cos_o, prm.eta).at(h_, prm.sigma_a);
             gamma_t = path.gamma_t;
             const Attenuation<T, kLobes> att = attenuation<T, kLobes>(fresnel, path.transmittance);
-            for (int p = 0; p <= kLobes; ++p) o.a[p] = att.a[p];
+            for (int p = 0; p <= kLobes; ++p) a[p] = att.a[p];
         } else {
-            o.a[0] = V3(fresnel);
+            a[0] = V3(fresnel);
+        }
+        mat_->template condition<kKept>(o.m, sin_o, cos_o);
+        for (int k = 0; k < kLanes; ++k) {
+            const int p = lane_lobe(kKept, k);
+            o.a[k] = k < kKeptLanes ? a[p] : V3(T(0));
+            o.phi_p[k] = k < kExplicit ? exit_azimuth_wrapped(p, gamma_o_, gamma_t) : T(0);
         }
         // The lobe controls, in this one place: f, the selection weights w, albedo and
-        // lobe_split all read the scaled A_p, so sampling stays proportional to eval.
+        // lobe_split all read the scaled A_p, so sampling stays proportional to eval (the
+        // per-lobe tilts are in the material's DeonLobes, which condition() rotates by).
         if (mat_->has_lobe_weights())
-            for (int p = 0; p <= kLobes; ++p)
-                if (keeps(p)) o.a[p] *= mat_->lobe_weight(p);
-        mat_->tilt_all(sin_o, cos_o, o.sin_o, o.cos_o, unsigned(kKept));
-        for (int p = 0; p < kLobes; ++p)
-            if (keeps(p)) o.phi_p[p] = exit_azimuth(p, gamma_o_, gamma_t);
+            for (int k = 0; k < kKeptLanes; ++k) o.a[k] *= mat_->lobe_weight(lane_lobe(kKept, k));
         if constexpr (kW) {
             T total = T(0);
-            for (int p = 0; p <= kLobes; ++p) {
-                o.w[p] = keeps(p) ? (o.a[p].x + o.a[p].y + o.a[p].z) * T(1.0 / 3.0) : T(0);
-                total += o.w[p];
+            for (int k = 0; k < kLanes; ++k) {
+                o.w[k] = (o.a[k].x + o.a[k].y + o.a[k].z) * T(1.0 / 3.0);
+                total += o.w[k];
             }
             // With R kept at a gain above 0, total ≥ gain F > 0. Otherwise every kept lobe can
             // vanish (an opaque fiber, zero gains): the weights stay 0 and so does the pdf.
             const T inv_total = total > T(0) ? T(1) / total : T(0);
-            for (int p = 0; p <= kLobes; ++p) o.w[p] *= inv_total;
+            for (int k = 0; k < kLanes; ++k) o.w[k] *= inv_total;
         }
         return o;
     }
 
     // f = Σ_p M_p A_p N_p and pdf = Σ_p M_p w_p N_p over the same lobe terms (kF, kPdf
-    // select which).
+    // select which), every lane at once: the exponents of N_p and M_p go into one array
+    // whose exps are one vectorised loop in float, then the lanes are multiplied out.
     template <bool kF, bool kPdf>
-    HAIRSCATTER_HD HAIRSCATTER_INLINE HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
-        T mn[kLobes + 1];
-        for (int p = 0; p < kLobes; ++p)
-            if (keeps(p))
-                mn[p] = mat_->longitudinal(p).eval(sin_i, cos_i, o.sin_o[p], o.cos_o[p]) *
-                        azimuthal_logistic(mat_->azimuthal(), phi, o.phi_p[p]);
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
+        using std::sqrt;
+        const TrimmedLogistic<T>& n = mat_->azimuthal();
+        constexpr int kM = kAzimuthal;  // where the M_p exponents start in e
+        T e[kExps] = {};
+        T m_factor[kLanes];
+        for (int k = 0; k < kAzimuthal; ++k) e[k] = n.exponent(wrap_pi_once(phi - o.phi_p[k]));
+        const T sqrt_cos_i = sqrt(cos_i);
+        for (int k = 0; k < kLanes; ++k) o.m.terms(k, sin_i, cos_i, sqrt_cos_i, e[kM + k], m_factor[k]);
+        elem::exp_each(e);
+        T mn[kLanes];
+        for (int k = 0; k < kAzimuthal; ++k) mn[k] = m_factor[k] * e[kM + k] * n.density(e[k]);
         // The residual lumps all orders: uniform in φ.
-        if (keeps(kLobes))
-            mn[kLobes] = mat_->longitudinal(kLobes).eval(sin_i, cos_i, o.sin_o[kLobes], o.cos_o[kLobes]) *
-                         kInvTwoPi<T>;
+        for (int k = kExplicit; k < kKeptLanes; ++k) mn[k] = m_factor[k] * e[kM + k] * kInvTwoPi<T>;
         HairEvalPdf<T> r;
-        for (int p = 0; p <= kLobes; ++p) {
-            if (!keeps(p)) continue;
-            if constexpr (kF) r.f += mn[p] * o.a[p];
-            if constexpr (kPdf) r.pdf += mn[p] * o.w[p];
+        for (int k = 0; k < kLanes; ++k) {
+            if constexpr (kF) r.f += mn[k] * o.a[k];
+            if constexpr (kPdf) r.pdf += mn[k] * o.w[k];
         }
         return r;
     }

@@ -65,7 +65,7 @@ template <typename T> struct HairEvalPdf {
 // The sample of direction wi drawn from `lobe`, given its f and pdf: weight = f / pdf, 0
 // where the pdf underflowed. Every model's sample() ends here.
 template <typename T>
-HAIRSCATTER_HD HAIRSCATTER_INLINE HairSample<T> make_sample(const glm::vec<3, T>& wi, SampledLobe lobe,
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE HairSample<T> make_sample(const glm::vec<3, T>& wi, SampledLobe lobe,
                                                             const HairEvalPdf<T>& e) {
     HairSample<T> r;
     r.wi = wi;

@@ -117,6 +117,7 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
     struct Outgoing {
         T sin_o, cos_o;
         T sin_p[kLobes + 1], cos_p[kLobes + 1];  // tilted θo' per lobe
+        DeonLanes<T, kLobes + 1> m;               // M_p at θo', side by side
         FiberRefraction<T> refraction;            // γt and the chord, per h
     };
     using Node = FarFieldNode<T, kLobes>;
@@ -156,6 +157,7 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
         o.cos_o = cos_from_sin(o.sin_o);
         o.refraction = FiberRefraction<T>(o.sin_o, o.cos_o, prm.eta);
         mat_->tilt_all(o.sin_o, o.cos_o, o.sin_p, o.cos_p);
+        mat_->template condition<LobeSet::kAll>(o.m, o.sin_o, o.cos_o);
         return o;
     }
 
@@ -219,7 +221,7 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
     // f and pdf at (θi, φ): the four M_p once, then per node A_p · D for both signs of h.
     HAIRSCATTER_HD HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
         T m[kLobes + 1];
-        for (int p = 0; p <= kLobes; ++p) m[p] = mat_->longitudinal(p).eval(sin_i, cos_i, o.sin_p[p], o.cos_p[p]);
+        o.m.eval_all(sin_i, cos_i, m);
         const WrappedGaussian<T>& d = mat_->azimuthal();
         V3 f(T(0)), alb(T(0));
         for (int j = 0; j < mat_->half_nodes(); ++j) {

@@ -74,6 +74,7 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
         T s[kLobes + 1];  // interpolated channel sums of the lobe masses
         T total;          // their sum: 3 × mean(albedo)
         T sin_p[kLobes + 1], cos_p[kLobes + 1];  // tilted θo' per lobe
+        DeonLanes<T, kLobes + 1> m;               // !kTable: the exact M_p at θo', side by side
         int row;
         typename DeonLongitudinalTable<T>::Conditioned mc[kLobes + 1];  // kTable: M̂_p at θo'
     };
@@ -148,6 +149,8 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
                 th = th > kHalfPi<T> ? kPi<T> - th : (th < -kHalfPi<T> ? -kPi<T> - th : th);
                 o.mc[p] = v_->longitudinal_table(p).condition(v_->data(), th, o.sin_p[p], o.cos_p[p]);
             }
+        } else {
+            v_->template condition<LobeSet::kAll>(o.m, sin_o, cos_o);
         }
         for (int c = 0; c < 3; ++c) o.residual[c] = kInvTwoPi<T> * (a[9 + c] + o.t * (b[9 + c] - a[9 + c]));
         return o;
@@ -167,7 +170,7 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
         if (v_->longitudinal_tabulated())
             for (int p = 0; p <= kLobes; ++p) m[p] = v_->longitudinal_table(p).eval(o.mc[p], sin_i);
         else
-            for (int p = 0; p <= kLobes; ++p) m[p] = v_->longitudinal(p).eval(sin_i, cos_i, o.sin_p[p], o.cos_p[p]);
+            o.m.eval_all(sin_i, cos_i, m);
         int i;
         T u;
         v_->phi_cell(phi < T(0) ? -phi : phi, i, u);

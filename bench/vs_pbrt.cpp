@@ -1,0 +1,198 @@
+// vs_pbrt: hairscatter's Chiang fiber against pbrt-v4's algorithm (reference/pbrt_style.hpp)
+// in one process, at β_m = β_n = 0.3, float and double: each call of ours is timed next to
+// the reference call that does the same job, repetitions interleaved in random order, and
+// the program prints the ratios of the medians itself. scripts/bench.sh --vs-pbrt builds it
+// at -O2 and at -O3 (targets vs_pbrt_o2, vs_pbrt_o3), runs both and writes
+// bench/results/vs_pbrt.md, from which it regenerates the README's speed table.
+//
+// The pairs (ours / reference):
+//   eval         ChiangFiber::eval(wo, wi)                 / HairBxDF::f(wo, wi)
+//   pdf          ChiangFiber::pdf(wo, wi)                  / HairBxDF::PDF(wo, wi)
+//   sample       ChiangFiber::sample(wo, u)                / HairBxDF::Sample_f(wo, u)
+//   path vertex  fiber(h) + at(wo) + eval(wi) + sample(u)  / HairBxDF(h) + f + Sample_f
+//   at(wo).eval  a bound fiber's eval(wi)                  / HairBxDF::f (pbrt has no bound form)
+// wi is uniform on the sphere; the inputs are reference/inputs.hpp's 4096 cycled tuples.
+// The calibration loop (reference/calibration.hpp, float) gives the unit u of
+// docs/tradeoff.md, so that at(wo).eval can also be read in units.
+//
+// Besides Google Benchmark's console output it prints one line per pair, the medians of
+// the repetitions' CPU times and then their minima (less sensitive to other load),
+//   RESULT <type> <label> <call> <ours ns> <reference ns> <ratio> <ours> <ref> <ratio (minima)>
+// and `RESULT float <label> unit <ns> <ns (minimum)>`, which scripts/bench.sh reads.
+#include <algorithm>
+#include <cstddef>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include <hairscatter/hairscatter.hpp>
+
+#include "reference/calibration.hpp"
+#include "reference/inputs.hpp"
+#include "reference/pbrt_style.hpp"
+
+#ifndef HAIRSCATTER_BENCH_LABEL
+#define HAIRSCATTER_BENCH_LABEL "?"
+#endif
+#ifndef HAIRSCATTER_BENCH_FLAGS_STRING
+#define HAIRSCATTER_BENCH_FLAGS_STRING "(unknown)"
+#endif
+
+namespace {
+
+using bench_ref::inputs;
+using bench_ref::kMask;
+
+constexpr std::size_t kBeta = 1;  // β_m = 0.3 (bench_ref::kBetaM)
+
+template <typename F> void cycle(benchmark::State& state, F&& call) {
+    std::size_t i = 0;
+    for (auto _ : state) {
+        auto r = call(i);
+        benchmark::DoNotOptimize(r);
+        i = (i + 1) & kMask;
+    }
+}
+
+template <typename T> const std::vector<glm::vec<3, T>>& wi_uniform() { return inputs<T>().wi[0][kBeta]; }
+
+template <typename T> void BM_Calib(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) { return bench_ref::calibration_body(in.calib_a[i], in.calib_b[i]); });
+}
+
+template <typename T> void BM_OursEval(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) { return in.fibers[kBeta][i].eval(in.wo[i], wi_uniform<T>()[i]); });
+}
+template <typename T> void BM_RefEval(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) { return in.refs[kBeta][i].f(in.wo[i], wi_uniform<T>()[i]); });
+}
+
+template <typename T> void BM_OursPdf(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) { return in.fibers[kBeta][i].pdf(in.wo[i], wi_uniform<T>()[i]); });
+}
+template <typename T> void BM_RefPdf(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) { return in.refs[kBeta][i].PDF(in.wo[i], wi_uniform<T>()[i]); });
+}
+
+template <typename T> void BM_OursSample(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) { return in.fibers[kBeta][i].sample(in.wo[i], in.u[i]); });
+}
+template <typename T> void BM_RefSample(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) { return in.refs[kBeta][i].Sample_f(in.wo[i], in.u[i]); });
+}
+
+// One path vertex as a renderer shades it: the fiber for the hit, eval for the light
+// sample, sample for the continuation.
+template <typename T> void BM_OursVertex(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) {
+        const auto at = hairscatter::ChiangFiber<T>(in.materials[kBeta], in.h[i]).at(in.wo[i]);
+        return std::make_pair(at.eval(wi_uniform<T>()[i]), at.sample(in.u[i]));
+    });
+}
+template <typename T> void BM_RefVertex(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) {
+        const auto ref = bench_ref::make_ref<T>(int(kBeta), in.h[i]);
+        return std::make_pair(ref.f(in.wo[i], wi_uniform<T>()[i]), ref.Sample_f(in.wo[i], in.u[i]));
+    });
+}
+
+// 64 fibers bound to their wo, cycled against the 4096 wi.
+template <typename T> void BM_OursAtEval(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    std::vector<typename hairscatter::ChiangFiber<T>::At> at;
+    for (std::size_t k = 0; k < 64; ++k) at.push_back(in.fibers[kBeta][k].at(in.wo[k]));
+    cycle(state, [&](std::size_t i) { return at[i & 63].eval(wi_uniform<T>()[i]); });
+}
+
+// Collects every repetition's CPU time per benchmark while the console reporter prints.
+class Collector : public benchmark::ConsoleReporter {
+  public:
+    void ReportRuns(const std::vector<Run>& runs) override {
+        for (const Run& r : runs)
+            if (r.run_type == Run::RT_Iteration && !r.error_occurred)
+                times_[r.run_name.str()].push_back(r.GetAdjustedCPUTime());
+        ConsoleReporter::ReportRuns(runs);
+    }
+    // The median (q = 0.5) or the minimum (q = 0) of the repetitions' CPU times.
+    double quantile(const std::string& name, double q) const {
+        const auto it = times_.find(name);
+        if (it == times_.end() || it->second.empty()) return 0.0;
+        std::vector<double> t = it->second;
+        std::sort(t.begin(), t.end());
+        const std::size_t n = t.size();
+        if (q == 0.0) return t[0];
+        return n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+    }
+
+  private:
+    std::map<std::string, std::vector<double>> times_;
+};
+
+void print_results(const Collector& c) {
+    const char* calls[][3] = {{"eval", "BM_OursEval", "BM_RefEval"},
+                              {"pdf", "BM_OursPdf", "BM_RefPdf"},
+                              {"sample", "BM_OursSample", "BM_RefSample"},
+                              {"vertex", "BM_OursVertex", "BM_RefVertex"},
+                              {"at.eval", "BM_OursAtEval", "BM_RefEval"}};
+    std::printf("\n");
+    for (const char* type : {"float", "double"}) {
+        const std::string t = std::string("<") + type + ">";
+        for (const auto& call : calls) {
+            const double ours = c.quantile(call[1] + t, 0.5), ref = c.quantile(call[2] + t, 0.5);
+            const double ours_min = c.quantile(call[1] + t, 0.0), ref_min = c.quantile(call[2] + t, 0.0);
+            if (ours > 0.0 && ref > 0.0)
+                std::printf("RESULT %s %s %s %.2f %.2f %.3f %.2f %.2f %.3f\n", type, HAIRSCATTER_BENCH_LABEL, call[0],
+                            ours, ref, ref / ours, ours_min, ref_min, ref_min / ours_min);
+        }
+    }
+    const double unit = c.quantile("BM_Calib<float>", 0.5), unit_min = c.quantile("BM_Calib<float>", 0.0);
+    if (unit > 0.0) std::printf("RESULT float %s unit %.2f %.2f\n", HAIRSCATTER_BENCH_LABEL, unit, unit_min);
+}
+
+}  // namespace
+
+BENCHMARK_TEMPLATE(BM_Calib, float);
+BENCHMARK_TEMPLATE(BM_OursEval, float);
+BENCHMARK_TEMPLATE(BM_RefEval, float);
+BENCHMARK_TEMPLATE(BM_OursPdf, float);
+BENCHMARK_TEMPLATE(BM_RefPdf, float);
+BENCHMARK_TEMPLATE(BM_OursSample, float);
+BENCHMARK_TEMPLATE(BM_RefSample, float);
+BENCHMARK_TEMPLATE(BM_OursVertex, float);
+BENCHMARK_TEMPLATE(BM_RefVertex, float);
+BENCHMARK_TEMPLATE(BM_OursAtEval, float);
+BENCHMARK_TEMPLATE(BM_OursEval, double);
+BENCHMARK_TEMPLATE(BM_RefEval, double);
+BENCHMARK_TEMPLATE(BM_OursPdf, double);
+BENCHMARK_TEMPLATE(BM_RefPdf, double);
+BENCHMARK_TEMPLATE(BM_OursSample, double);
+BENCHMARK_TEMPLATE(BM_RefSample, double);
+BENCHMARK_TEMPLATE(BM_OursVertex, double);
+BENCHMARK_TEMPLATE(BM_RefVertex, double);
+BENCHMARK_TEMPLATE(BM_OursAtEval, double);
+
+int main(int argc, char** argv) {
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    benchmark::AddCustomContext("flags", HAIRSCATTER_BENCH_FLAGS_STRING);
+    (void)inputs<float>();  // build the inputs before the first timing
+    (void)inputs<double>();
+    Collector collector;
+    benchmark::RunSpecifiedBenchmarks(&collector);
+    print_results(collector);
+    benchmark::Shutdown();
+    return 0;
+}
