@@ -1,5 +1,5 @@
 // hairscatter examples — every fiber model the library ships behind one switch, shared by
-// the renderer and the lobe explorer: --model chiang|farfield|tabulated|marschner, the
+// the renderer and the lobe explorer: --model chiang|farfield|tabulated|marschner|huang, the
 // Chiang lobe subsets (--lobes R,TT,TRT,residual), the materials, and per-hit fibers
 // bound to their wo.
 #pragma once
@@ -15,10 +15,10 @@
 
 namespace hairscatter_examples {
 
-enum class FiberModel { kChiang, kFarField, kTabulated, kMarschner };
+enum class FiberModel { kChiang, kFarField, kTabulated, kMarschner, kHuang };
 
 const char* to_string(FiberModel m);
-// "chiang" | "farfield" | "tabulated" | "marschner"; throws std::invalid_argument naming --model.
+// "chiang" | "farfield" | "tabulated" | "marschner" | "huang"; throws std::invalid_argument naming --model.
 FiberModel parse_model(const std::string& name);
 
 // The examples' lobe sets: bit p keeps lobe p (0 R, 1 TT, 2 TRT, 3 residual). Only
@@ -67,6 +67,26 @@ template <typename T> hairscatter::MarschnerParams<T> marschner_params(const hai
     return m;
 }
 
+// The cross-section of --model huang (--aspect, --orientation in degrees): Huang et al.
+// 2022's minor-over-major axis ratio and the major axis' angle about the fiber.
+struct SectionShape {
+    double aspect = 1.0, orientation_deg = 0.0;
+};
+
+// Huang's parameters for a Chiang parameter set: the same η, α and σa, βm as the
+// microfacet roughness, and the section shape.
+template <typename T>
+hairscatter::HuangParams<T> huang_params(const hairscatter::FiberParams<T>& p, const SectionShape& shape) {
+    hairscatter::HuangParams<T> h;
+    h.eta = p.eta;
+    h.roughness = p.beta_m;
+    h.alpha = p.alpha;
+    h.sigma_a = p.sigma_a;
+    h.aspect_ratio = T(shape.aspect);
+    h.orientation = hairscatter::radians(T(shape.orientation_deg));
+    return h;
+}
+
 // A fiber bound to one wo: fiber.at(wo) where the model has it, else the fiber and wo kept
 // together. Either way: eval(wi), pdf(wi), eval_pdf(wi), sample(u).
 template <class Fiber> class BoundFiber {
@@ -94,10 +114,11 @@ template <class Fiber> auto bind_fiber(const Fiber& fiber, const typename Fiber:
 
 // The chosen model's material, built and validated once (throws std::invalid_argument
 // naming the bad parameter or option). visit(f) calls f(make) with make(h) → the per-hit
-// fiber (h is ignored by the h-integrated models: far field, tabulated, Marschner).
+// fiber (h is ignored by the h-integrated models: far field, tabulated, Marschner, Huang).
 template <typename T> class FiberModels {
   public:
-    FiberModels(FiberModel model, unsigned lobes, const hairscatter::FiberParams<T>& params)
+    FiberModels(FiberModel model, unsigned lobes, const hairscatter::FiberParams<T>& params,
+                const SectionShape& shape = {})
         : model_(model), lobes_(lobes) {
         namespace hs = hairscatter;
         if (model != FiberModel::kChiang && lobes != LobeBits::kAll)
@@ -115,6 +136,14 @@ template <typename T> class FiberModels {
                 } catch (const std::invalid_argument& e) {
                     throw std::invalid_argument(std::string("--model marschner (alpha_r = -2 alpha, beta_r = "
                                                             "sqrt(v(beta_m))): ") + e.what());
+                }
+                break;
+            case FiberModel::kHuang:
+                try {
+                    huang_ = std::make_unique<hs::HuangMaterial<T>>(huang_params(params, shape));
+                } catch (const std::invalid_argument& e) {
+                    throw std::invalid_argument(std::string("--model huang (roughness = beta_m, --aspect, "
+                                                            "--orientation): ") + e.what());
                 }
                 break;
         }
@@ -142,6 +171,10 @@ template <typename T> class FiberModels {
                 const hs::MarschnerMaterial<T>* m = marschner_.get();
                 return f([m](T) { return hs::MarschnerFiber<T>(*m); });
             }
+            case FiberModel::kHuang: {
+                const hs::HuangMaterial<T>* m = huang_.get();
+                return f([m](T) { return hs::HuangFiber<T>(*m); });
+            }
             case FiberModel::kChiang: break;
         }
         const hs::ChiangMaterial<T>* m = chiang_.get();
@@ -157,6 +190,7 @@ template <typename T> class FiberModels {
     std::unique_ptr<hairscatter::DeonFarFieldMaterial<T>> farfield_;
     std::unique_ptr<hairscatter::TabulatedMaterial<T>> tabulated_;
     std::unique_ptr<hairscatter::MarschnerMaterial<T>> marschner_;
+    std::unique_ptr<hairscatter::HuangMaterial<T>> huang_;
 };
 
 }  // namespace hairscatter_examples

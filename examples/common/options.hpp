@@ -41,10 +41,11 @@ struct FiberOptions {
     std::string model = "chiang", lobes = "all";
     HairColourOptions colour;
     double beta_m = 0.3, beta_n = 0.3, alpha_deg = 2.0, eta = 1.55;
+    SectionShape section;  // --model huang's cross-section
 };
 
 // Adds --model, --lobes, --colour/--color, --eumelanin, --pheomelanin, --rgb, --sigma-a,
-// --beta-m, --beta-n, --alpha, --eta. model_note is appended to --model's help.
+// --beta-m, --beta-n, --alpha, --eta, --aspect, --orientation. model_note is appended to --model's help.
 void add_fiber_options(CLI::App& app, FiberOptions& o, const std::string& default_colour,
                        const std::string& model_note = "");
 

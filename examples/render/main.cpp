@@ -118,6 +118,7 @@ int main(int argc, char** argv) {
         const hs::FiberParams<double> params = ex::fiber_params(fiber, "blond");
         so.fiber = hs::FiberParams<float>{float(params.eta), float(params.beta_m), float(params.beta_n),
                                           float(params.alpha), glm::vec3(params.sigma_a)};
+        so.section = fiber.section;
         so.dual_scattering = ro.integrator == render::Integrator::kDual;
         so.dual = dual_formulation == "zinke" ? hs::DualScatteringSettings<float>::zinke2008()
                                               : hs::DualScatteringSettings<float>::improved();
@@ -146,7 +147,7 @@ int main(int argc, char** argv) {
             render::write_hair_file(write_hair, file);
         }
         // The material and the grid's size are checked before the BVH is built.
-        { const hairscatter_examples::FiberModels<float> check(so.model, so.lobes, so.fiber); }
+        { const hairscatter_examples::FiberModels<float> check(so.model, so.lobes, so.fiber, so.section); }
         render::check_grid(desc.hair, so);
         std::fprintf(stderr, "render: building the scene (%zu strands)\n", desc.hair.strands.size());
         const render::Scene scene(std::move(desc));

@@ -22,6 +22,7 @@ struct ShadingOptions {
     FiberModel model = FiberModel::kChiang;
     unsigned lobes = hairscatter_examples::LobeBits::kAll;  // Chiang only
     hairscatter::FiberParams<float> fiber;
+    hairscatter_examples::SectionShape section;  // --model huang's cross-section
     bool dual_scattering = true;  // build the dual-scattering tables and the density grid
     // Dual scattering's formulation and density factors: the tables are built with them
     // (their one owner); the integrator reads them back from the tables.
