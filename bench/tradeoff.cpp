@@ -11,7 +11,10 @@
 //   near field (Chiang 2016 at a given h): reference_chiang.hpp, a transcription of
 //     pbrt-v4's model in double with Boost's I0;
 //   far field (d'Eon 2011, integrated over h), also for the tabulated model:
-//     reference_farfield.hpp, adaptive Gauss–Kronrod over h to 1e-11.
+//     reference_farfield.hpp, adaptive Gauss–Kronrod over h to 1e-11;
+//   Huang 2022 (microfacet fiber): reference_huang.hpp, brute-force Monte Carlo over the
+//     section and every microfacet normal, 2·10⁵ paths per pair on every 8th pair (its
+//     noise floor, the L1 between two independent runs, is reported beside the errors).
 // Error: relative L1 of f over a fixed set of direction pairs (half wi uniform on the
 // sphere, half drawn by the full model's sampler so the peaks are covered), in all three
 // colour channels: Σ|f - f_ref| / Σ|f_ref|. Furnace: ∫ f dωi of a lossless fiber by a
@@ -40,6 +43,7 @@
 #include "reference/pbrt_style.hpp"
 #include "support/reference_chiang.hpp"
 #include "support/reference_farfield.hpp"
+#include "support/reference_huang.hpp"
 
 namespace hs = hairscatter;
 
@@ -137,11 +141,28 @@ template <typename T, typename Fiber> struct Shader {
 };
 
 // The model's reference family.
-enum class Family { kNearField, kFarField, kMarschner };
+enum class Family { kNearField, kFarField, kMarschner, kHuang };
 
 const char* family_name(Family f) {
-    return f == Family::kNearField ? "near field" : f == Family::kFarField ? "far field" : "Marschner 16 nodes";
+    return f == Family::kNearField ? "near field"
+           : f == Family::kFarField ? "far field"
+           : f == Family::kMarschner ? "Marschner 16 nodes"
+                                     : "Huang brute force";
 }
+
+// Huang et al. 2022's fiber in the study: the study material's η, α and σa, its βm as the
+// microfacet roughness, a round section (the other models' shape).
+template <typename T> hs::HuangParams<T> huang_params(const hs::FiberParams<T>& p) {
+    hs::HuangParams<T> h;
+    h.eta = p.eta;
+    h.roughness = p.beta_m;
+    h.alpha = p.alpha;
+    h.sigma_a = p.sigma_a;
+    return h;
+}
+// The Huang reference is Monte Carlo (0.5 s per pair): every kHuangStride-th pair only.
+constexpr std::size_t kHuangStride = 8;
+constexpr int kHuangPaths = 200000;
 
 // Marschner's model in the study: the study material's η, σa and βn with the paper's own
 // α_R = -7.5°, β_R = 7.5° (its Table 1; its lobes are not parameterised by βm).
@@ -165,6 +186,8 @@ std::vector<Result>& results() {
     return r;
 }
 
+ref_huang::Params huang_reference_params() { return ref_huang::params_of(huang_params(study_params(false))); }
+
 // Reference values of f at the inputs, once per family (the far-field one takes seconds).
 const std::vector<glm::dvec3>& reference(Family family) {
     static std::map<Family, std::vector<glm::dvec3>> cache;
@@ -178,6 +201,12 @@ const std::vector<glm::dvec3>& reference(Family family) {
     } else if (family == Family::kFarField) {
         const ref::FarFieldReference r{p};
         for (std::size_t i = 0; i < kPairs; ++i) f.push_back(r.f(in.wo[i], in.wi[i]));
+    } else if (family == Family::kHuang) {
+        const ref_huang::Params hp = huang_reference_params();
+        const ref_huang::Reference r{hp};
+        std::mt19937_64 rng(29);
+        for (std::size_t i = 0; i < kPairs; ++i)
+            f.push_back(i % kHuangStride == 0 ? r.f(in.wo[i], in.wi[i], kHuangPaths, rng) : glm::dvec3(0.0));
     } else {
         // Marschner's model is its own reference: double, the most roughness nodes.
         const hs::MarschnerMaterial<double> mat(marschner_params(study_params(false)),
@@ -193,6 +222,7 @@ template <typename S> double relative_l1(const S& s, Family family) {
     const std::vector<glm::dvec3>& ref_f = reference(family);
     double num = 0, den = 0;
     for (std::size_t i = 0; i < kPairs; ++i) {
+        if (family == Family::kHuang && i % kHuangStride != 0) continue;
         const glm::dvec3 f = s.f(in.h[i], in.wo[i], in.wi[i]);
         for (int c = 0; c < 3; ++c) {
             num += std::abs(f[c] - ref_f[i][c]);
@@ -262,7 +292,8 @@ void add(const std::string& model, const std::string& knob, Family family,
     const std::vector<double> hs_ = family == Family::kNearField ? std::vector<double>{-0.6, 0.0, 0.9}
                                                                    : std::vector<double>{0.0};
     for (double theta_deg : {0.0, 40.0, 80.0, 89.0}) {
-        if (quick && theta_deg > 0) break;
+        // Huang's eval walks every path (µs): its furnace at 40° only.
+        if ((quick && theta_deg > 0) || (family == Family::kHuang && theta_deg != 40.0)) continue;
         const double t = theta_deg * ref::kPi / 180;
         const glm::dvec3 wo(std::sin(t), std::cos(t) * std::cos(0.3), std::cos(t) * std::sin(0.3));
         for (double h : hs_) {
@@ -377,6 +408,38 @@ template <typename T> void add_marschner(int nodes, bool quick) {
                   quick);
 }
 
+template <typename T> void add_huang(int nodes, int normal_nodes, bool quick) {
+    using Fiber = hs::HuangFiber<T>;
+    using M = hs::HuangMaterial<T>;
+    const int n = nodes == M::kAutoNodes ? M::auto_nodes(T(0.3)) : nodes;
+    add<T, Fiber>("huang",
+                  (nodes == M::kAutoNodes ? "auto (" + std::to_string(n) + ")" : std::to_string(n)) + " × " +
+                      std::to_string(normal_nodes) + "² nodes",
+                  Family::kHuang,
+                  [nodes, normal_nodes](const hs::FiberParams<T>& p) {
+                      const auto mat = std::make_shared<const M>(huang_params(p), nodes, normal_nodes);
+                      return std::function<Fiber(T, const glm::vec<3, T>&)>([mat](T, const glm::vec<3, T>&) { return Fiber(*mat); });
+                  },
+                  quick);
+}
+
+// The Huang reference's noise floor: the relative L1 between two independent runs.
+double huang_noise_floor() {
+    const Inputs& in = inputs();
+    const std::vector<glm::dvec3>& a = reference(Family::kHuang);
+    const ref_huang::Reference r{huang_reference_params()};
+    std::mt19937_64 rng(31);
+    double num = 0, den = 0;
+    for (std::size_t i = 0; i < kPairs; i += kHuangStride) {
+        const glm::dvec3 b = r.f(in.wo[i], in.wi[i], kHuangPaths, rng);
+        for (int c = 0; c < 3; ++c) {
+            num += std::abs(b[c] - a[i][c]);
+            den += std::abs(a[i][c]);
+        }
+    }
+    return num / den;
+}
+
 void add_settings(bool quick) {
     using hs::LobeSet;
     add_chiang<float, LobeSet::kAll>("all lobes", quick);
@@ -398,6 +461,11 @@ void add_settings(bool quick) {
     add_tabulated_bound<float>("fast (M table)", hs::TabulatedOptions::fast(), quick);
     for (int n : {1, 3, 7, 16}) add_marschner<float>(n, quick);
     add_marschner<double>(7, quick);
+    add_huang<float>(4, 1, quick);
+    add_huang<float>(hs::HuangMaterial<float>::kAutoNodes, 1, quick);
+    add_huang<float>(hs::HuangMaterial<float>::kAutoNodes, 2, quick);
+    add_huang<float>(48, 2, quick);
+    add_huang<double>(hs::HuangMaterial<double>::kAutoNodes, 1, quick);
 }
 
 // Collects the medians (CPU time, ns) of every benchmark by name.
@@ -467,6 +535,7 @@ int main(int argc, char** argv) {
             << ',' << r.sample_ns << ',' << r.eval_ns / unit << ',' << r.rel_l1 << ',' << r.furnace_dev << ','
             << r.furnace_min << ',' << r.furnace_max << '\n';
 
+    const double huang_floor = huang_noise_floor();
     std::ofstream md(out + "/tradeoff_table.md");
     char line[512];
     std::snprintf(line, sizeof line, "Calibration unit u = %.1f ns (float loop of bench/reference/calibration.hpp). Flags: %s.\n\n",
@@ -481,6 +550,9 @@ int main(int argc, char** argv) {
                       r.pdf_ns, r.sample_ns, r.rel_l1, r.furnace_min, r.furnace_max);
         md << line;
     }
+    std::snprintf(line, sizeof line,
+                  "\nThe Huang reference's own noise (relative L1 between two independent runs): %.2e.\n", huang_floor);
+    md << line;
     std::fprintf(stderr, "tradeoff: wrote %s/tradeoff.csv and %s/tradeoff_table.md\n", out.c_str(), out.c_str());
     return 0;
 }

@@ -16,6 +16,7 @@
 namespace hs = hairscatter;
 using specs::ChiangSpec;
 using specs::FarFieldSpec;
+using specs::HuangSpec;
 using specs::MarschnerSpec;
 using specs::TabulatedSpec;
 
@@ -25,7 +26,7 @@ constexpr hs::LobeSet kR = hs::LobeSet::kR, kTT = hs::LobeSet::kTT, kTRT = hs::L
 constexpr hs::LobeSet kTrtResidual = kTRT | hs::LobeSet::kResidual, kRTT = kR | kTT, kPrimary = hs::LobeSet::kPrimary;
 using Models = ::testing::Types<ChiangSpec<float, hs::LobeSet::kAll>, ChiangSpec<double, hs::LobeSet::kAll>,
                                 FarFieldSpec<float>, FarFieldSpec<double>, TabulatedSpec<float>, TabulatedSpec<double>,
-                                MarschnerSpec<float>, MarschnerSpec<double>>;
+                                MarschnerSpec<float>, MarschnerSpec<double>, HuangSpec<float>, HuangSpec<double>>;
 // Instances are numbered in the order of the type lists (ctest shows the spec type too).
 struct Numbered {
     template <typename> static std::string GetName(int i) { return std::to_string(i); }
@@ -65,11 +66,13 @@ static_assert(std::is_same_v<hs::ChiangFiber<float>, hs::BasicChiangFiber<float,
 static_assert(!std::is_constructible_v<hs::ChiangFiber<double>, hs::ChiangMaterial<double>&&, double>);
 static_assert(!std::is_constructible_v<hs::DeonFarFieldFiber<double>, hs::DeonFarFieldMaterial<double>&&>);
 static_assert(!std::is_constructible_v<hs::MarschnerFiber<double>, hs::MarschnerMaterial<double>&&>);
+static_assert(!std::is_constructible_v<hs::HuangFiber<double>, hs::HuangMaterial<double>&&>);
 static_assert(sizeof(hs::ChiangFiber<float>) <= sizeof(void*) + 4 * sizeof(float));
 // What a renderer copies to a GPU is trivially copyable.
 static_assert(std::is_trivially_copyable_v<hs::ChiangMaterial<float>> &&
               std::is_trivially_copyable_v<hs::DeonFarFieldMaterial<float>> &&
-              std::is_trivially_copyable_v<hs::MarschnerMaterial<float>> && std::is_trivially_copyable_v<hs::TabulatedView<float>>);
+              std::is_trivially_copyable_v<hs::MarschnerMaterial<float>> &&
+              std::is_trivially_copyable_v<hs::HuangMaterial<float>> && std::is_trivially_copyable_v<hs::TabulatedView<float>>);
 
 }  // namespace
 

@@ -1,5 +1,5 @@
 // hairscatter examples — every fiber model the library ships behind one switch, shared by
-// the renderer and the lobe explorer: --model chiang|farfield|tabulated|marschner, the
+// the renderer and the lobe explorer: --model chiang|farfield|tabulated|marschner|huang, the
 // Chiang lobe subsets (--lobes R,TT,TRT,residual), the materials, and per-hit fibers
 // bound to their wo.
 #pragma once
@@ -16,10 +16,10 @@
 
 namespace hairscatter_examples {
 
-enum class FiberModel { kChiang, kFarField, kTabulated, kMarschner };
+enum class FiberModel { kChiang, kFarField, kTabulated, kMarschner, kHuang };
 
 const char* to_string(FiberModel m);
-// "chiang" | "farfield" | "tabulated" | "marschner"; throws std::invalid_argument naming --model.
+// "chiang" | "farfield" | "tabulated" | "marschner" | "huang"; throws std::invalid_argument naming --model.
 FiberModel parse_model(const std::string& name);
 
 // The examples' lobe sets: bit p keeps lobe p (0 R, 1 TT, 2 TRT, 3 residual). Only
@@ -68,6 +68,26 @@ template <typename T> hairscatter::MarschnerParams<T> marschner_params(const hai
     return m;
 }
 
+// The cross-section of --model huang (--aspect, --orientation in degrees): Huang et al.
+// 2022's minor-over-major axis ratio and the major axis' angle about the fiber.
+struct SectionShape {
+    double aspect = 1.0, orientation_deg = 0.0;
+};
+
+// Huang's parameters for a Chiang parameter set: the same η, α and σa, βm as the
+// microfacet roughness, and the section shape.
+template <typename T>
+hairscatter::HuangParams<T> huang_params(const hairscatter::FiberParams<T>& p, const SectionShape& shape) {
+    hairscatter::HuangParams<T> h;
+    h.eta = p.eta;
+    h.roughness = p.beta_m;
+    h.alpha = p.alpha;
+    h.sigma_a = p.sigma_a;
+    h.aspect_ratio = T(shape.aspect);
+    h.orientation = hairscatter::radians(T(shape.orientation_deg));
+    return h;
+}
+
 // A fiber bound to one wo: fiber.at(wo) where the model has it, else the fiber and wo kept
 // together. Either way: eval(wi), pdf(wi), eval_pdf(wi), sample(u).
 template <class Fiber> class BoundFiber {
@@ -104,11 +124,11 @@ template <typename T> struct ChiangExtras {
 // The chosen model's material, built and validated once (throws std::invalid_argument
 // naming the bad parameter or option). visit(f) calls f(make) with make(h, strand = 0) →
 // the per-hit fiber (h is ignored by the h-integrated models: far field, tabulated,
-// Marschner; the strand selects Chiang's per-strand material).
+// Marschner, Huang; the strand selects Chiang's per-strand material).
 template <typename T> class FiberModels {
   public:
     FiberModels(FiberModel model, unsigned lobes, const hairscatter::FiberParams<T>& params,
-                const ChiangExtras<T>& extras = {})
+                const ChiangExtras<T>& extras = {}, const SectionShape& shape = {})
         : model_(model), lobes_(lobes) {
         namespace hs = hairscatter;
         if (model != FiberModel::kChiang && lobes != LobeBits::kAll)
@@ -132,6 +152,14 @@ template <typename T> class FiberModels {
                 } catch (const std::invalid_argument& e) {
                     throw std::invalid_argument(std::string("--model marschner (alpha_r = -2 alpha, beta_r = "
                                                             "sqrt(v(beta_m))): ") + e.what());
+                }
+                break;
+            case FiberModel::kHuang:
+                try {
+                    huang_ = std::make_unique<hs::HuangMaterial<T>>(huang_params(params, shape));
+                } catch (const std::invalid_argument& e) {
+                    throw std::invalid_argument(std::string("--model huang (roughness = beta_m, --aspect, "
+                                                            "--orientation): ") + e.what());
                 }
                 break;
         }
@@ -163,6 +191,10 @@ template <typename T> class FiberModels {
                 const hs::MarschnerMaterial<T>* m = marschner_.get();
                 return f([m](T, std::uint32_t = 0) { return hs::MarschnerFiber<T>(*m); });
             }
+            case FiberModel::kHuang: {
+                const hs::HuangMaterial<T>* m = huang_.get();
+                return f([m](T, std::uint32_t = 0) { return hs::HuangFiber<T>(*m); });
+            }
             case FiberModel::kChiang: break;
         }
         const FiberModels* self = this;
@@ -181,6 +213,7 @@ template <typename T> class FiberModels {
     std::unique_ptr<hairscatter::DeonFarFieldMaterial<T>> farfield_;
     std::unique_ptr<hairscatter::TabulatedMaterial<T>> tabulated_;
     std::unique_ptr<hairscatter::MarschnerMaterial<T>> marschner_;
+    std::unique_ptr<hairscatter::HuangMaterial<T>> huang_;
 };
 
 }  // namespace hairscatter_examples

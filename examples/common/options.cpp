@@ -20,14 +20,16 @@ const char* to_string(FiberModel m) {
         case FiberModel::kFarField: return "farfield";
         case FiberModel::kTabulated: return "tabulated";
         case FiberModel::kMarschner: return "marschner";
+        case FiberModel::kHuang: return "huang";
     }
     return "?";
 }
 
 FiberModel parse_model(const std::string& name) {
-    for (FiberModel m : {FiberModel::kChiang, FiberModel::kFarField, FiberModel::kTabulated, FiberModel::kMarschner})
+    for (FiberModel m : {FiberModel::kChiang, FiberModel::kFarField, FiberModel::kTabulated, FiberModel::kMarschner,
+                         FiberModel::kHuang})
         if (name == to_string(m)) return m;
-    throw std::invalid_argument("--model: unknown model '" + name + "' (chiang | farfield | tabulated | marschner)");
+    throw std::invalid_argument("--model: unknown model '" + name + "' (chiang | farfield | tabulated | marschner | huang)");
 }
 
 namespace {
@@ -122,8 +124,8 @@ void add_control_options(CLI::App& app, ControlOptions& c) {
 
 void add_fiber_options(CLI::App& app, FiberOptions& o, const std::string& default_colour,
                        const std::string& model_note) {
-    app.add_option("--model", o.model, "fiber model: chiang | farfield | tabulated | marschner" + model_note)
-        ->check(CLI::IsMember({"chiang", "farfield", "tabulated", "marschner"}))
+    app.add_option("--model", o.model, "fiber model: chiang | farfield | tabulated | marschner | huang" + model_note)
+        ->check(CLI::IsMember({"chiang", "farfield", "tabulated", "marschner", "huang"}))
         ->capture_default_str();
     app.add_option("--lobes", o.lobes,
                    "chiang: the lobes kept, a list of R, TT, TRT, residual (e.g. R,TT), or all, primary")
@@ -160,6 +162,11 @@ void add_fiber_options(CLI::App& app, FiberOptions& o, const std::string& defaul
     app.add_option("--alpha", o.alpha_deg, "cuticle tilt in degrees, |alpha| <= 22.5")->capture_default_str();
     app.add_option("--eta", o.eta, "index of refraction, > 1")->capture_default_str();
     add_control_options(app, o.controls);
+    app.add_option("--aspect", o.section.aspect, "huang: cross-section minor/major axis ratio, [0.5, 1]")
+        ->capture_default_str();
+    app.add_option("--orientation", o.section.orientation_deg,
+                   "huang: the major axis' angle about the fiber in degrees, [-180, 180]")
+        ->capture_default_str();
 }
 
 namespace {

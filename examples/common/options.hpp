@@ -57,12 +57,13 @@ struct FiberOptions {
     HairColourOptions colour;
     double beta_m = 0.3, beta_n = 0.3, alpha_deg = 2.0, eta = 1.55;
     ControlOptions controls;
+    SectionShape section;  // --model huang's cross-section
 };
 
 // Adds --model, --lobes, --colour/--color, --eumelanin, --pheomelanin, --melanin,
-// --redness, --rgb, --sigma-a, --dye, --beta-m, --beta-n, --alpha, --eta and the controls
-// (--gain-*, --tint-*, --alpha-r/-tt/-trt, --strand-seed, --*-range). model_note is appended
-// to --model's help.
+// --redness, --rgb, --sigma-a, --dye, --beta-m, --beta-n, --alpha, --eta, --aspect,
+// --orientation and the controls (--gain-*, --tint-*, --alpha-r/-tt/-trt, --strand-seed,
+// --*-range). model_note is appended to --model's help.
 void add_fiber_options(CLI::App& app, FiberOptions& o, const std::string& default_colour,
                        const std::string& model_note = "");
 

@@ -64,6 +64,7 @@ struct Setup {
     std::string strand_text;  // which strand, with per-strand variation
     ex::FiberModel model = ex::FiberModel::kChiang;
     unsigned lobes = ex::LobeBits::kAll;
+    ex::SectionShape section;     // --model huang's cross-section
     std::string sigma_a_source;  // how σa was given, for the summary
     std::vector<double> offsets;  // the h that eval is averaged over (one for --h)
     dvec3 wo{0.0};
@@ -106,6 +107,7 @@ void make_setup(const Options& o, Setup& s) {
     }
     s.model = ex::parse_model(o.fiber.model);
     s.lobes = ex::parse_lobes(o.fiber.lobes);
+    s.section = o.fiber.section;
     if (!(o.h >= -1 && o.h <= 1)) throw std::invalid_argument("--h: " + fmt("%g", o.h) + " is outside [-1, 1]");
     if (o.per_lobe && s.model != ex::FiberModel::kChiang)
         throw std::invalid_argument("--per-lobe needs --model chiang (the other models have no lobe subsets)");
@@ -195,12 +197,13 @@ int supersample_needed(const hs::FiberParams<double>& p, const Options& o) {
 // The image of one lobe set of the chosen model: rendered, written to <base>.exr and
 // <base>.png, and summarised on stdout. Returns the exit code.
 int explore(const Options& o, const Setup& setup, unsigned lobes, const std::string& base) {
-    const ex::FiberModels<double> models(setup.model, lobes, setup.params, setup.extras);
+    const ex::FiberModels<double> models(setup.model, lobes, setup.params, setup.extras, setup.section);
     const std::string model_text =
         setup.model == ex::FiberModel::kChiang
             ? "Chiang et al. 2016 (" + ex::lobes_to_string(lobes) + ")"
             : setup.model == ex::FiberModel::kFarField ? std::string("d'Eon et al. 2011 far field")
             : setup.model == ex::FiberModel::kTabulated ? std::string("tabulated far field")
+            : setup.model == ex::FiberModel::kHuang     ? std::string("Huang et al. 2022 microfacet fiber")
                                                           : std::string("Marschner et al. 2003");
     Rendered r{LinearImage(1, 1), dvec3(0.0), 0.0};
     dvec3 albedo(-1.0);  // -1: the model reports none
@@ -308,7 +311,7 @@ int run(const Options& o) {
         base = ex::strip_image_extension(o.output);
         ex::prepare_output(base);
         // The materials validate too (Marschner's mapped parameters, the lobe set).
-        const ex::FiberModels<double> check(setup.model, setup.lobes, setup.params, setup.extras);
+        const ex::FiberModels<double> check(setup.model, setup.lobes, setup.params, setup.extras, setup.section);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "lobe_explorer: invalid parameters: %s\n", e.what());
         return 2;

@@ -122,6 +122,7 @@ int main(int argc, char** argv) {
         so.chiang_extras.controls = ex::controls_as<float>(ex::lobe_controls(fiber));
         so.chiang_extras.has_controls = ex::has_lobe_controls(fiber);
         const ex::StrandSetup strands = ex::strand_setup(fiber);
+        so.section = fiber.section;
         so.dual_scattering = ro.integrator == render::Integrator::kDual;
         so.dual = dual_formulation == "zinke" ? hs::DualScatteringSettings<float>::zinke2008()
                                               : hs::DualScatteringSettings<float>::improved();
@@ -155,7 +156,7 @@ int main(int argc, char** argv) {
                 so.chiang_extras.strand_params.push_back(
                     ex::params_as<float>(ex::strand_fiber_params(params, strands, std::uint32_t(s))));
         // The materials and the grid's size are checked before the BVH is built.
-        { const hairscatter_examples::FiberModels<float> check(so.model, so.lobes, so.fiber, so.chiang_extras); }
+        { const hairscatter_examples::FiberModels<float> check(so.model, so.lobes, so.fiber, so.chiang_extras, so.section); }
         render::check_grid(desc.hair, so);
         std::fprintf(stderr, "render: building the scene (%zu strands)\n", desc.hair.strands.size());
         const render::Scene scene(std::move(desc));

@@ -25,6 +25,7 @@ struct ShadingOptions {
     // Chiang's lobe controls and per-strand fibers (docs/controls.md). The dual-scattering
     // tables are built from the base fiber (with the controls); each hit uses its strand's.
     hairscatter_examples::ChiangExtras<float> chiang_extras;
+    hairscatter_examples::SectionShape section;  // --model huang's cross-section
     bool dual_scattering = true;  // build the dual-scattering tables and the density grid
     // Dual scattering's formulation and density factors: the tables are built with them
     // (their one owner); the integrator reads them back from the tables.

@@ -81,6 +81,25 @@ template __global__ void evaluate_far_field<double>(const hairscatter::DeonFarFi
                                                     const glm::vec<3, double>*, const glm::vec<3, double>*,
                                                     const glm::vec<4, double>*, glm::vec<3, double>*, double*, int);
 
+// Huang et al. 2022's microfacet fiber: like the far field, it reads its material (nodes
+// and reflectance tables, a few KB) through a pointer to a device copy; eval, pdf, sample
+// and the bound object at(wo).
+template <typename T>
+__global__ void evaluate_huang(const hairscatter::HuangMaterial<T>* mat, const glm::vec<3, T>* wo,
+                               const glm::vec<3, T>* wi, const glm::vec<4, T>* u, glm::vec<3, T>* f, T* pdf, int n) {
+    const int i = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
+    if (i >= n) return;
+    const hairscatter::HuangFiber<T> fiber(*mat);
+    f[i] = fiber.eval(wo[i], wi[i]) + fiber.at(wo[i]).eval(wi[i]) + fiber.albedo(wo[i]);
+    pdf[i] = fiber.pdf(wo[i], wi[i]) + fiber.sample(wo[i], u[i]).pdf;
+}
+template __global__ void evaluate_huang<float>(const hairscatter::HuangMaterial<float>*, const glm::vec<3, float>*,
+                                               const glm::vec<3, float>*, const glm::vec<4, float>*,
+                                               glm::vec<3, float>*, float*, int);
+template __global__ void evaluate_huang<double>(const hairscatter::HuangMaterial<double>*, const glm::vec<3, double>*,
+                                                const glm::vec<3, double>*, const glm::vec<4, double>*,
+                                                glm::vec<3, double>*, double*, int);
+
 // A preview fiber that keeps R only (lobes/lobe_set.hpp): compiled out on the device too.
 template <typename T>
 __global__ void evaluate_r_only(hairscatter::ChiangMaterial<T> mat, const glm::vec<3, T>* wo,
