@@ -225,7 +225,7 @@ template <> HAIRSCATTER_HD inline float expm1(float x) {
 #if defined(__CUDA_ARCH__)
     return ::expm1f(x);
 #else
-    if (!(std::fabs(x) < 0.5f)) return detail::exp_float(x) - 1.0f;
+    if (!(std::fabs(x) < 0.5f)) return detail::exp_float<false>(x) - 1.0f;
     return x * hairscatter::detail::horner(x, 1.0f, 0.5f, 1.0f / 6, 1.0f / 24, 1.0f / 120, 1.0f / 720, 1.0f / 5040,
                                            1.0f / 40320, 1.0f / 362880);
 #endif
