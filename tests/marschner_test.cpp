@@ -432,6 +432,14 @@ TEST(MarschnerFiber, FloatPdfOfTrtSampleAtTheEndOfTheRangeMatchesSample) {
     p.beta_n = hs::kMinRoughness<float>;
     const hs::MarschnerMaterial<float> mat(p);
     const hs::MarschnerFiber<float> fiber(mat);
+    // The same material in double: the float pdf must also be its value, not only agree
+    // with itself (before the fix both float pdfs were 3-5 % off the double one).
+    hs::MarschnerParams<double> pd;
+    pd.sigma_a = glm::dvec3(0.5, 0.3, 0.2);
+    pd.beta_r = hs::kMinMarschnerWidth<double>;
+    pd.beta_n = hs::kMinRoughness<double>;
+    const hs::MarschnerMaterial<double> mat_d(pd);
+    const hs::MarschnerFiber<double> fiber_d(mat_d);
     struct Case {
         glm::vec3 wo;
         glm::vec4 u;
@@ -446,5 +454,10 @@ TEST(MarschnerFiber, FloatPdfOfTrtSampleAtTheEndOfTheRangeMatchesSample) {
         ASSERT_GT(s.pdf, 0.0f);
         const double back = fiber.pdf(c.wo, s.wi);
         EXPECT_NEAR(back, s.pdf, 1e-2 * std::max(back, double(s.pdf)) + 1e-3) << "wi " << s.wi.x << " " << s.wi.y << " " << s.wi.z;
+        // 1e-3 relative: the float rounding of θi and φ (~1e-7 rad) moves a mass that is
+        // quadratic in a ~1e-3 rad window by ~2e-4 relative.
+        const double ref = fiber_d.pdf(glm::dvec3(c.wo), glm::dvec3(s.wi));
+        EXPECT_NEAR(s.pdf, ref, 1e-3 * ref);
+        EXPECT_NEAR(back, ref, 1e-3 * ref);
     }
 }
