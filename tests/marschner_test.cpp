@@ -425,20 +425,23 @@ TEST(MarschnerFurnace, ReportedPerAngleAndBounded) {
 // once taken as the difference of two pushforward CDFs near 1 it was float rounding (the
 // d'Eon lobe, 4e6 at its peak, magnifies it). Both pdfs must agree to the stress run's
 // tolerance: 1e-2 relative + 1e-3 absolute (the float rounding of wi moves them by ~1e-4).
+namespace {
+// The stress run's material 1: both widths at their lower limits.
+template <typename T> hs::MarschnerParams<T> narrowest_params() {
+    hs::MarschnerParams<T> p;
+    p.sigma_a = glm::vec<3, T>(T(0.5), T(0.3), T(0.2));
+    p.beta_r = hs::kMinMarschnerWidth<T>;
+    p.beta_n = hs::kMinRoughness<T>;
+    return p;
+}
+}  // namespace
+
 TEST(MarschnerFiber, FloatPdfOfTrtSampleAtTheEndOfTheRangeMatchesSample) {
-    hs::MarschnerParams<float> p;
-    p.sigma_a = glm::vec3(0.5f, 0.3f, 0.2f);
-    p.beta_r = hs::kMinMarschnerWidth<float>;
-    p.beta_n = hs::kMinRoughness<float>;
-    const hs::MarschnerMaterial<float> mat(p);
+    const hs::MarschnerMaterial<float> mat(narrowest_params<float>());
     const hs::MarschnerFiber<float> fiber(mat);
     // The same material in double: the float pdf must also be its value, not only agree
     // with itself (before the fix both float pdfs were 3-5 % off the double one).
-    hs::MarschnerParams<double> pd;
-    pd.sigma_a = glm::dvec3(0.5, 0.3, 0.2);
-    pd.beta_r = hs::kMinMarschnerWidth<double>;
-    pd.beta_n = hs::kMinRoughness<double>;
-    const hs::MarschnerMaterial<double> mat_d(pd);
+    const hs::MarschnerMaterial<double> mat_d(narrowest_params<double>());
     const hs::MarschnerFiber<double> fiber_d(mat_d);
     struct Case {
         glm::vec3 wo;
