@@ -417,3 +417,50 @@ TEST(MarschnerFurnace, ReportedPerAngleAndBounded) {
     std::printf("[ furnace  ] ∫ f dωi, σa = 0, default parameters, per θo: %s\n", figure.c_str());
     ::testing::Test::RecordProperty("furnace", figure);
 }
+
+// The two sample/pdf mismatches the float stress run found (bench/stress.cpp, material 1:
+// β_R = 1e-4 rad, β_n = 1e-3): u.x = 1 - ulp draws TRT at h → 1, whose exit azimuth is the
+// end of the cubic's range (η' > 2 at this θd: no fold), and u.w = 1 - ulp puts φ at the
+// far edge of the last roughness cell. There the azimuthal mass of the cell is ~1e-7 of h,
+// once taken as the difference of two pushforward CDFs near 1 it was float rounding (the
+// d'Eon lobe, 4e6 at its peak, magnifies it). Both pdfs must agree to the stress run's
+// tolerance: 1e-2 relative + 1e-3 absolute (the float rounding of wi moves them by ~1e-4).
+namespace {
+// The stress run's material 1: both widths at their lower limits.
+template <typename T> hs::MarschnerParams<T> narrowest_params() {
+    hs::MarschnerParams<T> p;
+    p.sigma_a = glm::vec<3, T>(T(0.5), T(0.3), T(0.2));
+    p.beta_r = hs::kMinMarschnerWidth<T>;
+    p.beta_n = hs::kMinRoughness<T>;
+    return p;
+}
+}  // namespace
+
+TEST(MarschnerFiber, FloatPdfOfTrtSampleAtTheEndOfTheRangeMatchesSample) {
+    const hs::MarschnerMaterial<float> mat(narrowest_params<float>());
+    const hs::MarschnerFiber<float> fiber(mat);
+    // The same material in double: the float pdf must also be its value, not only agree
+    // with itself (before the fix both float pdfs were 3-5 % off the double one).
+    const hs::MarschnerMaterial<double> mat_d(narrowest_params<double>());
+    const hs::MarschnerFiber<double> fiber_d(mat_d);
+    struct Case {
+        glm::vec3 wo;
+        glm::vec4 u;
+    };
+    const Case cases[] = {
+        {{0x1.98ef8cp-1f, -0x1.a9410ep-2f, -0x1.bde4cap-2f}, {0x1.fffffep-1f, 0x1.fffffep-1f, 0x1.1177cap-1f, 0x1.fffffep-1f}},
+        {{0x1.5d6a1ap-1f, 0x1.6ad1f4p-2f, 0x1.475416p-1f}, {1.0f, 0x1.fffffep-1f, 0x1.b3f5cap-2f, 0x1.8c0fd2p-1f}},
+    };
+    for (const Case& c : cases) {
+        const hs::HairSample<float> s = fiber.sample(c.wo, c.u);
+        EXPECT_EQ(s.lobe, hs::SampledLobe::kTRT);
+        ASSERT_GT(s.pdf, 0.0f);
+        const double back = fiber.pdf(c.wo, s.wi);
+        EXPECT_NEAR(back, s.pdf, 1e-2 * std::max(back, double(s.pdf)) + 1e-3) << "wi " << s.wi.x << " " << s.wi.y << " " << s.wi.z;
+        // 1e-3 relative: the float rounding of θi and φ (~1e-7 rad) moves a mass that is
+        // quadratic in a ~1e-3 rad window by ~2e-4 relative.
+        const double ref = fiber_d.pdf(glm::dvec3(c.wo), glm::dvec3(s.wi));
+        EXPECT_NEAR(s.pdf, ref, 1e-3 * ref);
+        EXPECT_NEAR(back, ref, 1e-3 * ref);
+    }
+}

@@ -95,23 +95,38 @@ template <typename T> class MarschnerCubic {
     }
 
     // The pushforward of a uniform h ∈ [-1, 1] through f: C(x) = ½ |{h : f(asin h) ≤ x}|.
-    // The roots split [-π/2, π/2] into pieces on which f - x has one sign; each piece's
-    // sign is read at its midpoint (robust to double roots and to rounding of the roots).
     HAIRSCATTER_HD T cdf(T x) const {
-        using std::sin;
         if (!(x < half_range_)) return T(1);
         if (!(x >= -half_range_)) return T(0);
-        T b[kMaxRoots + 2];
-        const int n = roots(x, b + 1);
-        b[0] = -kHalfPi<T>;
-        b[n + 1] = kHalfPi<T>;
-        T mass = T(0), h_left = T(-1);
-        for (int i = 0; i <= n; ++i) {
-            const T h_right = i == n ? T(1) : sin(b[i + 1]);
-            if (b[i + 1] > b[i] && f(T(0.5) * (b[i] + b[i + 1])) <= x) mass += h_right - h_left;
-            h_left = h_right;
+        return mass(-half_range_ - T(1), x);
+    }
+
+    // ½ |{h : lo < f(asin h) ≤ hi}| for lo ≤ hi. The roots of f = lo and f = hi split
+    // [-π/2, π/2] into pieces on which f lies on one side of each; a piece counts when its
+    // midpoint's f lies in (lo, hi] (robust to double roots and to rounding of the roots).
+    // A piece [a, b] holds sin b - sin a = 2 cos((a + b)/2) sin((b - a)/2) of h, taken in
+    // that form: a difference of two CDFs near 0 or 1 (a window at the end of f's range)
+    // would keep only the rounding of h there (6e-8 in float).
+    HAIRSCATTER_HD T mass(T lo, T hi) const {
+        using std::cos;
+        using std::sin;
+        T b[2 * kMaxRoots + 2];
+        int n = 0;
+        b[n++] = -kHalfPi<T>;
+        if (lo >= -half_range_ && lo <= half_range_) n += roots(lo, b + n);
+        if (hi >= -half_range_ && hi <= half_range_) n += roots(hi, b + n);
+        b[n++] = kHalfPi<T>;
+        for (int i = 1; i < n; ++i)  // insertion sort, at most 8 entries
+            for (int j = i; j > 0 && b[j] < b[j - 1]; --j) swap_(b[j], b[j - 1]);
+        T m = T(0);
+        for (int i = 0; i + 1 < n; ++i) {
+            if (!(b[i + 1] > b[i])) continue;
+            const T mid = T(0.5) * (b[i] + b[i + 1]);
+            const T fm = f(mid);
+            const T c = cos(mid);  // float(π/2) rounds up: cos would be -4e-8 at the end
+            if (fm > lo && fm <= hi && c > T(0)) m += c * sin(T(0.5) * (b[i + 1] - b[i]));
         }
-        return T(0.5) * mass;
+        return m;
     }
 
     // Probability that Φ̂(p, asin h), read on the circle, falls in the arc [a, a + len]
@@ -123,13 +138,13 @@ template <typename T> class MarschnerCubic {
         const T turns = floor(len * kInvTwoPi<T>);
         const T rest = len - turns * kTwoPi<T>;
         const T x0 = wrap_pi(a - T(p_) * kPi<T>);
-        T mass = turns;
+        T total = turns;
         for (int n = -2; n <= 1; ++n) {
             const T lo = x0 + T(n) * kTwoPi<T>, hi = lo + rest;
             if (hi < -half_range_ || lo > half_range_) continue;
-            mass += cdf(hi) - cdf(lo);
+            total += mass(lo, hi);
         }
-        return mass;
+        return total;
     }
 
   private:
