@@ -186,7 +186,10 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
 
         const T sin_i = mat_->longitudinal(p).sample_sin_theta(o.m.sin_o[k], o.m.cos_o[k], u.y, u.z);
         const T cos_i = cos_from_sin(sin_i);
-        const T phi = wrap_pi(k < kExplicit ? o.phi_p[k] + mat_->azimuthal().sample(u.w) : kTwoPi<T> * u.w - kPi<T>);
+        T phi = kTwoPi<T> * u.w - kPi<T>;  // the residual: uniform
+        if constexpr (kExplicit > 0)  // (a residual-only set has no Φ lane to read)
+            if (k < kExplicit) phi = o.phi_p[k] + mat_->azimuthal().sample(u.w);
+        phi = wrap_pi(phi);
 
         return make_sample(direction_from_azimuth(wo, sin_i, phi), lobe_tag(p), combine<true, true>(o, sin_i, cos_i, phi));
     }
