@@ -1,5 +1,5 @@
 // Chi-square negative controls for ChiangFiber's lobe samplers (its 36-case grid and the
-// pdf × 1.05 control are the contract suite's, tests/contract_test.cpp): the harness must
+// pdf × 1.05 control are the contract suite's, tests/contract/): the harness must
 // reject a sampler with one lobe shifted.
 #include <cmath>
 #include <cstdio>

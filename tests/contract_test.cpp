@@ -1,5 +1,6 @@
 // The model contract (tests/support/contract_suite.hpp) for every model in float and double
-// and for subsets of the Chiang lobes; and the compile-time guarantees of the lobe types.
+// and for subsets of the Chiang lobes (instantiated in tests/contract/*.cpp, linked into this
+// executable); and the compile-time guarantees of the lobe types.
 #include <memory>
 #include <random>
 #include <string>
@@ -10,35 +11,7 @@
 
 #include <hairscatter/hairscatter.hpp>
 
-#include "support/contract_suite.hpp"
-#include "support/model_specs.hpp"
-
 namespace hs = hairscatter;
-using specs::ChiangSpec;
-using specs::FarFieldSpec;
-using specs::HuangSpec;
-using specs::MarschnerSpec;
-using specs::TabulatedSpec;
-
-namespace contract {
-
-constexpr hs::LobeSet kR = hs::LobeSet::kR, kTT = hs::LobeSet::kTT, kTRT = hs::LobeSet::kTRT;
-constexpr hs::LobeSet kTrtResidual = kTRT | hs::LobeSet::kResidual, kRTT = kR | kTT, kPrimary = hs::LobeSet::kPrimary;
-using Models = ::testing::Types<ChiangSpec<float, hs::LobeSet::kAll>, ChiangSpec<double, hs::LobeSet::kAll>,
-                                FarFieldSpec<float>, FarFieldSpec<double>, TabulatedSpec<float>, TabulatedSpec<double>,
-                                MarschnerSpec<float>, MarschnerSpec<double>, HuangSpec<float>, HuangSpec<double>>;
-// Instances are numbered in the order of the type lists (ctest shows the spec type too).
-struct Numbered {
-    template <typename> static std::string GetName(int i) { return std::to_string(i); }
-};
-INSTANTIATE_TYPED_TEST_SUITE_P(AllModels, ModelContract, Models, Numbered);
-using ChiangSubsets = ::testing::Types<ChiangSpec<float, kR>, ChiangSpec<double, kR>, ChiangSpec<float, kTT>,
-                                       ChiangSpec<double, kTT>, ChiangSpec<float, kTrtResidual>,
-                                       ChiangSpec<double, kTrtResidual>, ChiangSpec<float, kPrimary>,
-                                       ChiangSpec<double, kPrimary>, ChiangSpec<float, kRTT>, ChiangSpec<double, kRTT>>;
-INSTANTIATE_TYPED_TEST_SUITE_P(ChiangLobeSubsets, ModelContract, ChiangSubsets, Numbered);
-
-}  // namespace contract
 
 namespace {
 

@@ -3,7 +3,7 @@
 // fall with the node counts, the reflectance tables against a fine rule, the section's
 // symmetries, energy at strongly elliptical sections and grazing angles, a chi-square
 // negative control of a shifted lobe, and the non-throwing validation. The contract suite
-// (tests/contract_test.cpp) runs its sample/pdf, chi-square, furnace and extremes checks.
+// (tests/contract/huang.cpp) runs its sample/pdf, chi-square, furnace and extremes checks.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -1,8 +1,8 @@
 // Compile-time lobe selection (lobes/lobe_set.hpp) on the Chiang fiber: the kept lobes'
 // terms are exactly those of the full model. That sampling picks only among them
 // (chi-square) and the extremes stay finite is the contract suite's, run on every subset
-// (tests/contract_test.cpp). The cost side (a dropped lobe costs nothing) is measured in
-// bench/chiang_bench.cpp.
+// (tests/contract/chiang_subsets_*.cpp). The cost side (a dropped lobe costs nothing) is
+// measured in bench/chiang_bench.cpp.
 #include <cmath>
 #include <cstdio>
 #include <random>

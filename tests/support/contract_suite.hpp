@@ -1,7 +1,7 @@
 // The model contract (include/hairscatter/models/contract.hpp) checked once for every model:
 // a typed GoogleTest suite over "specs", each naming a fiber type and the materials to try.
-// tests/contract_test.cpp instantiates it for every model in float and double and for
-// subsets of the Chiang lobes. A spec S provides
+// tests/contract/*.cpp instantiate it (into contract_test) for every model in float and
+// double and for subsets of the Chiang lobes. A spec S provides
 //   using Fiber;                                   the fiber type under test;
 //   static Instance<Fiber> random(rng, k);         the k-th random material (sample/pdf check);
 //   static constexpr int kRandomMaterials, kRandomDirections;
@@ -67,8 +67,17 @@ struct Invalid {
 
 template <typename Spec> class ModelContract : public ::testing::Test {};
 TYPED_TEST_SUITE_P(ModelContract);
-// Instantiated in tests/contract_test.cpp only; the model tests include the specs.
+// Instantiated by the translation units of tests/contract/ only (one per model, so that the
+// build compiles them in parallel), linked into contract_test; the model tests include the
+// specs.
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(ModelContract);
+
+// Instance names: numbers from kFirst, so that the parts of one instantiation prefix
+// (AllModels, ChiangLobeSubsets) in different translation units never share a test name
+// (ctest shows the spec type too).
+template <int kFirst> struct NumberedFrom {
+    template <typename> static std::string GetName(int i) { return std::to_string(kFirst + i); }
+};
 
 // The trait of models/contract.hpp accepts the fiber.
 TYPED_TEST_P(ModelContract, SatisfiesTheTrait) {

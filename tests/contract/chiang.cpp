@@ -1,0 +1,17 @@
+// The model contract (tests/support/contract_suite.hpp) for the Chiang model with all four
+// lobes, float and double: one translation unit of contract_test (tests/contract/*.cpp).
+#include <gtest/gtest.h>
+
+#include <hairscatter/hairscatter.hpp>
+
+#include "support/contract_suite.hpp"
+#include "support/model_specs.hpp"
+
+namespace hs = hairscatter;
+
+namespace contract {
+
+using Types = ::testing::Types<specs::ChiangSpec<float, hs::LobeSet::kAll>, specs::ChiangSpec<double, hs::LobeSet::kAll>>;
+INSTANTIATE_TYPED_TEST_SUITE_P(AllModels, ModelContract, Types, NumberedFrom<0>);
+
+}  // namespace contract
