@@ -30,7 +30,7 @@ namespace hairscatter {
 
 // Everything that depends only on the fiber parameters and the number of h nodes, computed
 // once on the host (validated: the constructor throws std::invalid_argument naming the bad
-// parameter). Trivially copyable (≈ 4.4 KB in double, over the 4 KB kernel-parameter
+// parameter). Trivially copyable (≈ 4.8 KB in double, over the 4 KB kernel-parameter
 // limit of CUDA < 12.1): copy it to device memory once and pass the fiber a pointer.
 //
 // The h integral is lobes/farfield_quadrature.hpp's rule (nodes(), node_h(j), …, and
