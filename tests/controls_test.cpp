@@ -684,8 +684,9 @@ TEST(LobeControls, MarschnerRefusesResidualControls) {
     // The models built from FiberParams name the bad control through the shared validation.
     hs::LobeControls<double> bad;
     bad.tint[1].g = -1;
-    for (auto build : {std::function<void()>([&] { hs::DeonFarFieldMaterial<double>(hs::FiberParams<double>(), bad); }),
-                       std::function<void()>([&] { hs::TabulatedMaterial<double>(hs::FiberParams<double>(), bad); }),
+    const hs::FiberParams<double> fp;
+    for (auto build : {std::function<void()>([&] { hs::DeonFarFieldMaterial<double>(fp, bad); }),
+                       std::function<void()>([&] { hs::TabulatedMaterial<double>(fp, hs::TabulatedOptions(), bad); }),
                        std::function<void()>([&] { hs::MarschnerMaterial<double>(p, bad); })}) {
         try {
             build();

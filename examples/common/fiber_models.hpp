@@ -152,7 +152,7 @@ template <typename T> class FiberModels {
                 farfield_ = std::make_unique<hs::DeonFarFieldMaterial<T>>(params, extras.controls);
                 break;
             case FiberModel::kTabulated:
-                tabulated_ = std::make_unique<hs::TabulatedMaterial<T>>(params, extras.controls);
+                tabulated_ = std::make_unique<hs::TabulatedMaterial<T>>(params, hs::TabulatedOptions(), extras.controls);
                 break;
             case FiberModel::kMarschner:
                 try {

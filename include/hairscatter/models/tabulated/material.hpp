@@ -154,9 +154,6 @@ template <typename T> class TabulatedMaterial {
         view_.data_ = data_.data();
     }
 
-    TabulatedMaterial(const FiberParams<T>& params, const LobeControls<T>& controls)
-        : TabulatedMaterial(params, TabulatedOptions(), controls) {}
-
     const FiberParams<T>& params() const { return params_; }
     const TabulatedOptions& options() const { return options_; }
     const LobeControls<T>& controls() const { return controls_; }
