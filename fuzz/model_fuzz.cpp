@@ -1,7 +1,9 @@
 // libFuzzer target: parameters → material → eval / pdf / sample for every model, float and
 // double. The bytes choose the model, the precision, the parameters (raw floats: any value,
-// NaN and Inf included), wo, wi and u. Checked:
-//   - validate() never throws, and a material is built exactly when it returns "";
+// NaN and Inf included), the lobe controls (raw floats, or mapped
+// into [0, 3) and ±π/8 so that valid ones are common), wo, wi and u. Checked:
+//   - validate() never throws, and a material is built exactly when it returns "" for the
+//     parameters and the controls (Marschner: and no residual gain or tint);
 //   - for valid parameters, unit wo and wi and u in [0, 1]: eval, pdf and the sample are
 //     finite and non-negative and the sample's direction is finite;
 //   - a non-finite component of wo or wi gives eval = 0 and pdf = 0, and of wo or u the
@@ -78,7 +80,31 @@ template <typename T, typename Fiber> void exercise(const Fiber& fiber, Reader& 
     }
 }
 
-template <typename T> void run(int model, Reader& r) {
+// Lobe controls from the bytes: none, or gains, tints, tilts and override bits either raw
+// (any float) or mapped into [0, 3) (gains, tints) and [-π/8, π/8] (tilts), with the
+// residual's left at 1 on half of the mapped sets (Marschner refuses any other).
+template <typename T> hs::LobeControls<T> read_controls(Reader& r, std::uint8_t mode) {
+    hs::LobeControls<T> c;
+    if ((mode & 1u) == 0u) return c;
+    const bool raw = (mode & 2u) != 0u, keep_residual = (mode & 4u) != 0u;
+    auto value = [&](T scale) {
+        const T x = T(r.next());
+        if (raw || !hs::is_finite(x)) return raw ? x : T(1);
+        return scale * (x - std::floor(x));
+    };
+    const int lobes = keep_residual && !raw ? 3 : 4;
+    for (int p = 0; p < lobes; ++p) c.gain[p] = value(T(3));
+    for (int p = 0; p < lobes; ++p)
+        for (int ch = 0; ch < 3; ++ch) c.tint[p][ch] = value(T(3));
+    for (int p = 0; p < 3; ++p) {
+        const T a = value(T(2) * hs::kMaxCuticleTilt<T>);
+        c.alpha[p] = raw ? a : a - hs::kMaxCuticleTilt<T>;
+    }
+    c.alpha_override = raw ? unsigned(r.byte()) : unsigned(r.byte() & 7u);
+    return c;
+}
+
+template <typename T> void run(int model, Reader& r, std::uint8_t control_mode) {
     if (model < 4) {
         hs::FiberParams<T> p;
         p.eta = T(r.next());
@@ -86,16 +112,17 @@ template <typename T> void run(int model, Reader& r) {
         p.beta_n = T(r.next());
         p.alpha = T(r.next());
         p.sigma_a = glm::vec<3, T>(T(r.next()), T(r.next()), T(r.next()));
-        const bool valid = hs::validate(p).empty();
+        const hs::LobeControls<T> c = read_controls<T>(r, control_mode);
+        const bool valid = hs::validate(p).empty() && hs::validate(c).empty();
         try {
             if (model == 0) {
-                const hs::ChiangMaterial<T> m(p);
+                const hs::ChiangMaterial<T> m(p, c);
                 check(valid);
                 T h = T(r.next());
                 h = hs::is_finite(h) ? h - T(2) * std::floor(T(0.5) * h) - T(1) : T(0);  // into [-1, 1)
                 exercise<T>(hs::ChiangFiber<T>(m, h), r);
             } else if (model == 1) {
-                const hs::DeonFarFieldMaterial<T> m(p, 16);  // a fixed, small node count: speed
+                const hs::DeonFarFieldMaterial<T> m(p, 16, c);  // a fixed, small node count: speed
                 check(valid);
                 exercise<T>(hs::DeonFarFieldFiber<T>(m), r);
             } else {
@@ -105,7 +132,7 @@ template <typename T> void run(int model, Reader& r) {
                 o.theta_samples = 8;
                 o.m_rows = 16;
                 o.m_nodes = 48;
-                const hs::TabulatedMaterial<T> m(p, o);
+                const hs::TabulatedMaterial<T> m(p, o, c);
                 check(valid);
                 exercise<T>(hs::TabulatedFiber<T>(m), r);
             }
@@ -121,9 +148,10 @@ template <typename T> void run(int model, Reader& r) {
     p.beta_r = T(r.next());
     p.beta_n = T(r.next());
     p.eccentricity = T(r.next());
-    const bool valid = hs::validate(p).empty();
+    const hs::LobeControls<T> c = read_controls<T>(r, control_mode);
+    const bool valid = hs::validate(p).empty() && hs::validate(c).empty() && !c.weighted(3);
     try {
-        const hs::MarschnerMaterial<T> m(p, 3);
+        const hs::MarschnerMaterial<T> m(p, 3, c);
         check(valid);
         exercise<T>(hs::MarschnerFiber<T>(m), r);
     } catch (const std::invalid_argument&) {
@@ -137,9 +165,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     Reader r{data, size};
     const std::uint8_t sel = r.byte();
     const int model = (sel >> 1) % 5;
+    const std::uint8_t control_mode = r.byte();
     if (sel & 1)
-        run<double>(model, r);
+        run<double>(model, r, control_mode);
     else
-        run<float>(model, r);
+        run<float>(model, r, control_mode);
     return 0;
 }

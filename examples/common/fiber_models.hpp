@@ -113,9 +113,10 @@ template <class Fiber> auto bind_fiber(const Fiber& fiber, const typename Fiber:
     else return BoundFiber<Fiber>(fiber, wo);
 }
 
-// Chiang's extras (docs/controls.md): lobe controls, and one fiber per strand (a strand's
-// material is strand_params[strand % size]); empty: every strand is the base fiber.
-template <typename T> struct ChiangExtras {
+// The artists' extras (docs/controls.md): lobe controls (every model but Huang's), and, for
+// Chiang, one fiber per strand (a strand's material is strand_params[strand % size]);
+// empty: every strand is the base fiber.
+template <typename T> struct FiberExtras {
     hairscatter::LobeControls<T> controls{};
     bool has_controls = false;
     std::vector<hairscatter::FiberParams<T>> strand_params;
@@ -128,27 +129,34 @@ template <typename T> struct ChiangExtras {
 template <typename T> class FiberModels {
   public:
     FiberModels(FiberModel model, unsigned lobes, const hairscatter::FiberParams<T>& params,
-                const ChiangExtras<T>& extras = {}, const SectionShape& shape = {})
+                const FiberExtras<T>& extras = {}, const SectionShape& shape = {})
         : model_(model), lobes_(lobes) {
         namespace hs = hairscatter;
         if (model != FiberModel::kChiang && lobes != LobeBits::kAll)
             throw std::invalid_argument(std::string("--lobes: only --model chiang keeps a subset of lobes (--model ") +
                                         to_string(model) + " has all of its lobes)");
-        if (model != FiberModel::kChiang && (extras.has_controls || !extras.strand_params.empty()))
-            throw std::invalid_argument(std::string("--gain-*, --tint-*, --alpha-r/tt/trt and per-strand variation "
-                                                    "(--strand-seed, --*-range) need --model chiang (not ") +
-                                        to_string(model) + ")");
+        if (model != FiberModel::kChiang && !extras.strand_params.empty())
+            throw std::invalid_argument(std::string("per-strand variation (--strand-seed, --*-range) needs --model "
+                                                    "chiang (not ") + to_string(model) + ")");
+        if (model == FiberModel::kHuang && extras.has_controls)
+            throw std::invalid_argument("--gain-*, --tint-*, --alpha-r/tt/trt: --model huang takes no lobe controls "
+                                        "yet (HuangMaterial has no LobeControls argument); use chiang, farfield, "
+                                        "tabulated or marschner");
         with_chiang_lobes(lobes, [](auto) { return 0; });  // rejects an empty set
         chiang_ = std::make_unique<hs::ChiangMaterial<T>>(params, extras.controls);
         strands_.reserve(extras.strand_params.size());
         for (const hs::FiberParams<T>& p : extras.strand_params) strands_.emplace_back(p, extras.controls);
         switch (model) {
             case FiberModel::kChiang: break;
-            case FiberModel::kFarField: farfield_ = std::make_unique<hs::DeonFarFieldMaterial<T>>(params); break;
-            case FiberModel::kTabulated: tabulated_ = std::make_unique<hs::TabulatedMaterial<T>>(params); break;
+            case FiberModel::kFarField:
+                farfield_ = std::make_unique<hs::DeonFarFieldMaterial<T>>(params, extras.controls);
+                break;
+            case FiberModel::kTabulated:
+                tabulated_ = std::make_unique<hs::TabulatedMaterial<T>>(params, hs::TabulatedOptions(), extras.controls);
+                break;
             case FiberModel::kMarschner:
                 try {
-                    marschner_ = std::make_unique<hs::MarschnerMaterial<T>>(marschner_params(params));
+                    marschner_ = std::make_unique<hs::MarschnerMaterial<T>>(marschner_params(params), extras.controls);
                 } catch (const std::invalid_argument& e) {
                     throw std::invalid_argument(std::string("--model marschner (alpha_r = -2 alpha, beta_r = "
                                                             "sqrt(v(beta_m))): ") + e.what());

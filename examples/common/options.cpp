@@ -95,17 +95,19 @@ void add_control_options(CLI::App& app, ControlOptions& c) {
     for (int p = 0; p < 4; ++p) {
         const std::string lobe = kLobeNames[p];
         app.add_option(std::string("--gain-") + kLobeOption[p], c.gain[p],
-                       "chiang: gain of the " + lobe + " lobe, in [0, 1e6] (default 1)");
+                       "gain of the " + lobe + " lobe, in [0, 1e6] (default 1; every model but huang" +
+                           (p == 3 ? ", and marschner has no residual)" : ")"));
         app.add_option(std::string("--tint-") + kLobeOption[p], c.tint[p],
-                       "chiang: tint of the " + lobe + " lobe, R,G,B in [0, 1e6] (default 1,1,1)")
+                       "tint of the " + lobe + " lobe, R,G,B in [0, 1e6] (default 1,1,1; every model but huang" +
+                           (p == 3 ? ", and marschner has no residual)" : ")"))
             ->delimiter(',')
             ->expected(3)
             ->type_name("R,G,B");
     }
     for (int p = 0; p < 3; ++p)
         app.add_option(std::string("--alpha-") + kLobeOption[p], c.alpha_deg[p],
-                       std::string("chiang: cuticle tilt of the ") + kLobeNames[p] +
-                           " lobe in degrees, |alpha| <= 22.5, instead of --alpha");
+                       std::string("cuticle tilt of the ") + kLobeNames[p] +
+                           " lobe in degrees, |alpha| <= 22.5, instead of --alpha (every model but huang)");
     app.add_option("--strand-seed", c.strand_seed,
                    "vary melanin, redness and roughness per strand (renderer; lobe_explorer: --strand) with this "
                    "seed, within the --*-range intervals");

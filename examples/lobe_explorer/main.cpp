@@ -60,7 +60,7 @@ struct Options {
 // What the image is of, after the options have been turned into library parameters.
 struct Setup {
     hs::FiberParams<double> params;
-    ex::ChiangExtras<double> extras;  // the lobe controls
+    ex::FiberExtras<double> extras;  // the lobe controls
     std::string strand_text;  // which strand, with per-strand variation
     ex::FiberModel model = ex::FiberModel::kChiang;
     unsigned lobes = ex::LobeBits::kAll;

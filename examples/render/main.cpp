@@ -119,8 +119,8 @@ int main(int argc, char** argv) {
                                         "or use --integrator single or path");
         const hs::FiberParams<double> params = ex::fiber_params(fiber, "blond");
         so.fiber = ex::params_as<float>(params);
-        so.chiang_extras.controls = ex::controls_as<float>(ex::lobe_controls(fiber));
-        so.chiang_extras.has_controls = ex::has_lobe_controls(fiber);
+        so.fiber_extras.controls = ex::controls_as<float>(ex::lobe_controls(fiber));
+        so.fiber_extras.has_controls = ex::has_lobe_controls(fiber);
         const ex::StrandSetup strands = ex::strand_setup(fiber);
         so.section = fiber.section;
         so.dual_scattering = ro.integrator == render::Integrator::kDual;
@@ -153,10 +153,10 @@ int main(int argc, char** argv) {
         // One fiber per strand with --strand-seed or a --*-range (docs/controls.md).
         if (strands.enabled)
             for (std::size_t s = 0; s < desc.hair.strands.size(); ++s)
-                so.chiang_extras.strand_params.push_back(
+                so.fiber_extras.strand_params.push_back(
                     ex::params_as<float>(ex::strand_fiber_params(params, strands, std::uint32_t(s))));
         // The materials and the grid's size are checked before the BVH is built.
-        { const hairscatter_examples::FiberModels<float> check(so.model, so.lobes, so.fiber, so.chiang_extras, so.section); }
+        { const hairscatter_examples::FiberModels<float> check(so.model, so.lobes, so.fiber, so.fiber_extras, so.section); }
         render::check_grid(desc.hair, so);
         std::fprintf(stderr, "render: building the scene (%zu strands)\n", desc.hair.strands.size());
         const render::Scene scene(std::move(desc));

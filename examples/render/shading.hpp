@@ -24,7 +24,7 @@ struct ShadingOptions {
     hairscatter::FiberParams<float> fiber;
     // Chiang's lobe controls and per-strand fibers (docs/controls.md). The dual-scattering
     // tables are built from the base fiber (with the controls); each hit uses its strand's.
-    hairscatter_examples::ChiangExtras<float> chiang_extras;
+    hairscatter_examples::FiberExtras<float> fiber_extras;
     hairscatter_examples::SectionShape section;  // --model huang's cross-section
     bool dual_scattering = true;  // build the dual-scattering tables and the density grid
     // Dual scattering's formulation and density factors: the tables are built with them

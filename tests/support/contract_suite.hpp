@@ -67,9 +67,9 @@ struct Invalid {
 
 template <typename Spec> class ModelContract : public ::testing::Test {};
 TYPED_TEST_SUITE_P(ModelContract);
-// Instantiated by the translation units of tests/contract/ only (one per model, so that the
-// build compiles them in parallel), linked into contract_test; the model tests include the
-// specs.
+// Instantiated by the translation units of tests/contract/ only (one per model, with and
+// without lobe controls, so that the build compiles them in parallel), linked into
+// contract_test; the model tests include the specs.
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(ModelContract);
 
 // Instance names: numbers from kFirst, so that the parts of one instantiation prefix
@@ -297,10 +297,12 @@ TYPED_TEST_P(ModelContract, ExtremesStayFinite) {
             }
             for (T u0 : us)
                 for (T u3 : {us[0], us[2], us[5]}) {
-                    const auto s = in.fiber.sample(wo, glm::vec<4, T>(u0, us[std::size_t(checked + 1) % us.size()],
-                                                                      us[std::size_t(checked + 2) % us.size()], u3));
+                    const glm::vec<4, T> u(u0, us[std::size_t(checked + 1) % us.size()],
+                                           us[std::size_t(checked + 2) % us.size()], u3);
+                    const auto s = in.fiber.sample(wo, u);
                     ++checked;
-                    ASSERT_TRUE(valid_sample(s)) << in.label;
+                    ASSERT_TRUE(valid_sample(s)) << in.label << ", wo (" << wo.x << ", " << wo.y << ", " << wo.z
+                                                 << "), u (" << u.x << ", " << u.y << ", " << u.z << ", " << u.w << ")";
                 }
         }
     }

@@ -97,7 +97,8 @@ TEST(RenderCli, RefusesBadControlsNamingTheOption) {
     expect_refused("--redness-range 0,1.5 --melanin 0.5", "--redness-range");
     expect_refused("--roughness-range 0,2", "--roughness-range");
     expect_refused("--melanin-range 0.2,0.6 --colour brown", "--melanin-range");
-    expect_refused("--integrator single --model farfield --gain-r 2", "--model chiang");
+    expect_refused("--integrator single --model huang --gain-r 2", "--model huang takes no lobe controls");
+    expect_refused("--integrator single --model marschner --gain-res 2", "no residual lobe");
     expect_refused("--integrator path --model marschner --strand-seed 3", "--model chiang");
 }
 
@@ -128,6 +129,34 @@ TEST(RenderCli, ControlsRender) {
     EXPECT_GE(d, 0.0) << dark.output;
     EXPECT_LT(d, m);  // same seed: without the gains reaching the fibers, d = m = b exactly
     EXPECT_GT(b, m);
+}
+
+// The lobe controls on the other models: each renders with gains, a tint and a tilt, and
+// zero gains darken its hair pixels, doubled gains brighten them (Marschner has no residual).
+TEST(RenderCli, ControlsRenderOnEveryModel) {
+    for (const char* model : {"farfield", "tabulated", "marschner"}) {
+        const bool residual = std::string(model) != "marschner";
+        const std::string single = std::string("--integrator single --hair-only --model ") + model + kTiny;
+        auto gains = [&](const char* g) {
+            return std::string(" --gain-r ") + g + " --gain-tt " + g + " --gain-trt " + g +
+                   (residual ? std::string(" --gain-res ") + g : std::string());
+        };
+        const Outcome plain = run(single + " -o " + out_base(std::string("controls_plain_") + model));
+        const Outcome mixed = run(single + " --gain-r 2 --gain-trt 0.3 --tint-tt 1,0.7,0.5 --alpha-r 4 -o " +
+                                  out_base(std::string("controls_mixed_") + model));
+        const Outcome dark = run(single + gains("0") + " -o " + out_base(std::string("controls_dark_") + model));
+        const Outcome bright = run(single + gains("2") + " -o " + out_base(std::string("controls_bright_") + model));
+        for (const Outcome* r : {&plain, &mixed, &dark, &bright}) {
+            EXPECT_EQ(r->status, 0) << model << "\n" << r->output;
+            EXPECT_NE(r->output.find("nonfinite_pixels=0"), std::string::npos) << model << "\n" << r->output;
+        }
+        const double m = mean_hair_red(plain.output), d = mean_hair_red(dark.output), b = mean_hair_red(bright.output);
+        EXPECT_GT(m, 0.0) << model << "\n" << plain.output;
+        EXPECT_GE(d, 0.0) << model << "\n" << dark.output;
+        EXPECT_LT(d, m) << model;  // same seed: without the gains reaching the fibers, d = m = b exactly
+        EXPECT_GT(b, m) << model;
+        EXPECT_NE(mean_hair_red(mixed.output), m) << model;
+    }
 }
 
 TEST(RenderCli, PheomelaninNeedsEumelanin) {

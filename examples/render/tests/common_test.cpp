@@ -103,7 +103,7 @@ TEST(ExamplesCommon, ControlsFromOptions) {
     const ex::StrandSetup s = ex::strand_setup(o);
     ASSERT_TRUE(s.enabled && s.vary_colour);
     const hs::FiberParams<double> base = ex::fiber_params(o, "blond");
-    ex::ChiangExtras<float> extras;
+    ex::FiberExtras<float> extras;
     for (std::uint32_t k = 0; k < 8; ++k)
         extras.strand_params.push_back(ex::params_as<float>(ex::strand_fiber_params(base, s, k)));
     const ex::FiberModels<float> models(ex::FiberModel::kChiang, ex::LobeBits::kAll, ex::params_as<float>(base), extras);
@@ -113,6 +113,21 @@ TEST(ExamplesCommon, ControlsFromOptions) {
     EXPECT_EQ(hs::validate(ex::strand_fiber_params(base, s, 5)), "");
     EXPECT_THROW(ex::FiberModels<float>(ex::FiberModel::kTabulated, ex::LobeBits::kAll, ex::params_as<float>(base), extras),
                  std::invalid_argument);
+
+    // The lobe controls reach every model but Huang's, which refuses them naming itself.
+    ex::FiberExtras<float> controls;
+    controls.controls = ex::controls_as<float>(lc);
+    controls.has_controls = true;
+    for (ex::FiberModel model : {ex::FiberModel::kChiang, ex::FiberModel::kFarField, ex::FiberModel::kTabulated,
+                                 ex::FiberModel::kMarschner})
+        EXPECT_NO_THROW(ex::FiberModels<float>(model, ex::LobeBits::kAll, ex::params_as<float>(base), controls))
+            << ex::to_string(model);
+    try {
+        ex::FiberModels<float>(ex::FiberModel::kHuang, ex::LobeBits::kAll, ex::params_as<float>(base), controls);
+        ADD_FAILURE() << "huang accepted lobe controls";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("--model huang"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace

@@ -42,6 +42,9 @@ template <typename T> struct LobeControls {
 
     // Lobe p's factor on A_p: gain × tint.
     HAIRSCATTER_HD V3 weight(int p) const { return gain[p] * tint[p]; }
+    // Whether lobe p's gain × tint differs from 1, and whether any lobe's does.
+    HAIRSCATTER_HD bool weighted(int p) const { return weight(p) != V3(T(1)); }
+    HAIRSCATTER_HD bool has_weights() const { return weighted(0) || weighted(1) || weighted(2) || weighted(3); }
 
     // The tilt of lobe p given the fiber's α.
     HAIRSCATTER_HD T lobe_alpha(int p, T fiber_alpha) const {
@@ -55,6 +58,27 @@ template <typename T> struct LobeControls {
         return CuticleTilt<T>(T(-2) * lobe_alpha(0, fiber_alpha), lobe_alpha(1, fiber_alpha),
                               T(4) * lobe_alpha(2, fiber_alpha));
     }
+};
+
+// A material's copy of the gains × tints, for its fiber: trivially copyable and
+// device-callable. any() is false for the default controls; a fiber then skips the
+// products, so the default path costs one predictable branch and gives the plain model's
+// values bit for bit.
+template <typename T> class LobeWeights {
+  public:
+    using V3 = glm::vec<3, T>;
+    static constexpr int kLobes = LobeControls<T>::kLobes;
+
+    LobeWeights() = default;
+    HAIRSCATTER_HD explicit LobeWeights(const LobeControls<T>& c) : any_(c.has_weights()) {
+        for (int p = 0; p < kLobes; ++p) w_[p] = c.weight(p);
+    }
+    HAIRSCATTER_HD bool any() const { return any_; }
+    HAIRSCATTER_HD const V3& operator[](int p) const { return w_[p]; }
+
+  private:
+    V3 w_[kLobes] = {V3(T(1)), V3(T(1)), V3(T(1)), V3(T(1))};
+    bool any_ = false;
 };
 
 // Empty when the controls are valid, else one message per bad field naming it, its value

@@ -38,27 +38,21 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
 
     explicit ChiangMaterial(const FiberParams<T>& params, const LobeControls<T>& controls = LobeControls<T>())
         : DeonLobes<T>(validated(params).beta_m, validated(controls).cuticle_tilt(params.alpha)), params_(params),
-          controls_(controls), n_(logistic_scale(params.beta_n)) {
-        for (int p = 0; p <= kLobes; ++p) {
-            weight_[p] = controls.weight(p);
-            weighted_ = weighted_ || weight_[p] != glm::vec<3, T>(T(1));
-        }
-    }
+          controls_(controls), n_(logistic_scale(params.beta_n)), weights_(controls) {}
 
     HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
     HAIRSCATTER_HD const LobeControls<T>& controls() const { return controls_; }
     HAIRSCATTER_HD const TrimmedLogistic<T>& azimuthal() const { return n_; }
     // Lobe p's factor on A_p, gain_p × tint_p (1 without controls), and whether any differs
     // from 1 (without, the fiber skips the products: the default path costs one branch).
-    HAIRSCATTER_HD const glm::vec<3, T>& lobe_weight(int p) const { return weight_[p]; }
-    HAIRSCATTER_HD bool has_lobe_weights() const { return weighted_; }
+    HAIRSCATTER_HD const glm::vec<3, T>& lobe_weight(int p) const { return weights_[p]; }
+    HAIRSCATTER_HD bool has_lobe_weights() const { return weights_.any(); }
 
   private:
     FiberParams<T> params_;
     LobeControls<T> controls_;
     TrimmedLogistic<T> n_;
-    glm::vec<3, T> weight_[kLobes + 1];
-    bool weighted_ = false;
+    LobeWeights<T> weights_;
 };
 
 // One fiber hit: a material and the offset h ∈ [-1, 1] across the fiber. Directions are

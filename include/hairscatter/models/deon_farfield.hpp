@@ -18,6 +18,7 @@
 #include "../lobes/azimuthal.hpp"
 #include "../lobes/deon_lobes.hpp"
 #include "../lobes/farfield_quadrature.hpp"
+#include "../lobes/lobe_controls.hpp"
 #include "../math/constants.hpp"
 #include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
@@ -29,12 +30,15 @@ namespace hairscatter {
 
 // Everything that depends only on the fiber parameters and the number of h nodes, computed
 // once on the host (validated: the constructor throws std::invalid_argument naming the bad
-// parameter). Trivially copyable (≈ 4.4 KB in double, over the 4 KB kernel-parameter
+// parameter). Trivially copyable (≈ 4.8 KB in double, over the 4 KB kernel-parameter
 // limit of CUDA < 12.1): copy it to device memory once and pass the fiber a pointer.
 //
 // The h integral is lobes/farfield_quadrature.hpp's rule (nodes(), node_h(j), …, and
 // auto_nodes(β_n) for the node count); its d'Eon ingredients (longitudinal(p), tilt(),
 // lobe_shift(p), lobe_variance(p)) are DeonLobes'.
+// The optional lobe controls (lobes/lobe_controls.hpp), as ChiangMaterial takes them: the
+// per-lobe tilts go into DeonLobes, the gains and tints into lobe_weight(p), which the fiber
+// multiplies into every A_p(h_j) (without controls it skips the products).
 template <typename T> class DeonFarFieldMaterial : public DeonLobes<T>, public FarFieldQuadrature<T> {
   public:
     using Quadrature = FarFieldQuadrature<T>;
@@ -45,11 +49,19 @@ template <typename T> class DeonFarFieldMaterial : public DeonLobes<T>, public F
 
     // nodes: the Gauss–Legendre order of the h integral, 1 … kMaxNodes, or kAutoNodes for
     // auto_nodes(β_n) (the cost of eval, pdf and sample is linear in it).
-    explicit DeonFarFieldMaterial(const FiberParams<T>& params, int nodes = kAutoNodes)
-        : DeonLobes<T>(validated(params).beta_m, params.alpha), Quadrature(checked_nodes(nodes, params.beta_n)),
-          params_(params), n_(azimuthal_gaussian_width(params.beta_n)) {}
+    explicit DeonFarFieldMaterial(const FiberParams<T>& params, int nodes = kAutoNodes,
+                                  const LobeControls<T>& controls = LobeControls<T>())
+        : DeonLobes<T>(validated(params).beta_m, validated(controls).cuticle_tilt(params.alpha)),
+          Quadrature(checked_nodes(nodes, params.beta_n)), params_(params), controls_(controls),
+          n_(azimuthal_gaussian_width(params.beta_n)), weights_(controls) {}
+    DeonFarFieldMaterial(const FiberParams<T>& params, const LobeControls<T>& controls)
+        : DeonFarFieldMaterial(params, kAutoNodes, controls) {}
 
     HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
+    HAIRSCATTER_HD const LobeControls<T>& controls() const { return controls_; }
+    // Lobe p's factor on A_p, gain_p × tint_p (1 without controls), and whether any differs from 1.
+    HAIRSCATTER_HD const glm::vec<3, T>& lobe_weight(int p) const { return weights_[p]; }
+    HAIRSCATTER_HD bool has_lobe_weights() const { return weights_.any(); }
     HAIRSCATTER_HD const WrappedGaussian<T>& azimuthal() const { return n_; }
     HAIRSCATTER_HD const Quadrature& quadrature() const { return *this; }
 
@@ -63,7 +75,9 @@ template <typename T> class DeonFarFieldMaterial : public DeonLobes<T>, public F
     }
 
     FiberParams<T> params_;
+    LobeControls<T> controls_;
     WrappedGaussian<T> n_;
+    LobeWeights<T> weights_;
 };
 
 // The far-field fiber. Same frame and convention as ChiangFiber: unit vectors in the fiber
@@ -173,8 +187,9 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
     HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
         const int n = mat_->half_nodes();
 
-        // Node probabilities ∝ (multiplicity) ŵ_j mean(Σ_p A_p(h_j)); all > 0, since
-        // A_0 = F ≥ ((η - 1)/(η + 1))² and every ŵ_j > 0.
+        // Node probabilities ∝ (multiplicity) ŵ_j mean(Σ_p A_p(h_j)); all > 0 without lobe
+        // controls, since A_0 = F ≥ ((η - 1)/(η + 1))² and every ŵ_j > 0. With zero gains
+        // they can all vanish: node 0 and lobe 0 are then picked, and f and pdf are 0.
         T t[Material::kMaxHalfNodes] = {};  // zeroed: GCC cannot see that half_nodes() ≥ 1
         T total = T(0);
         for (int j = 0; j < n; ++j) {
@@ -193,7 +208,7 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
             v = v < T(0.5) ? T(2) * v : T(2) * v - T(1);
         }
 
-        // The lobe ∝ mean(A_p(h_j)) (w[0] ∝ F > 0).
+        // The lobe ∝ mean(A_p(h_j)).
         const Node nd = node(o, j);
         T w[kLobes + 1], wsum = T(0);
         for (int p = 0; p <= kLobes; ++p) {
@@ -214,8 +229,13 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
     }
 
     // A_p(h_j) for all lobes (even in h, so shared with the mirror node) and γt(h_j).
+    // The lobe controls, in this one place: f, the node and lobe choice, pdf, albedo and
+    // lobe_split all read the scaled A_p(h_j), so sampling stays proportional to eval.
     HAIRSCATTER_HD Node node(const Outgoing& o, int j) const {
-        return far_field_node<kLobes>(mat_->quadrature(), j, o.refraction, o.cos_o, mat_->params());
+        Node nd = far_field_node<kLobes>(mat_->quadrature(), j, o.refraction, o.cos_o, mat_->params());
+        if (mat_->has_lobe_weights())
+            for (int p = 0; p <= kLobes; ++p) nd.att.a[p] *= mat_->lobe_weight(p);
+        return nd;
     }
 
     // f and pdf at (θi, φ): the four M_p once, then per node A_p · D for both signs of h.
@@ -241,8 +261,9 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
         }
         HairEvalPdf<T> r;
         r.f = f;
-        // alb ≥ F > 0 in every channel (see sample), so the division is safe.
-        r.pdf = (f.x + f.y + f.z) / (alb.x + alb.y + alb.z);
+        // alb ≥ F > 0 in every channel without controls (see sample); zero gains can make it 0.
+        const T alb_sum = alb.x + alb.y + alb.z;
+        r.pdf = alb_sum > T(0) ? (f.x + f.y + f.z) / alb_sum : T(0);
         return r;
     }
 

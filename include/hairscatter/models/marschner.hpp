@@ -16,6 +16,7 @@
 #include "../fiber/frame.hpp"
 #include "../fiber/params.hpp"
 #include "../lobes/attenuation.hpp"
+#include "../lobes/lobe_controls.hpp"
 #include "../lobes/longitudinal.hpp"
 #include "../lobes/marschner_azimuthal.hpp"
 #include "../lobes/tilt.hpp"
@@ -85,7 +86,7 @@ template <typename T> std::string validate(const MarschnerParams<T>& p) {
 
 // Everything that depends only on the parameters and the roughness node count, built on
 // the host (the constructor throws std::invalid_argument naming a bad parameter).
-// Trivially copyable (888 bytes in double, 444 in float), so it can be passed to a kernel
+// Trivially copyable (1152 bytes in double, 576 in float), so it can be passed to a kernel
 // by value.
 //
 // Azimuthal roughness: N_p is convolved with a Gaussian of σ = azimuthal_gaussian_width(β_n)
@@ -96,22 +97,42 @@ template <typename T> std::string validate(const MarschnerParams<T>& p) {
 // ω_k. That kernel's convolution with the pushforward of a uniform h is available in
 // closed form from the cubic's roots at the cell's two ends (MarschnerCubic::arc_mass), so
 // the pdf is exact, bounded (no caustic spikes) and agrees with sample() to rounding.
+//
+// The optional lobe controls (lobes/lobe_controls.hpp): gain_p × tint_p multiplies lobe p's
+// attenuations (its N_p, the TRT caustic included) in f and in the sampler's lobe
+// probabilities; a cuticle tilt α_p overridden for lobe p replaces its shift by Marschner's
+// relation to the scale tilt (§4.1; Table 1 with α_R = -2α): α_R = -2α_p, α_TT = α_p,
+// α_TRT = 3α_p, so overriding every lobe with α = -α_R/2 changes nothing. The model has no
+// residual: a residual gain or tint other than 1 is refused.
 template <typename T> class MarschnerMaterial {
   public:
     static constexpr int kLobes = 3;  // R, TT, TRT; Marschner has no residual
     static constexpr int kMaxNodes = 16;
     static constexpr int kDefaultNodes = 7;
 
-    explicit MarschnerMaterial(const MarschnerParams<T>& params, int azimuthal_nodes = kDefaultNodes)
-        : params_(params), nodes_(azimuthal_nodes) {
+    explicit MarschnerMaterial(const MarschnerParams<T>& params, int azimuthal_nodes = kDefaultNodes,
+                               const LobeControls<T>& controls = LobeControls<T>())
+        : params_(params), controls_(controls), weights_(controls), nodes_(azimuthal_nodes) {
         const std::string m = validate(params);
         if (!m.empty()) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: invalid Marschner parameters: " + m));
+        require_valid(controls);
+        if (controls.weighted(kLobes)) {
+            std::ostringstream msg;
+            msg << "hairscatter: MarschnerMaterial: gain_residual = " << double(controls.gain[kLobes])
+                << ", tint_residual = (" << double(controls.tint[kLobes].x) << ", " << double(controls.tint[kLobes].y)
+                << ", " << double(controls.tint[kLobes].z)
+                << "): Marschner et al. 2003 has no residual lobe (R, TT, TRT only), so both must stay 1";
+            HAIRSCATTER_THROW(std::invalid_argument(msg.str()));
+        }
         if (!(azimuthal_nodes >= 1 && azimuthal_nodes <= kMaxNodes))
             HAIRSCATTER_THROW(std::invalid_argument("hairscatter: MarschnerMaterial: azimuthal_nodes = " +
                                         std::to_string(azimuthal_nodes) + " is outside its range [1, " +
                                         std::to_string(kMaxNodes) + "]"));
         // Table 1: α_TT = -α_R/2, α_TRT = -3α_R/2; β_TT = β_R/2, β_TRT = 2β_R.
-        const T alpha[kLobes] = {params.alpha_r, T(-0.5) * params.alpha_r, T(-1.5) * params.alpha_r};
+        T alpha[kLobes] = {params.alpha_r, T(-0.5) * params.alpha_r, T(-1.5) * params.alpha_r};
+        const T per_tilt[kLobes] = {T(-2), T(1), T(3)};  // α_p per unit of scale tilt (see above)
+        for (int p = 0; p < kLobes; ++p)
+            if (((controls.alpha_override >> p) & 1u) != 0u) alpha[p] = per_tilt[p] * controls.alpha[p];
         const T beta[kLobes] = {params.beta_r, T(0.5) * params.beta_r, T(2) * params.beta_r};
         for (int p = 0; p < kLobes; ++p) {
             m_[p] = MarschnerLongitudinal<T>(beta[p], alpha[p]);
@@ -140,7 +161,14 @@ template <typename T> class MarschnerMaterial {
         }
     }
 
+    MarschnerMaterial(const MarschnerParams<T>& params, const LobeControls<T>& controls)
+        : MarschnerMaterial(params, kDefaultNodes, controls) {}
+
     HAIRSCATTER_HD const MarschnerParams<T>& params() const { return params_; }
+    HAIRSCATTER_HD const LobeControls<T>& controls() const { return controls_; }
+    // Lobe p's factor on A_p, gain_p × tint_p (1 without controls), and whether any differs from 1.
+    HAIRSCATTER_HD const glm::vec<3, T>& lobe_weight(int p) const { return weights_[p]; }
+    HAIRSCATTER_HD bool has_lobe_weights() const { return weights_.any(); }
     HAIRSCATTER_HD const MarschnerLongitudinal<T>& longitudinal(int p) const { return m_[p]; }
     HAIRSCATTER_HD const DeonLongitudinal<T>& proposal(int p) const { return proposal_[p]; }
     HAIRSCATTER_HD const CuticleTilt<T>& tilt() const { return tilt_; }
@@ -161,6 +189,8 @@ template <typename T> class MarschnerMaterial {
 
   private:
     MarschnerParams<T> params_;
+    LobeControls<T> controls_;
+    LobeWeights<T> weights_;
     int nodes_ = kDefaultNodes;
     MarschnerLongitudinal<T> m_[kLobes];
     DeonLongitudinal<T> proposal_[kLobes];
@@ -250,12 +280,19 @@ template <typename T> class MarschnerFiber : public FiberModel<MarschnerFiber<T>
         const T v = cell.rescaled;
         const T phi = wrap_pi(cubic.exit_azimuth(elem::asin(h)) + mat_->cell_lo(k) + mat_->cell_len(k) * v);
 
-        return make_sample(direction_from_azimuth(wo, sin_i, phi), lobe_tag(p), combine<true, true>(o, sin_i, cos_i, phi));
+        HairSample<T> r =
+            make_sample(direction_from_azimuth(wo, sin_i, phi), lobe_tag(p), combine<true, true>(o, sin_i, cos_i, phi));
+        // At a roughness cell's edge the density can round to a denormal in float while f does
+        // not; with one lobe alone (the others' gains 0, so no other lobe's density backs it
+        // up) f / pdf then overflows. Such a sample fails, as one whose pdf rounds to 0 does.
+        if (!is_finite(r.weight)) r.pdf = T(0), r.weight = V3(T(0));
+        return r;
     }
 
   public:
-    // Marschner's smooth-fiber N_p(φ) (no roughness, no caustic replacement) at the
-    // inclinations of (wo, wi), RGB: exposed for tests and plots of the root sum.
+    // Marschner's smooth-fiber N_p(φ) (no roughness, no caustic replacement, no lobe
+    // controls) at the inclinations of (wo, wi), RGB: exposed for tests and plots of the
+    // root sum.
     HAIRSCATTER_HD V3 smooth_azimuthal(int p, const V3& wo, const V3& wi) const {
         const Outgoing o = outgoing<false>(wo);
         const T sin_i = clamp(wi.x, T(-1), T(1));
@@ -338,17 +375,23 @@ template <typename T> class MarschnerFiber : public FiberModel<MarschnerFiber<T>
         if constexpr (kW) {
             // Lobe probabilities ∝ the mean of A_p over h = 1/8, 3/8, 5/8, 7/8 (A_p is even
             // in h) at θd = θo, the specular θi. Any positive choice is exact; this one
-            // follows the lobes' energies. w_R ≥ F > 0, so the total is positive.
+            // follows the lobes' energies, times the lobe controls' gain × tint. w_R ≥ F > 0
+            // without controls; zero gains can leave every w_p at 0 (then f and pdf are 0).
             const Section s = section_at(o.sin_o, o.cos_o, sample_eta(o));
             T total = T(0);
             for (int p = 0; p < kLobes; ++p) o.w[p] = T(0);
             for (int j = 0; j < 4; ++j) {
                 const T h = (T(j) + T(0.5)) * T(0.25);
                 const Attenuation<T, kLobes> a = attenuations(s, h, cos_from_sin(h));
-                for (int p = 0; p < kLobes; ++p) o.w[p] += a.a[p].x + a.a[p].y + a.a[p].z;
+                for (int p = 0; p < kLobes; ++p) {
+                    V3 ap = a.a[p];
+                    if (mat_->has_lobe_weights()) ap *= mat_->lobe_weight(p);
+                    o.w[p] += ap.x + ap.y + ap.z;
+                }
             }
             for (int p = 0; p < kLobes; ++p) total += o.w[p];
-            for (int p = 0; p < kLobes; ++p) o.w[p] /= total;
+            if (total > T(0))
+                for (int p = 0; p < kLobes; ++p) o.w[p] /= total;
         }
         return o;
     }
@@ -395,6 +438,7 @@ template <typename T> class MarschnerFiber : public FiberModel<MarschnerFiber<T>
                 V3 np(T(0));
                 for (int k = 0; k < n; ++k)
                     np += mat_->node_weight(k) * azimuthal(cubic, s, caustic, caustic_a, phi - mat_->node_offset(k));
+                if (mat_->has_lobe_weights()) np *= mat_->lobe_weight(p);  // the lobe controls
                 f += m * np;
             }
             // Marschner's 1/cos²θd, with cos²θd = (1 + cos(θo - θi))/2; it vanishes only for

@@ -188,8 +188,8 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
         }
         HairEvalPdf<T> r;
         r.f = f;
-        // total ≥ the R lobe's F > 0 in every channel, so the division is safe.
-        r.pdf = (f.x + f.y + f.z) / o.total;
+        // total ≥ the R lobe's F > 0 without lobe controls; zero gains can make it 0.
+        r.pdf = o.total > T(0) ? (f.x + f.y + f.z) / o.total : T(0);
         return r;
     }
 

@@ -17,6 +17,7 @@
 #include "../../lobes/azimuthal.hpp"
 #include "../../lobes/deon_lobes.hpp"
 #include "../../lobes/farfield_quadrature.hpp"
+#include "../../lobes/lobe_controls.hpp"
 #include "../../lobes/longitudinal_table.hpp"
 #include "../../math/constants.hpp"
 #include "../../math/functions.hpp"
@@ -38,19 +39,25 @@ template <typename T> class TabulatedFiber;
 // Memory: (12·phi_samples + 16)·theta_samples values of T, plus with
 // TabulatedLongitudinal::kTable 3·m_rows·2(m_nodes + 2) (R, TT, TRT; the residual shares TRT's
 // variance): 354 kB in float for fast().
+// The optional lobe controls (lobes/lobe_controls.hpp) go into the build: each A_p(h_j) is
+// multiplied by gain_p × tint_p before it is tabulated (the table values, their φ CDFs and
+// masses all follow, so sampling stays proportional to eval), and the per-lobe tilts into
+// the view's DeonLobes. They cost nothing per query.
 template <typename T> class TabulatedMaterial {
   public:
     using View = TabulatedView<T>;
     static constexpr int kLobes = View::kLobes;
 
-    explicit TabulatedMaterial(const FiberParams<T>& params, const TabulatedOptions& options = TabulatedOptions())
-        : params_(params), options_(options) {
+    explicit TabulatedMaterial(const FiberParams<T>& params, const TabulatedOptions& options = TabulatedOptions(),
+                               const LobeControls<T>& controls = LobeControls<T>())
+        : params_(params), options_(options), controls_(controls) {
         require_valid(params);
         check(options);
+        require_valid(controls);
         const int n = options.phi_samples, rows = options.theta_samples;
 
         // M_p and the tilt in T, the same ingredients as the far-field material's.
-        static_cast<DeonLobes<T>&>(view_) = DeonLobes<T>(params.beta_m, params.alpha);
+        static_cast<DeonLobes<T>&>(view_) = DeonLobes<T>(params.beta_m, controls.cuticle_tilt(params.alpha));
         view_.n_phi_ = n;
         view_.n_theta_ = rows;
         view_.phi_step_ = T(kPi<double> / (n - 1));
@@ -94,6 +101,8 @@ template <typename T> class TabulatedMaterial {
             for (int j = 0; j < q.half_nodes(); ++j) {
                 const FarFieldNode<double, kLobes> nd = far_field_node<kLobes>(q, j, refraction, cos_o, pd);
                 for (int p = 0; p <= kLobes; ++p) terms[std::size_t(j)].a[p] = nd.att.a[p];
+                if (controls.has_weights())  // the lobe controls: gain × tint on A_p
+                    for (int p = 0; p <= kLobes; ++p) terms[std::size_t(j)].a[p] *= glm::dvec3(controls.weight(p));
                 for (int p = 0; p < kLobes; ++p) terms[std::size_t(j)].phi[p] = exit_azimuth(p, q.node_gamma(j), nd.gamma_t);
                 const double w = q.node_weight(j) * (q.node_mirrored(j) ? 2 : 1);
                 for (int p = 0; p <= kLobes; ++p) mass[p] += w * terms[std::size_t(j)].a[p];
@@ -147,14 +156,15 @@ template <typename T> class TabulatedMaterial {
 
     const FiberParams<T>& params() const { return params_; }
     const TabulatedOptions& options() const { return options_; }
+    const LobeControls<T>& controls() const { return controls_; }
 
     // A copy keeps its own tables (and its view points at them).
     TabulatedMaterial(const TabulatedMaterial& o)
-        : params_(o.params_), options_(o.options_), view_(o.view_), data_(o.data_) {
+        : params_(o.params_), options_(o.options_), controls_(o.controls_), view_(o.view_), data_(o.data_) {
         view_.data_ = data_.data();
     }
     TabulatedMaterial& operator=(const TabulatedMaterial& o) {
-        params_ = o.params_, options_ = o.options_, view_ = o.view_, data_ = o.data_;
+        params_ = o.params_, options_ = o.options_, controls_ = o.controls_, view_ = o.view_, data_ = o.data_;
         view_.data_ = data_.data();
         return *this;
     }
@@ -199,6 +209,7 @@ template <typename T> class TabulatedMaterial {
 
     FiberParams<T> params_;
     TabulatedOptions options_;
+    LobeControls<T> controls_;
     friend class TabulatedFiber<T>;
     View view_;  // over data_ (set once the tables are built: building appends to data_)
     std::vector<T> data_;

@@ -1,0 +1,17 @@
+// The model contract (tests/support/contract_suite.hpp) for the Chiang model with non-
+// default lobe controls (gains, tints, tilts: tests/support/controls_specs.hpp), float and
+// double: one translation unit of contract_test.
+#include <gtest/gtest.h>
+
+#include <hairscatter/hairscatter.hpp>
+
+#include "support/contract_suite.hpp"
+#include "support/controls_specs.hpp"
+
+namespace contract {
+
+using Types = ::testing::Types<specs::ControlsSpec<specs::ChiangControls<float>>,
+                               specs::ControlsSpec<specs::ChiangControls<double>>>;
+INSTANTIATE_TYPED_TEST_SUITE_P(ChiangWithControls, ModelContract, Types, NumberedFrom<0>);
+
+}  // namespace contract
