@@ -1,6 +1,7 @@
 // Benchmarks of dual scattering (dual/): the per-material table build at several
 // resolutions, the density grid's ray march, and the dual-scattering BCSDF's eval and
-// sample next to the single-fiber model they wrap. Run: build/…/bench/dual_bench.
+// sample next to the single-fiber model they wrap, per call and bound to a hit's wo.
+// Run: scripts/bench.sh --programs (or build/…/bench/dual_bench).
 #include <cmath>
 #include <random>
 #include <vector>
@@ -76,20 +77,36 @@ void BM_DensityMarch(benchmark::State& state) {
 }
 BENCHMARK(BM_DensityMarch);
 
+// The shading setup of the eval and sample benchmarks: a material, its dual tables and a
+// shadowed point (5 fibers toward the light, 10 beyond).
+template <typename T> struct Shading {
+    hs::ChiangMaterial<T> mat{params()};
+    hs::DualScatteringTables<T> tables = hs::DualScatteringTables<T>::template build<hs::ChiangFiber<T>>(mat);
+    hs::DualScatteringLight<T> light = shadowed();
+    static hs::FiberParams<T> params() {
+        hs::FiberParams<T> p;
+        p.sigma_a = hs::sigma_a_from_melanin(T(0.3), T(0));
+        return p;
+    }
+    static hs::DualScatteringLight<T> shadowed() {
+        hs::DualScatteringLight<T> l;
+        l.n = T(5);
+        l.beyond = T(10);
+        l.direct_fraction = T(0);
+        return l;
+    }
+};
+
 // One shading call as a renderer makes it: the fiber of the hit, then eval or sample
-// (stateless), for the single fiber and for the dual-scattering BCSDF over it (a shadowed
-// point, 5 fibers toward the light, 10 beyond), float and double.
+// (stateless), for the single fiber and for the dual-scattering BCSDF over it, float and
+// double.
 template <typename T, bool kSample, bool kDual> void BM_Shade(benchmark::State& state) {
     using V = glm::vec<3, T>;
     using U4 = glm::vec<4, T>;
-    hs::FiberParams<T> p;
-    p.sigma_a = hs::sigma_a_from_melanin(T(0.3), T(0));
-    const hs::ChiangMaterial<T> mat(p);
-    const auto tables = hs::DualScatteringTables<T>::template build<hs::ChiangFiber<T>>(mat);
-    hs::DualScatteringLight<T> light;
-    light.n = T(5);
-    light.beyond = T(10);
-    light.direct_fraction = T(0);
+    const Shading<T> sh;
+    const auto& mat = sh.mat;
+    const auto& tables = sh.tables;
+    const auto& light = sh.light;
     const Scene& s = scene();
     std::size_t i = 0;
     for (auto _ : state) {
@@ -115,6 +132,36 @@ template <typename T, bool kSample, bool kDual> void BM_Shade(benchmark::State& 
         i = (i + 1) & 1023;
     }
 }
+// The per-light-sample cost once a hit is bound: 64 hits bound with at(wo) (the single fiber's
+// and the dual BCSDF's), cycled against the wi inputs, then eval only.
+template <typename T, bool kDual> void BM_AtEval(benchmark::State& state) {
+    using V = glm::vec<3, T>;
+    const Shading<T> sh;
+    const Scene& s = scene();
+    using Dual = hs::DualScatteringBcsdf<hs::ChiangFiber<T>>;
+    std::vector<typename hs::ChiangFiber<T>::At> single;
+    std::vector<typename Dual::At> dual;
+    for (std::size_t k = 0; k < 64; ++k) {
+        const hs::ChiangFiber<T> fiber(sh.mat, T(s.h[k]));
+        if constexpr (kDual)
+            dual.push_back(Dual(fiber, sh.tables).at(V(s.wo[k])));
+        else
+            single.push_back(fiber.at(V(s.wo[k])));
+    }
+    std::size_t i = 0;
+    for (auto _ : state) {
+        const V wi(s.wi[i]);
+        if constexpr (kDual) {
+            auto r = dual[i & 63].eval(wi, sh.light);
+            benchmark::DoNotOptimize(r);
+        } else {
+            auto r = single[i & 63].eval(wi);
+            benchmark::DoNotOptimize(r);
+        }
+        i = (i + 1) & 1023;
+    }
+}
+
 BENCHMARK_TEMPLATE(BM_Shade, float, false, false)->Name("BM_SingleEval<float>");
 BENCHMARK_TEMPLATE(BM_Shade, float, true, false)->Name("BM_SingleSample<float>");
 BENCHMARK_TEMPLATE(BM_Shade, float, false, true)->Name("BM_DualEval<float>");
@@ -123,6 +170,10 @@ BENCHMARK_TEMPLATE(BM_Shade, double, false, false)->Name("BM_SingleEval<double>"
 BENCHMARK_TEMPLATE(BM_Shade, double, true, false)->Name("BM_SingleSample<double>");
 BENCHMARK_TEMPLATE(BM_Shade, double, false, true)->Name("BM_DualEval<double>");
 BENCHMARK_TEMPLATE(BM_Shade, double, true, true)->Name("BM_DualSample<double>");
+BENCHMARK_TEMPLATE(BM_AtEval, float, false)->Name("BM_SingleAtEval<float>");
+BENCHMARK_TEMPLATE(BM_AtEval, float, true)->Name("BM_DualAtEval<float>");
+BENCHMARK_TEMPLATE(BM_AtEval, double, false)->Name("BM_SingleAtEval<double>");
+BENCHMARK_TEMPLATE(BM_AtEval, double, true)->Name("BM_DualAtEval<double>");
 
 }  // namespace
 

@@ -19,6 +19,8 @@
 #                                         bench/results/vs_pbrt.md, then regenerates the tables
 #                                         of README.md and docs/performance.md from it (~3 min)
 #   scripts/bench.sh --tables             only that last step, from the committed vs_pbrt.md
+#   scripts/bench.sh --programs           only the dual and tabulated programs (no Chiang run):
+#                                         bench/results/{dual,tabulated}_<date>.txt
 #
 # Build tree: build/bench (Release; the bench targets add -O2 -march=native themselves,
 # bench/CMakeLists.txt). Timings are the medians of the repetitions' CPU times: on a
@@ -53,6 +55,7 @@ while [[ $# -gt 0 ]]; do
         --no-deps) install_deps=0 ;;
         --vs-pbrt) mode=vs_pbrt ;;
         --tables) mode=tables ;;
+        --programs) mode=programs ;;
         --reps) vs_reps="$2"; shift ;;
         -h | --help) hs_usage; exit 0 ;;
         *) hs_usage_error "unknown option '$1'" ;;
@@ -120,7 +123,72 @@ if [[ -n "$headers_rev" ]]; then
 fi
 cmake -S "$SRC" -B "$BUILD" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF -DHAIRSCATTER_DOCS=OFF \
     -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$BUILD" --target chiang_bench bench_crosscheck dual_bench tabulated_bench -j "$(nproc 2>/dev/null || echo 2)"
+if [[ $mode == programs ]]; then
+    cmake --build "$BUILD" --target dual_bench dual_icount tabulated_bench -j "$(nproc 2>/dev/null || echo 2)"
+else
+    cmake --build "$BUILD" --target chiang_bench bench_crosscheck dual_bench dual_icount tabulated_bench \
+        -j "$(nproc 2>/dev/null || echo 2)"
+fi
+cxx="$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$BUILD/CMakeCache.txt")"
+
+# --- the other programs: dual scattering (table build, density march, the dual BCSDF) and
+# the tabulated fiber (build, eval/pdf/sample, the cost split of eval) ---------------------
+# Instructions per call of bench/dual_icount under callgrind (load-independent): the
+# difference between 6000 and 2000 calls, over 4000.
+dual_icounts() {
+    command -v valgrind >/dev/null || { echo "(valgrind not found: no instruction counts)"; return; }
+    local names=("single eval" "dual eval" "single sample" "dual sample") counts=()
+    for kind in 0 1 2 3; do
+        local n=()
+        for calls in 2000 6000; do
+            n+=("$(valgrind --tool=callgrind --callgrind-out-file=/dev/null "$BUILD/bench/dual_icount" "$calls" "$kind" 2>&1 |
+                awk '/Collected/ {print $4}')")
+        done
+        counts+=($(( (n[1] - n[0]) / 4000 )))
+    done
+    echo "== Instructions per call (valgrind --tool=callgrind, bench/dual_icount, float; load-independent) =="
+    echo
+    for kind in 0 1 2 3; do printf '  %-14s %6d\n' "${names[$kind]}" "${counts[$kind]}"; done
+    printf '  dual / single: eval %s, sample %s\n' "$(python3 -c "print('%.2fx' % (${counts[1]} / ${counts[0]}))")" \
+        "$(python3 -c "print('%.2fx' % (${counts[3]} / ${counts[2]}))")"
+}
+
+run_programs() {
+    for prog in dual tabulated; do
+        [[ -z "$filter" && -x "$BUILD/bench/${prog}_bench" ]] || continue
+        prog_out="$ROOT/bench/results/${prog}_$(date +%Y-%m-%d)${headers_rev:+_$rev_name}.txt"
+        prog_json="$BUILD/${prog}_bench.json"
+        prog_args=(--benchmark_repetitions="$reps" --benchmark_min_time="$min_time"
+                   --benchmark_enable_random_interleaving=true --benchmark_report_aggregates_only=true
+                   --benchmark_out="$prog_json" --benchmark_out_format=json)
+        echo "bench.sh: ${prog}_bench ${prog_args[*]}"
+        prog_load_before="$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
+        prog_busy="$(ps -eo pcpu=,comm= --sort=-pcpu 2>/dev/null | awk '$1 > 5 {printf "%s(%s%%) ", $2, $1}' || true)"
+        prog_console="$("$BUILD/bench/${prog}_bench" "${prog_args[@]}" 2>&1 | grep -v -E '_(mean|stddev) ')"
+        {
+            echo "hairscatter benchmark: bench/${prog}_bench.cpp (scripts/bench.sh)"
+            echo
+            echo "date:      $(date -u '+%Y-%m-%d %H:%M:%S UTC')"
+            dirty="$(git -C "$ROOT" status --porcelain -- include bench 2>/dev/null | head -1 || true)"
+            echo "commit:    $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')${dirty:+ (with uncommitted changes in include/ or bench/)}"
+            echo "cpu:       $(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -1), $(nproc) cores"
+            echo "compiler:  $("$cxx" --version | head -1); flags -O2 -march=native -DNDEBUG (bench/CMakeLists.txt)"
+            echo "run:       ${prog}_bench ${prog_args[*]:0:4} (medians of the CPU time)"
+            echo "load:      average before ${prog_load_before}, after $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
+            [[ -n "$prog_busy" ]] && echo "           other busy processes at the start: ${prog_busy}"
+            echo
+            python3 "$ROOT/scripts/bench_ratios.py" "$prog" "$prog_json"
+            echo
+            [[ $prog == dual ]] && { dual_icounts; echo; }
+            echo "$prog_console"
+        } >"$prog_out"
+        echo "bench.sh: wrote ${prog_out#"$ROOT"/}"
+    done
+}
+if [[ $mode == programs ]]; then
+    run_programs
+    exit 0
+fi
 
 BENCH="$BUILD/bench/chiang_bench"
 CROSS="$BUILD/bench/bench_crosscheck"
@@ -158,7 +226,6 @@ if [[ -z "$out" ]]; then
     out="$ROOT/bench/results/chiang_$(date +%Y-%m-%d)${headers_rev:+_$rev_name}.txt"
 fi
 
-cxx="$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$BUILD/CMakeCache.txt")"
 compile_cmd="$(python3 - "$BUILD/compile_commands.json" <<'EOF'
 import json, sys
 for e in json.load(open(sys.argv[1])):
@@ -293,22 +360,4 @@ EOF
 
 echo "bench.sh: wrote ${out#"$ROOT"/}"
 
-# --- the other programs: dual scattering (table build, density march, the dual BCSDF) and
-# the tabulated fiber (build, eval/pdf/sample, the cost split of eval) ---------------------
-for prog in dual tabulated; do
-    [[ -z "$filter" && -x "$BUILD/bench/${prog}_bench" ]] || continue
-    prog_out="$ROOT/bench/results/${prog}_$(date +%Y-%m-%d)${headers_rev:+_$rev_name}.txt"
-    {
-        echo "hairscatter benchmark: bench/${prog}_bench.cpp (scripts/bench.sh)"
-        echo
-        echo "date:      $(date -u '+%Y-%m-%d %H:%M:%S UTC')"
-        echo "commit:    $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')"
-        echo "cpu:       $(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -1), $(nproc) cores"
-        echo "compiler:  $("$cxx" --version | head -1); flags as in the chiang file (-O2 -march=native -DNDEBUG)"
-        echo "run:       ${prog}_bench --benchmark_repetitions=$reps (medians of the CPU time)"
-        echo
-        "$BUILD/bench/${prog}_bench" --benchmark_repetitions="$reps" --benchmark_report_aggregates_only=true 2>&1 |
-            grep -v -E '_(mean|stddev) '
-    } >"$prog_out"
-    echo "bench.sh: wrote ${prog_out#"$ROOT"/}"
-done
+run_programs

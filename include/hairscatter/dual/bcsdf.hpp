@@ -54,20 +54,36 @@ template <typename T> struct DualForward {
     T spread = T(0);  // σ̄²_f, channel mean
 };
 // The layer coefficients of an entry's three channels (κ and friends, tables.hpp), shared
-// by every stack the BCSDF builds at one lookup.
+// by every stack the BCSDF builds at one lookup: lanes 0–2 the channels, lane 3 an opaque
+// padding layer (four lanes, one SSE vector in float).
 template <typename T> struct DualLayers {
-    LayerCoefficients<T> c[3];
+    static constexpr int kLanes = 4;
+    LayerLanes<T, kLanes> c;
+    // R_N and T_N of the three channels at one depth.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void stacks(T layers, glm::vec<3, T>& R, glm::vec<3, T>& T_) const {
+        const T depth[kLanes] = {layers, layers, layers, layers};
+        T r[kLanes], t[kLanes];
+        layered_stacks(c, depth, r, t);
+        R = glm::vec<3, T>(r[0], r[1], r[2]);
+        T_ = glm::vec<3, T>(t[0], t[1], t[2]);
+    }
 };
-template <typename T> HAIRSCATTER_HD DualLayers<T> dual_layers(const DualScatteringEntry<T>& e) {
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DualLayers<T> dual_layers(const DualScatteringEntry<T>& e) {
     DualLayers<T> l;
-    for (int c = 0; c < 3; ++c) l.c[c] = layer_coefficients(e.a_f[c], e.a_b[c]);
+    for (int c = 0; c < 3; ++c) {
+        l.c.a_f[c] = e.a_f[c];
+        l.c.a_b[c] = e.a_b[c];
+    }
+    l.c.a_f[3] = l.c.a_b[3] = T(0);
+    layer_lanes(l.c);
     return l;
 }
-template <typename T> HAIRSCATTER_HD glm::vec<3, T> dual_below_reflectance(const DualLayers<T>& l, T beyond) {
+template <typename T>
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE glm::vec<3, T> dual_below_reflectance(const DualLayers<T>& l, T beyond) {
     const T m = is_finite(beyond) ? (beyond > T(0) ? beyond : T(0)) : (beyond > T(0) ? T(1e12) : T(0));  // NaN → 0
-    glm::vec<3, T> r;
-    for (int c = 0; c < 3; ++c) r[c] = layered_stack(l.c[c], m + T(1)).R;
-    return r;
+    glm::vec<3, T> R, T_;
+    l.stacks(m + T(1), R, T_);
+    return R;
 }
 template <typename T>
 HAIRSCATTER_HD glm::vec<3, T> dual_below_reflectance(const DualScatteringEntry<T>& e, T beyond) {
@@ -76,9 +92,9 @@ HAIRSCATTER_HD glm::vec<3, T> dual_below_reflectance(const DualScatteringEntry<T
 // below_R: R_{m+1} of dual_below_reflectance (improved only; computed here if negative);
 // layers: the entry's dual_layers (computed here if null).
 template <typename T>
-HAIRSCATTER_HD DualForward<T> dual_forward(const DualScatteringLight<T>& light, const DualScatteringEntry<T>& e,
-                                           DualFormulation formulation, glm::vec<3, T> below_R = glm::vec<3, T>(T(-1)),
-                                           const DualLayers<T>* layers = nullptr) {
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DualForward<T>
+dual_forward(const DualScatteringLight<T>& light, const DualScatteringEntry<T>& e, DualFormulation formulation,
+             glm::vec<3, T> below_R = glm::vec<3, T>(T(-1)), const DualLayers<T>* layers = nullptr) {
     using std::pow;
     DualForward<T> r;
     const T beta2 = (e.beta2_f.x + e.beta2_f.y + e.beta2_f.z) * T(1.0 / 3.0);
@@ -101,11 +117,14 @@ HAIRSCATTER_HD DualForward<T> dual_forward(const DualScatteringLight<T>& light, 
     const T n = q > T(1e-6) ? n0 / q : T(1);
     const DualLayers<T> l = layers ? *layers : dual_layers(e);
     if (below_R.x < T(0)) below_R = dual_below_reflectance(l, light.beyond);
+    glm::vec<3, T> above_R, above_T;
+    l.stacks(n, above_R, above_T);
+    T a_f[4] = {e.a_f.x, e.a_f.y, e.a_f.z, T(1)};
+    elem::pow_each(a_f, n);  // n ≥ 1
     for (int c = 0; c < 3; ++c) {
-        const LayerStack<T> above = layered_stack(l.c[c], n);
-        const T den = T(1) - above.R * below_R[c];
-        r.flux[c] = den > T(0) ? clamp(above.T_ / den, T(0), T(1)) : T(1);
-        r.transmittance[c] = pow(e.a_f[c], n);
+        const T den = T(1) - above_R[c] * below_R[c];
+        r.flux[c] = den > T(0) ? clamp(above_T[c] / den, T(0), T(1)) : T(1);
+        r.transmittance[c] = a_f[c];
     }
     r.spread = n * beta2;
     return r;
@@ -121,7 +140,7 @@ HAIRSCATTER_HD glm::vec<3, T> dual_backscatter_scaled(const DualScatteringEntry<
                                                       const glm::vec<3, T>& below_R) {
     glm::vec<3, T> r;
     for (int c = 0; c < 3; ++c) {
-        const T deep = deep_reflectance(l.c[c]) - e.a_b[c];
+        const T deep = deep_reflectance(l.c.a_f[c], l.c.a_b[c], l.c.e_k[c]) - e.a_b[c];
         const T here = below_R[c] - e.a_b[c];
         r[c] = deep > T(1e-12) && here > T(0) ? e.A_b[c] * clamp(here / deep, T(0), T(1)) : T(0);
     }
@@ -164,6 +183,11 @@ template <typename Fiber> class DualScatteringBcsdf {
     using View = DualTablesView<T>;
     using FiberAt = decltype(std::declval<const Fiber&>().at(std::declval<const V3&>()));
     static constexpr int kMaxLobes = View::kMaxLobes;
+    // The lanes of the longitudinal lobes (At::lobe_lanes): the global lobes, then f_back's
+    // and f_back^G's, padded to a whole vector in float.
+    static constexpr int kBackLane = kMaxLobes, kGlobalBackLane = kMaxLobes + 1;
+    static constexpr int kLanes = elem::exp_batch<T>(kMaxLobes + 2);
+    using Lanes = DeonLanes<T, kLanes>;
     // Zinke et al. 2008 eq. 14 writes f_back = 2 A_b g(…) / (π cos²θd): the factor 2 is kept in
     // the improved formulation, where with d'Eon's normalised M it doubles the backscattered
     // energy — measured against path-traced slabs of explicit fibers (tests/dual_slab_test.cpp)
@@ -263,10 +287,10 @@ template <typename Fiber> class DualScatteringBcsdf {
             sin_o_ = is_finite(so) ? so : T(0);
             cos_o_ = cos_from_sin(sin_o_);
             theta_o_ = elem::asin(sin_o_);
-            cell_o_ = t_.cell(sin_o_);
+            cell_o_ = t_.cell_of_angle(theta_o_);
             row_ = cell_o_.t < T(0.5) ? cell_o_.i : cell_o_.i + 1;
             for (int p = 0; p < kMaxLobes; ++p) t_.rotate(p, sin_o_, cos_o_, sin_l_[p], cos_l_[p]);
-            if (with_mixture) mixture(d.fiber_.albedo(wo), spread);
+            if (with_mixture) mixture(single_.albedo(), spread);  // from the bound terms
         }
 
         HAIRSCATTER_HD void mixture(const V3& albedo, T spread) {
@@ -307,6 +331,31 @@ template <typename Fiber> class DualScatteringBcsdf {
                 w_[2 + k] = shadow_sum > T(0) ? (T(1) - kUniformShare - half_lit) * shadow[k] / shadow_sum : T(0);
             }
             w_[4] = kUniformShare;
+            lobe_lanes(pdf_lanes_, s2_spread_, s2_back_, sin_back_, cos_back_);
+        }
+
+        // Every longitudinal lobe of the BCSDF as one set of lanes, evaluated per θi in one
+        // batch: lane p < kMaxLobes the global lobe p (variance v_p + spread, at θo'_p),
+        // kBackLane f_back's (σ_b², at θo - Δ_b), kGlobalBackLane f_back^G's (σ_b² + spread,
+        // there); the lanes of absent lobes and the padding hold a unit lobe nothing reads.
+        HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void lobe_lanes(Lanes& m, T spread, T s2b, T sb, T cb) const {
+            T v[kLanes], s[kLanes], c[kLanes];
+            for (int k = 0; k < kLanes; ++k) {
+                v[k] = T(1);
+                s[k] = T(0);
+                c[k] = T(1);
+            }
+            for (int p = 0; p < kMaxLobes; ++p) {
+                if (p >= t_.lobes) break;
+                v[p] = t_.lobe_variance[p] + spread;
+                s[p] = sin_l_[p];
+                c[p] = cos_l_[p];
+            }
+            v[kBackLane] = s2b;
+            v[kGlobalBackLane] = s2b + spread;
+            s[kBackLane] = s[kGlobalBackLane] = sb;
+            c[kBackLane] = c[kGlobalBackLane] = cb;
+            m.set(v, s, c);
         }
 
         // The global lobe p's density over ψ ∈ [-π, π]: the sampler's row of W̄_p, normalised.
@@ -324,24 +373,22 @@ template <typename Fiber> class DualScatteringBcsdf {
             const T sin_i = clamp(wi.x, T(-1), T(1)), cos_i = cos_from_sin(sin_i);
             const T a = psi < T(0) ? -psi : psi;
             const bool backward = a < kHalfPi<T>;
+            T m[kLanes];
+            pdf_lanes_.eval_all(sin_i, cos_i, m);
             T pdf = w_[4] * T(0.25) * kInvPi<T> + w_[0] * pdf_single;
-            if (w_[1] > T(0) && backward)
-                pdf += w_[1] * DeonLongitudinal<T>(s2_back_).eval(sin_i, cos_i, sin_back_, cos_back_) * kInvPi<T>;
+            if (w_[1] > T(0) && backward) pdf += w_[1] * m[kBackLane] * kInvPi<T>;
             if (w_[2] > T(0)) {
                 T g = T(0);
                 for (int p = 0; p < t_.lobes; ++p) {
                     if (!(g_[p] > T(0))) continue;
                     const T az = improved() ? window_pdf(p, a) : (backward ? T(0) : kInvPi<T>);
-                    if (az > T(0))
-                        g += g_[p] * az *
-                             DeonLongitudinal<T>(t_.lobe_variance[p] + s2_spread_).eval(sin_i, cos_i, sin_l_[p], cos_l_[p]);
+                    if (az > T(0)) g += g_[p] * az * m[p];
                 }
                 pdf += w_[2] * g;
             }
             if (w_[3] > T(0)) {
                 const T az = improved() ? (kPi<T> - a) * kInvPi<T> * kInvPi<T> : (backward ? kInvPi<T> : T(0));
-                if (az > T(0))
-                    pdf += w_[3] * az * DeonLongitudinal<T>(s2_back_ + s2_spread_).eval(sin_i, cos_i, sin_back_, cos_back_);
+                if (az > T(0)) pdf += w_[3] * az * m[kGlobalBackLane];
             }
             return pdf;
         }
@@ -370,31 +417,38 @@ template <typename Fiber> class DualScatteringBcsdf {
                 ab = dual_backscatter_scaled(ei, layers, below_R);
             }
 
-            V3 f = df * f_single;
-            if (lit_back) f += kBack * df * s.d_b * ab * (DeonLongitudinal<T>(s2b).eval(sin_i, cos_i, sb, cb) * kInvPi<T>);
-            if (!shadowed) return f;
-
-            const DualForward<T> fw = dual_forward(light, ei, s.formulation, below_R, improved() ? &layers : nullptr);
-            V3 scale, scale_back;
-            if (improved()) {
-                scale = (T(1) - df) * s.d_f * fw.transmittance;
-                scale_back = (T(1) - df) * s.d_f * fw.flux;
-            } else {
-                for (int c = 0; c < 3; ++c) scale[c] = fw.transmittance[c] > df ? (fw.transmittance[c] - df) * s.d_f : T(0);
-                scale_back = scale;
-            }
-            if (!(scale_back.x > T(0) || scale_back.y > T(0) || scale_back.z > T(0))) return f;
-
-            V3 g(T(0));
-            if (improved() || !backward) {
-                for (int p = 0; p < t_.lobes; ++p) {
-                    const V3 w = t_.window_at(cell_o_, p, improved() ? a : kPi<T>);
-                    g += w * DeonLongitudinal<T>(t_.lobe_variance[p] + fw.spread).eval(sin_i, cos_i, sin_l_[p], cos_l_[p]);
+            // The global terms' scales (0 when lit: then only f_back is evaluated).
+            DualForward<T> fw;
+            V3 scale(T(0)), scale_back(T(0));
+            if (shadowed) {
+                fw = dual_forward(light, ei, s.formulation, below_R, improved() ? &layers : nullptr);
+                if (improved()) {
+                    scale = (T(1) - df) * s.d_f * fw.transmittance;
+                    scale_back = (T(1) - df) * s.d_f * fw.flux;
+                } else {
+                    for (int c = 0; c < 3; ++c)
+                        scale[c] = fw.transmittance[c] > df ? (fw.transmittance[c] - df) * s.d_f : T(0);
+                    scale_back = scale;
                 }
             }
+            const bool global = scale_back.x > T(0) || scale_back.y > T(0) || scale_back.z > T(0);
+
+            // Every M at θi in one batch (f_back's, the global lobes', f_back^G's).
+            Lanes lanes;
+            lobe_lanes(lanes, fw.spread, s2b, sb, cb);
+            T m[kLanes];
+            lanes.eval_all(sin_i, cos_i, m);
+
+            V3 f = df * f_single;
+            if (lit_back) f += kBack * df * s.d_b * ab * (m[kBackLane] * kInvPi<T>);
+            if (!global) return f;
+
+            V3 g(T(0));
+            if (improved() || !backward)
+                for (int p = 0; p < t_.lobes; ++p) g += t_.window_at(cell_o_, p, improved() ? a : kPi<T>) * m[p];
             const T az = improved() ? (kPi<T> - a) * kInvPi<T> * kInvPi<T> : (backward ? T(1) : T(0));
             V3 gb(T(0));
-            if (az > T(0)) gb = kBack * s.d_b * az * ab * DeonLongitudinal<T>(s2b + fw.spread).eval(sin_i, cos_i, sb, cb);
+            if (az > T(0)) gb = kBack * s.d_b * az * ab * m[kGlobalBackLane];
             return f + scale * g + scale_back * gb;
         }
 
@@ -412,6 +466,7 @@ template <typename Fiber> class DualScatteringBcsdf {
         T total_[kMaxLobes] = {};  // each lobe's row total ∫_0^π W̄_p
         T s2_back_ = T(1e-6), s2_spread_ = T(0);
         T sin_back_ = T(0), cos_back_ = T(1);  // θo - Δ_b at the specular cone
+        Lanes pdf_lanes_{};                     // the sampler's lobes (lobe_lanes), for density()
     };
 
     HAIRSCATTER_HD At at(const V3& wo, T spread = T(0)) const { return At(*this, wo, spread); }

@@ -99,57 +99,111 @@ template <typename T> struct LayerCoefficients {
     T a_f = T(0), a_b = T(0);
     T kappa = T(0), e_k = T(1), q = T(0);
 };
-template <typename T> HAIRSCATTER_HD LayerCoefficients<T> layer_coefficients(T a_f, T a_b) {
+
+// The same for N layers at once (the dual BCSDF's three channels, padded to four), as a
+// structure of arrays: every branch is a select, so that in float the loops over the lanes
+// vectorise. layer_coefficients and layered_stack below are these with N = 1.
+template <typename T, int N> struct LayerLanes {
+    T a_f[N], a_b[N];
+    T kappa[N], e_k[N], q[N];
+};
+// κ, e^{-κ} and q from the lanes' a_f and a_b. An opaque layer (a_f = 0) keeps κ = 0,
+// e^{-κ} = 1, q = 0: layered_stacks treats it apart.
+template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void layer_lanes(LayerLanes<T, N>& c) {
     using std::sqrt;
+    T delta[N], x[N];
+    for (int k = 0; k < N; ++k) {
+        // cosh κ = 1 + δ, δ = ((1 - a_f)² - a_b²) / 2a_f without cancellation.
+        const T af = select(c.a_f[k] > T(0), c.a_f[k], T(1));
+        const T gap = T(1) - af - c.a_b[k];
+        delta[k] = select(gap > T(0), gap, T(0)) * (T(1) - af + c.a_b[k]) / (T(2) * af);
+    }
+    // The roots in a loop of their own (a sqrt, which may set errno, keeps a loop scalar).
+    for (int k = 0; k < N; ++k) x[k] = delta[k] + sqrt(delta[k] * (delta[k] + T(2)));  // e^κ - 1
+    for (int k = 0; k < N; ++k) c.kappa[k] = x[k];
+    elem::log1p_each(c.kappa);
+    for (int k = 0; k < N; ++k) {
+        const bool lit = c.a_f[k] > T(0);
+        const T e_k = T(1) / (T(1) + x[k]);
+        c.kappa[k] = select(lit, c.kappa[k], T(0));
+        c.e_k[k] = select(lit, e_k, T(1));
+        c.q[k] = select(lit, x[k] * e_k * (T(1) + e_k), T(0));  // (1 - e^{-κ})(1 + e^{-κ})
+    }
+}
+template <typename T> HAIRSCATTER_HD LayerCoefficients<T> layer_coefficients(T a_f, T a_b) {
+    LayerLanes<T, 1> l;
+    l.a_f[0] = a_f;
+    l.a_b[0] = a_b;
+    layer_lanes(l);
     LayerCoefficients<T> c;
     c.a_f = a_f;
     c.a_b = a_b;
-    if (!(a_f > T(0))) return c;  // opaque: layered_stack's own branch
-    // cosh κ = 1 + δ, δ = ((1 - a_f)² - a_b²) / 2a_f without cancellation.
-    const T gap = T(1) - a_f - a_b;
-    const T delta = (gap > T(0) ? gap : T(0)) * (T(1) - a_f + a_b) / (T(2) * a_f);
-    const T x = delta + sqrt(delta * (delta + T(2)));  // e^κ - 1
-    c.kappa = elem::log1p(x);
-    c.e_k = T(1) / (T(1) + x);
-    c.q = x * c.e_k * (T(1) + c.e_k);  // (1 - e^{-κ})(1 + e^{-κ})
+    c.kappa = l.kappa[0];
+    c.e_k = l.e_k[0];
+    c.q = l.q[0];
     return c;
 }
 // R_∞ of the same layer, a_b / (1 - a_f e^{-κ}): equal to deep_reflectance and consistent
 // with layered_stack as the depth grows (the ratio of the two tends to exactly 1).
+template <typename T> HAIRSCATTER_HD T deep_reflectance(T a_f, T a_b, T e_k) {
+    if (!(a_b > T(0))) return T(0);
+    const T den = T(1) - a_f * e_k;
+    return den > T(0) ? a_b / den : T(1);
+}
 template <typename T> HAIRSCATTER_HD T deep_reflectance(const LayerCoefficients<T>& c) {
-    if (!(c.a_b > T(0))) return T(0);
-    const T den = T(1) - c.a_f * c.e_k;
-    return den > T(0) ? c.a_b / den : T(1);
+    return deep_reflectance(c.a_f, c.a_b, c.e_k);
+}
+// R_N and T_N of every lane at its depth layers[k] (clamped to [0, 1e12]; NaN → 0).
+template <typename T, int N>
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void layered_stacks(const LayerLanes<T, N>& c, const T (&layers)[N], T (&R)[N],
+                                                            T (&T_)[N]) {
+    T n[N], big[N], d[N];
+    for (int k = 0; k < N; ++k) {
+        const T l = layers[k];
+        n[k] = select(l > T(0), select(l < T(1e12), l, T(1e12)), T(0));  // NaN → 0, +Inf → 1e12
+        big[k] = select(n[k] > T(1), n[k], T(1));
+        d[k] = -(big[k] - T(1)) * c.kappa[k];
+    }
+    elem::expm1_each(d);
+    for (int k = 0; k < N; ++k) {
+        // κ N ≈ 0, the lossless limit: ρ = (N - 1)/N, 1/S_N = 1/N. Otherwise, with
+        // d = 1 - e^{-(N-1)κ}: 1 - e^{-2(N-1)κ} = d (2 - d) and 1 - e^{-2Nκ} = q + d (2 - d)(1 - q),
+        // sums of non-negative terms.
+        const bool lossless = T(2) * big[k] * c.kappa[k] < T(1e-12);
+        const T dk = -d[k];
+        const T a = dk * (T(2) - dk);
+        const T s = c.q[k] + a * (T(1) - c.q[k]);
+        const T inv = T(1) / select(lossless, big[k], s);
+        const T rho = select(lossless, big[k] - T(1), c.e_k[k] * a) * inv;
+        const T inv_s = select(lossless, T(1), (T(1) - dk) * c.q[k]) * inv;
+        const T den = T(1) - c.a_f[k] * rho;
+        const bool ok = den > T(0);
+        const T inv_den = T(1) / select(ok, den, T(1));
+        T r = select(ok, c.a_b[k] * inv_den, T(1));
+        T t = select(ok, c.a_f[k] * inv_s * inv_den, T(0));
+        const bool part = n[k] < T(1);  // between no layer and one
+        r = select(part, n[k] * r, r);
+        t = select(part, T(1) + n[k] * (t - T(1)), t);
+        // An opaque layer: the first one reflects, nothing passes.
+        const bool opaque = !(c.a_f[k] > T(0));
+        const bool whole = n[k] >= T(1);
+        R[k] = select(opaque, select(whole, c.a_b[k], n[k] * c.a_b[k]), r);
+        T_[k] = select(opaque, select(whole, T(0), T(1) - n[k]), t);
+    }
 }
 template <typename T> HAIRSCATTER_HD LayerStack<T> layered_stack(const LayerCoefficients<T>& c, T layers) {
+    LayerLanes<T, 1> l;
+    l.a_f[0] = c.a_f;
+    l.a_b[0] = c.a_b;
+    l.kappa[0] = c.kappa;
+    l.e_k[0] = c.e_k;
+    l.q[0] = c.q;
+    const T depth[1] = {layers};
+    T R[1], T_[1];
+    layered_stacks(l, depth, R, T_);
     LayerStack<T> r;
-    const T n = is_finite(layers) ? clamp(layers, T(0), T(1e12)) : (layers > T(0) ? T(1e12) : T(0));  // NaN → 0
-    if (!(c.a_f > T(0))) {  // an opaque layer: the first one reflects, nothing passes
-        r.R = n >= T(1) ? c.a_b : n * c.a_b;
-        r.T_ = n >= T(1) ? T(0) : T(1) - n;
-        return r;
-    }
-    const T N = n > T(1) ? n : T(1);
-    T rho, inv_s;
-    if (T(2) * N * c.kappa < T(1e-12)) {  // κ N ≈ 0: the lossless limit
-        rho = (N - T(1)) / N;
-        inv_s = T(1) / N;
-    } else {
-        // With d = 1 - e^{-(N-1)κ}: 1 - e^{-2(N-1)κ} = d (2 - d) and
-        // 1 - e^{-2Nκ} = q + d (2 - d)(1 - q), sums of non-negative terms.
-        const T d = -elem::expm1(-(N - T(1)) * c.kappa);
-        const T a = d * (T(2) - d);
-        const T s = c.q + a * (T(1) - c.q);
-        rho = c.e_k * a / s;
-        inv_s = (T(1) - d) * c.q / s;
-    }
-    const T den = T(1) - c.a_f * rho;
-    r.R = den > T(0) ? c.a_b / den : T(1);
-    r.T_ = den > T(0) ? c.a_f * inv_s / den : T(0);
-    if (n < T(1)) {  // between no layer and one
-        r.R = n * r.R;
-        r.T_ = T(1) + n * (r.T_ - T(1));
-    }
+    r.R = R[0];
+    r.T_ = T_[0];
     return r;
 }
 template <typename T> HAIRSCATTER_HD LayerStack<T> layered_stack(T a_f, T a_b, T layers) {
@@ -200,7 +254,10 @@ template <typename T> struct DualTablesView {
     // The θ cell of inclination sinθ (clamped; NaN reads the first cell).
     HAIRSCATTER_HD Cell cell(T sin_theta) const {
         const T s = clamp(sin_theta, T(-1), T(1));
-        const T theta = elem::asin(is_finite(s) ? s : T(-1));
+        return cell_of_angle(elem::asin(is_finite(s) ? s : T(-1)));
+    }
+    // The same from θ ∈ [-π/2, π/2] itself, for a caller that has it (one asin fewer).
+    HAIRSCATTER_HD Cell cell_of_angle(T theta) const {
         const T u = clamp(elem::asin(clamp(theta * (T(2) * kInvPi<T>), T(-1), T(1))) * (T(2) * kInvPi<T>), T(-1), T(1));
         const T x = (u + T(1)) * T(0.5) * T(n_theta - 1);
         int i = int(x);

@@ -64,6 +64,24 @@ template <typename T, int N> struct DeonLanes {
         factor = norm[k] * select(small, series, asymptotic);
     }
 
+    // Every lane k as the lobe of variance v[k] conditioned on θo' = (s[k], c[k]), for lanes
+    // whose variance changes per call (dual scattering widens its lobes by the light's
+    // spread): DeonLongitudinal's constants, each as one loop over the lanes.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void set(const T (&v)[N], const T (&s)[N], const T (&c)[N]) {
+        T e[N];
+        for (int k = 0; k < N; ++k) {
+            const T inv_v = T(1) / v[k];
+            sin_o[k] = s[k];
+            cos_o[k] = c[k];
+            a_scale[k] = c[k] * inv_v;
+            half_inv_v[k] = T(0.5) * inv_v;
+            e[k] = T(-2) * inv_v;
+        }
+        elem::expm1_each(e);
+        for (int k = 0; k < N; ++k) norm[k] = T(2) * half_inv_v[k] / -e[k];  // 1 / (v (1 - e^(-2/v)))
+        take_roots();
+    }
+
     // M of every lane at (sinθi, cosθi): the terms, then their exps as one batch.
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void eval_all(T sin_i, T cos_i, T (&m)[N]) const {
         using std::sqrt;

@@ -126,12 +126,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
 
     // Σ_p A_p(wo) over the kept lobes, each times its lobe_weight(p) (gain × tint): the
     // directional albedo, exact for this model because every M_p and N_p is normalised.
-    HAIRSCATTER_HD V3 albedo(const V3& wo) const {
-        const Outgoing o = outgoing<false>(wo);
-        V3 a(T(0));
-        for (int k = 0; k < kKeptLanes; ++k) a += o.a[k];
-        return a;
-    }
+    HAIRSCATTER_HD V3 albedo(const V3& wo) const { return albedo_from(outgoing<false>(wo)); }
 
   private:
     friend class FiberModel<BasicChiangFiber, T>;
@@ -158,6 +153,13 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         DeonLanes<T, kLanes> m;        // M_p conditioned on the tilted θo'
         T phi_p[kLanes];               // Φ(p, h), wrapped to [-π, π] (0 for the residual)
     };
+
+    // Σ_p A_p of the bound terms (albedo(wo); BoundFiber::albedo()).
+    HAIRSCATTER_HD V3 albedo_from(const Outgoing& o) const {
+        V3 a(T(0));
+        for (int k = 0; k < kKeptLanes; ++k) a += o.a[k];
+        return a;
+    }
 
     // Only R needs no refracted path (no transmittance, no γt).
     static constexpr bool kRefracts = (kKept & ~LobeSet::kR) != LobeSet::kNone;

@@ -151,8 +151,17 @@ template <typename Fiber> class BoundFiber {
     }
     HAIRSCATTER_HD const V3& wo() const { return wo_; }
     HAIRSCATTER_HD const Fiber& fiber() const { return fiber_; }
+    // The fiber's albedo(wo): from the bound terms when the model offers albedo_from(o)
+    // (no second pass over the wo terms), else by albedo(wo).
+    HAIRSCATTER_HD V3 albedo() const { return albedo_of(0); }
 
   private:
+    template <typename F = Fiber, typename O = typename F::Outgoing>
+    HAIRSCATTER_HD auto albedo_of(int) const -> decltype(std::declval<const F&>().albedo_from(std::declval<const O&>())) {
+        return fiber_.albedo_from(o_);
+    }
+    template <typename F = Fiber> HAIRSCATTER_HD V3 albedo_of(long) const { return fiber_.albedo(wo_); }
+
     Fiber fiber_;
     V3 wo_;
     bool valid_;

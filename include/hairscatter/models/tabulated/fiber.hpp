@@ -71,8 +71,8 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
         const T* n1;
         V3 residual;      // Ã_3 / 2π
         T t;              // weight of the second row
-        T s[kLobes + 1];  // interpolated channel sums of the lobe masses
-        T total;          // their sum: 3 × mean(albedo)
+        T s[kLobes + 1];  // interpolated channel sums of the lobe masses (outgoing<true>)
+        T total;          // their sum: 3 × mean(albedo) (outgoing<true>)
         T sin_p[kLobes + 1], cos_p[kLobes + 1];  // tilted θo' per lobe
         DeonLanes<T, kLobes + 1> m;               // !kTable: the exact M_p at θo', side by side
         int row;
@@ -125,7 +125,7 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
 
   private:
     // The same terms serve eval, pdf and sample (pdf = mean(f) / Σ s_p in one loop).
-    template <bool kW> HAIRSCATTER_HD Outgoing outgoing(const V3& wo) const {
+    template <bool kW> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE Outgoing outgoing(const V3& wo) const {
         Outgoing o;
         const T sin_o = clamp(wo.x, T(-1), T(1));
         const T cos_o = cos_from_sin(sin_o);
@@ -134,10 +134,12 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
         o.n1 = v_->lobes(o.row + 1);
         const T* a = v_->row_terms(o.row);
         const T* b = v_->row_terms(o.row + 1);
-        o.total = T(0);
-        for (int p = 0; p <= kLobes; ++p) {
-            o.s[p] = a[12 + p] + o.t * (b[12 + p] - a[12 + p]);
-            o.total += o.s[p];
+        if constexpr (kW) {  // the lobe masses: pdf and sample only
+            o.total = T(0);
+            for (int p = 0; p <= kLobes; ++p) {
+                o.s[p] = a[12 + p] + o.t * (b[12 + p] - a[12 + p]);
+                o.total += o.s[p];
+            }
         }
         v_->tilt_all(sin_o, cos_o, o.sin_p, o.cos_p);
         if (v_->longitudinal_tabulated()) {
@@ -157,15 +159,16 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
     }
 
     template <bool kF, bool kPdf>
-    HAIRSCATTER_HD HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
-        if (!(is_finite(wo) && is_finite(wi))) return HairEvalPdf<T>{};  // non-finite input: 0 (see HairSample)
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
+        // Finite wo and wi: FiberModel and BoundFiber (models/contract.hpp) check before calling.
         const T sin_i = clamp(wi.x, T(-1), T(1));
         const T phi = relative_azimuth(wo, wi);
-        return combine(o, sin_i, cos_from_sin(sin_i), phi);
+        return combine<kPdf>(o, sin_i, cos_from_sin(sin_i), phi);
     }
 
-    // f and pdf at (θi, φ): the four M_p, then the bilinear lobes.
-    HAIRSCATTER_HD HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
+    // f and (kPdf) pdf at (θi, φ): the four M_p, then the bilinear lobes.
+    template <bool kPdf>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
         T m[kLobes + 1];
         if (v_->longitudinal_tabulated())
             for (int p = 0; p <= kLobes; ++p) m[p] = v_->longitudinal_table(p).eval(o.mc[p], sin_i);
@@ -177,19 +180,19 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
         const T* a = o.n0 + i * View::kNodeStride;
         const T* b = o.n1 + i * View::kNodeStride;
         const T w00 = (T(1) - o.t) * (T(1) - u), w01 = (T(1) - o.t) * u, w10 = o.t * (T(1) - u), w11 = o.t * u;
+        // The 9 values of a node as a loop of 8 over plain arrays (one AVX vector, two SSE:
+        // at -O2 GCC vectorises only loops without a remainder) and the 9th apart, then
+        // weighted by M_p.
+        constexpr int S = View::kNodeStride, kVec = S & ~3;
+        T n[S];
+        for (int k = 0; k < kVec; ++k) n[k] = w00 * a[k] + w01 * a[S + k] + w10 * b[k] + w11 * b[S + k];
+        for (int k = kVec; k < S; ++k) n[k] = w00 * a[k] + w01 * a[S + k] + w10 * b[k] + w11 * b[S + k];
         V3 f = m[kLobes] * o.residual;
-        for (int p = 0; p < kLobes; ++p) {
-            V3 n;
-            for (int c = 0; c < 3; ++c) {
-                const int k = 3 * p + c;
-                n[c] = w00 * a[k] + w01 * a[View::kNodeStride + k] + w10 * b[k] + w11 * b[View::kNodeStride + k];
-            }
-            f += m[p] * n;
-        }
+        for (int p = 0; p < kLobes; ++p) f += m[p] * V3(n[3 * p], n[3 * p + 1], n[3 * p + 2]);
         HairEvalPdf<T> r;
         r.f = f;
         // total ≥ the R lobe's F > 0 without lobe controls; zero gains can make it 0.
-        r.pdf = o.total > T(0) ? (f.x + f.y + f.z) / o.total : T(0);
+        if constexpr (kPdf) r.pdf = o.total > T(0) ? (f.x + f.y + f.z) / o.total : T(0);
         return r;
     }
 
@@ -216,7 +219,7 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
             phi = v_->sample_phi(row, p, u.w);
         }
 
-        return make_sample(direction_from_azimuth(wo, sin_i, phi), lobe_tag(p), combine(o, sin_i, cos_i, phi));
+        return make_sample(direction_from_azimuth(wo, sin_i, phi), lobe_tag(p), combine<true>(o, sin_i, cos_i, phi));
     }
 
     const View* v_;
