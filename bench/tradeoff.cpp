@@ -408,16 +408,22 @@ template <typename T> void add_marschner(int nodes, bool quick) {
                   quick);
 }
 
-template <typename T> void add_huang(int nodes, int normal_nodes, bool quick) {
+// Huang at the quadrature (offset nodes, TT points, internal normals per TT path; 0 = auto).
+template <typename T> void add_huang(int nodes, int tt, int per_tt, bool quick) {
     using Fiber = hs::HuangFiber<T>;
     using M = hs::HuangMaterial<T>;
-    const int n = nodes == M::kAutoNodes ? M::auto_nodes(T(0.3)) : nodes;
+    hs::HuangQuadrature q;
+    q.offset_nodes = nodes;
+    q.tt_points = tt;
+    q.trt_per_tt = per_tt;
+    const hs::HuangMaterial<double> probe(huang_params(study_params(false)), q);  // the resolved counts, for the knob's name
+    const bool is_default = nodes == 0 && tt == 0 && per_tt == 0;
     add<T, Fiber>("huang",
-                  (nodes == M::kAutoNodes ? "auto (" + std::to_string(n) + ")" : std::to_string(n)) + " × " +
-                      std::to_string(normal_nodes) + "² nodes",
+                  std::to_string(probe.nodes()) + " / " + std::to_string(probe.tt_points()) + " × " +
+                      std::to_string(probe.trt_per_tt()) + (is_default ? " (default)" : ""),
                   Family::kHuang,
-                  [nodes, normal_nodes](const hs::FiberParams<T>& p) {
-                      const auto mat = std::make_shared<const M>(huang_params(p), nodes, normal_nodes);
+                  [q](const hs::FiberParams<T>& p) {
+                      const auto mat = std::make_shared<const M>(huang_params(p), q);
                       return std::function<Fiber(T, const glm::vec<3, T>&)>([mat](T, const glm::vec<3, T>&) { return Fiber(*mat); });
                   },
                   quick);
@@ -461,11 +467,13 @@ void add_settings(bool quick) {
     add_tabulated_bound<float>("fast (M table)", hs::TabulatedOptions::fast(), quick);
     for (int n : {1, 3, 7, 16}) add_marschner<float>(n, quick);
     add_marschner<double>(7, quick);
-    add_huang<float>(4, 1, quick);
-    add_huang<float>(hs::HuangMaterial<float>::kAutoNodes, 1, quick);
-    add_huang<float>(hs::HuangMaterial<float>::kAutoNodes, 2, quick);
-    add_huang<float>(48, 2, quick);
-    add_huang<double>(hs::HuangMaterial<double>::kAutoNodes, 1, quick);
+    add_huang<float>(4, 4, 1, quick);
+    add_huang<float>(0, 16, 2, quick);
+    add_huang<float>(0, 32, 2, quick);
+    add_huang<float>(0, 0, 0, quick);
+    add_huang<float>(0, 64, 4, quick);
+    add_huang<float>(0, 128, 4, quick);
+    add_huang<double>(0, 0, 0, quick);
 }
 
 // Collects the medians (CPU time, ns) of every benchmark by name.

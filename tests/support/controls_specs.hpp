@@ -2,11 +2,13 @@
 // per model (how to build its material with or without controls, a parameter set from
 // d'Eon-style βm, βn, α, σa, its random and extreme parameters) over the model's own spec
 // (model_specs.hpp), and ControlsSpec<Adapter>, the contract suite's spec of the model with
-// random gains, tints and tilt overrides. tests/controls_test.cpp uses the adapters,
-// tests/contract/with_controls_*.cpp instantiate the suite with ControlsSpec.
+// random gains, tints and tilt overrides; HuangControlsSpec, Huang's with gains and tints.
+// tests/controls_test.cpp uses the adapters, tests/contract/with_controls_*.cpp instantiate
+// the suite with these specs.
 #pragma once
 
 #include <algorithm>
+#include <limits>
 #include <memory>
 #include <random>
 #include <string>
@@ -213,6 +215,74 @@ struct ControlsSpec : SpecBase<typename A::Fiber, typename A::Material, std::max
             add("gain_residual", [](hs::LobeControls<T>& c) { c.gain[3] = T(2); });
             add("tint_residual", [](hs::LobeControls<T>& c) { c.tint[3].b = T(0.5); });
         }
+        return r;
+    }
+};
+
+// Huang with random gains (a zero on some lobe) and tints: the contract suite's checks
+// (chi-square with a zero gain on each lobe in turn, furnace against the scaled albedo,
+// lobe split, extremes with gains 0 and 1e6).
+template <typename T> struct HuangControlsSpec : HuangSpec<T> {
+    using Base = HuangSpec<T>;
+    using Fiber = typename Base::Fiber;
+    using Material = typename Base::Material;
+    using V3 = glm::vec<3, T>;
+    static constexpr bool kConservesEnergy = false;
+
+    static hs::LobeControls<T> controls(double g0, double g1, double g2, double g3) {
+        hs::LobeControls<T> c;
+        const double g[4] = {g0, g1, g2, g3};
+        for (int p = 0; p < 4; ++p) c.gain[p] = T(g[p]);
+        c.tint[0] = V3(T(1), T(0.8), T(0.6));
+        c.tint[2] = V3(T(0.5), T(1), T(2));
+        return c;
+    }
+    static Instance<Fiber> random(std::mt19937_64& rng, int k) {
+        const hs::HuangParams<T> p = Base::random_params(rng, k);
+        std::uniform_real_distribution<double> uni(0, 1);
+        double g[4];
+        for (double& x : g) x = 3 * uni(rng);
+        g[k % 4] = k % 3 == 0 ? 0.0 : g[k % 4];  // a zero gain on every third material
+        return Base::make(p, Base::random_quadrature(k), "random " + std::to_string(k), controls(g[0], g[1], g[2], g[3]));
+    }
+    static std::vector<Instance<Fiber>> extremes() {
+        std::vector<Instance<Fiber>> r;
+        for (double rough : {0.02, 1.0})
+            for (double sa : {0.0, 50.0})
+                for (double g : {0.0, 1e-30, 1e6}) {
+                    hs::LobeControls<T> c = controls(g, 1e6 - g, g, 1);
+                    c.tint[3] = V3(T(1e6), T(0), T(1e-30));
+                    const hs::HuangParams<T> p = huang_params<T>(rough, 22.5 * 0.9999, glm::dvec3(sa), 0.5, 1.0);
+                    r.push_back(Base::make(p, Base::quadrature(3, 5, 2), "gain " + std::to_string(g), c));
+                }
+        return r;
+    }
+    // Zero gains on each lobe in turn, large and small gains, tints.
+    static std::vector<Chi2Case<Fiber>> chi2_cases() {
+        const glm::dvec3 sa(0.5, 0.3, 0.15);
+        const hs::HuangQuadrature q = Base::quadrature(5, 12, 2);
+        std::vector<Chi2Case<Fiber>> r;
+        r.push_back({Base::make(huang_params<T>(0.3, 2, sa, 0.8, 0.3), q, "no TT", controls(1, 0, 1, 1)), 30});
+        r.push_back({Base::make(huang_params<T>(0.2, 2, sa, 0.6, -1.0), q, "no R", controls(0, 1, 1, 1)), -40});
+        r.push_back({Base::make(huang_params<T>(0.5, -3, sa, 1.0, 0.0), q, "no TRT", controls(1, 1, 0, 1)), 60});
+        r.push_back({Base::make(huang_params<T>(0.3, 2, glm::dvec3(0), 0.5, 2.0), q, "no residual", controls(2, 0.5, 1.5, 0)), 10});
+        return r;
+    }
+    static chi2::Options chi2_options() { return grid_options(8, 60000, 10, 20, 2); }  // 4 cases × 2 precisions
+    static Instance<Fiber> lossless() {
+        return Base::make(huang_params<T>(0.3, 2, glm::dvec3(0), 0.7, 0.4), Base::quadrature(8, 16, 2), "lossless, gains",
+                          controls(2, 0.5, 1.5, 0.25));
+    }
+    static std::vector<Invalid> invalid() {
+        std::vector<Invalid> r;
+        auto add = [&](const char* field, auto change) {
+            hs::LobeControls<T> c;
+            change(c);
+            r.push_back({[c] { Material m(hs::HuangParams<T>(), c); }, field});
+        };
+        add("gain_r", [](hs::LobeControls<T>& c) { c.gain[0] = T(-1); });
+        add("tint_trt.g", [](hs::LobeControls<T>& c) { c.tint[2].g = std::numeric_limits<T>::infinity(); });
+        add("alpha_override", [](hs::LobeControls<T>& c) { c.override_alpha(1, T(0.05)); });
         return r;
     }
 };

@@ -497,24 +497,39 @@ template <typename T> struct HuangSpec : SpecBase<hs::HuangFiber<T>, hs::HuangMa
     // φ) integrate this smooth lossless fiber to ~1e-5, within the tolerance.
     static constexpr int kFurnaceDepth = 3;
 
-    static Instance<Fiber> make(const hs::HuangParams<T>& p, int nodes, int normal_nodes, std::string name) {
-        return make_instance<Fiber>(std::make_shared<const Material>(p, nodes, normal_nodes),
-                                    std::move(name) + " " + std::to_string(nodes) + "×" + std::to_string(normal_nodes) +
-                                        "² nodes");
+    static hs::HuangQuadrature quadrature(int nodes, int tt, int per_tt) {
+        hs::HuangQuadrature q;
+        q.offset_nodes = nodes;
+        q.tt_points = tt;
+        q.trt_per_tt = per_tt;
+        return q;
+    }
+    static std::string knobs(const hs::HuangQuadrature& q) {
+        return std::to_string(q.offset_nodes) + "/" + std::to_string(q.tt_points) + "×" + std::to_string(q.trt_per_tt) +
+               " points";
+    }
+    static Instance<Fiber> make(const hs::HuangParams<T>& p, const hs::HuangQuadrature& q, std::string name,
+                                const hs::LobeControls<T>& c = hs::LobeControls<T>()) {
+        return make_instance<Fiber>(std::make_shared<const Material>(p, q, c), std::move(name) + " " + knobs(q));
     }
     static std::string label(double rough, double alpha, double sa, double aspect, double psi) {
         return "β " + std::to_string(rough) + " α " + std::to_string(alpha) + "° σa " + std::to_string(sa) + " b/a " +
                std::to_string(aspect) + " ψ " + std::to_string(psi);
     }
-    // β 0.1–1, α ±5°, b/a 0.5–1, any orientation, coloured σa on odd k; 2–9 offset nodes,
-    // 1–3 normal nodes (the sampler must match pdf at every setting).
-    static Instance<Fiber> random(std::mt19937_64& rng, int k) {
+    // β 0.1–1, α ±5°, b/a 0.5–1, any orientation, coloured σa on odd k: the parameters of
+    // the k-th random material.
+    static hs::HuangParams<T> random_params(std::mt19937_64& rng, int k) {
         std::uniform_real_distribution<double> uni(0, 1);
         const double sa = (k % 2) * 2 * uni(rng);
         const double rough = 0.1 + 0.9 * uni(rng), al = -5 + 10 * uni(rng), aspect = 0.5 + 0.5 * uni(rng);
         const double psi = -kPi + 2 * kPi * uni(rng);
-        return make(huang_params<T>(rough, al, glm::dvec3(sa, 0.5 * sa, 2 * sa), aspect, psi), 2 + k % 8, 1 + k % 3,
-                    "random " + std::to_string(k));
+        return huang_params<T>(rough, al, glm::dvec3(sa, 0.5 * sa, 2 * sa), aspect, psi);
+    }
+    // 2–9 offset nodes, 3–24 TT points with 1–3 internal normals each (the sampler must
+    // match pdf at every setting, and a few points keep the suite fast).
+    static hs::HuangQuadrature random_quadrature(int k) { return quadrature(2 + k % 8, 3 + 7 * (k % 4), 1 + k % 3); }
+    static Instance<Fiber> random(std::mt19937_64& rng, int k) {
+        return make(random_params(rng, k), random_quadrature(k), "random " + std::to_string(k));
     }
     static std::vector<Instance<Fiber>> extremes() {
         std::vector<Instance<Fiber>> r;
@@ -525,32 +540,36 @@ template <typename T> struct HuangSpec : SpecBase<hs::HuangFiber<T>, hs::HuangMa
                         hs::HuangParams<T> p = huang_params<T>(rough, 0, glm::dvec3(sa), aspect, kPi * 0.9999);
                         p.alpha = T(deg(al)) * T(0.9999);
                         const std::string l = label(rough, al, sa, aspect, kPi);
-                        r.push_back(make(p, 1, 1, l));
-                        r.push_back(make(p, 7, 3, l));
+                        r.push_back(make(p, quadrature(1, 1, 1), l));
+                        r.push_back(make(p, quadrature(7, 9, 3), l));
                     }
         return r;
     }
     // 8 cases: β 0.1–1, θo 0 to ±89°, σa 0–20, round and strongly elliptical (b/a 0.5)
-    // sections at several orientations, tilts to ±10°, offset nodes 1–6, normal nodes 1–2
-    // (the pdf is exact at any count; the random materials above reach 3 normal nodes).
+    // sections at several orientations, tilts to ±10°, offset nodes 1–6, 1–32 TT points
+    // with 1–4 internal normals each (the pdf is exact at any count).
     struct Case {
         double roughness, alpha_deg, theta_o_deg, sigma_a, aspect, orientation;
-        int nodes, normal_nodes;
+        int nodes, tt, per_tt;
     };
     static const std::vector<Case>& grid() {
         static const std::vector<Case> g = {
-            {0.3, 2, 30, 0.5, 1.0, 0.0, 6, 1},    {0.3, 2, 30, 0.0, 0.5, 0.4, 3, 2},  {0.15, -5, 60, 0.5, 0.5, 1.5, 6, 1},
-            {1.0, 2, -45, 0.0, 0.7, -2.0, 2, 2},  {0.3, 10, 89, 0.0, 0.5, 0.0, 5, 1}, {0.3, 2, -89, 20.0, 0.5, 2.5, 4, 1},
-            {0.5, 0, 0, 0.5, 0.8, 1.0, 1, 1},     {0.1, 2, -20, 0.5, 0.6, -0.7, 6, 1},
+            {0.3, 2, 30, 0.5, 1.0, 0.0, 6, 16, 2},   {0.3, 2, 30, 0.0, 0.5, 0.4, 3, 32, 2},
+            {0.15, -5, 60, 0.5, 0.5, 1.5, 6, 8, 1},  {1.0, 2, -45, 0.0, 0.7, -2.0, 2, 5, 4},
+            {0.3, 10, 89, 0.0, 0.5, 0.0, 5, 12, 1},  {0.3, 2, -89, 20.0, 0.5, 2.5, 4, 16, 3},
+            {0.5, 0, 0, 0.5, 0.8, 1.0, 1, 1, 1},     {0.1, 2, -20, 0.5, 0.6, -0.7, 6, 24, 2},
         };
         return g;
+    }
+    static hs::HuangParams<T> chi2_params(const Case& c) {
+        return huang_params<T>(c.roughness, c.alpha_deg, glm::dvec3(c.sigma_a, 0.6 * c.sigma_a, 0.3 * c.sigma_a), c.aspect,
+                               c.orientation);
     }
     static std::vector<Chi2Case<Fiber>> chi2_cases() {
         std::vector<Chi2Case<Fiber>> r;
         for (const Case& c : grid())
-            r.push_back({make(huang_params<T>(c.roughness, c.alpha_deg,
-                                              glm::dvec3(c.sigma_a, 0.6 * c.sigma_a, 0.3 * c.sigma_a), c.aspect, c.orientation),
-                              c.nodes, c.normal_nodes, label(c.roughness, c.alpha_deg, c.sigma_a, c.aspect, c.orientation)),
+            r.push_back({make(chi2_params(c), quadrature(c.nodes, c.tt, c.per_tt),
+                              label(c.roughness, c.alpha_deg, c.sigma_a, c.aspect, c.orientation)),
                          c.theta_o_deg});
         return r;
     }
@@ -558,7 +577,10 @@ template <typename T> struct HuangSpec : SpecBase<hs::HuangFiber<T>, hs::HuangMa
     // the pdf walks every path (µs per call), and at β ≥ 0.1 the lobes are smooth on the
     // finest cells (0.05 in sinθ, 0.08 rad in φ). About a minute per precision.
     static chi2::Options chi2_options() { return grid_options(2 * int(grid().size()), 60000, 10, 20, 2); }
-    static Instance<Fiber> lossless() { return make(huang_params<T>(0.3, 2, glm::dvec3(0), 0.7, 0.4), 8, 1, "lossless"); }
+    static Instance<Fiber> lossless() {
+        return make(huang_params<T>(0.3, 2, glm::dvec3(0), 0.7, 0.4), quadrature(8, 16, 2), "lossless");
+    }
+    // Every bad parameter and knob, and bad controls (add to r).
     static std::vector<Invalid> invalid() {
         std::vector<Invalid> r;
         auto add = [&](const char* field, auto change) {
@@ -579,9 +601,14 @@ template <typename T> struct HuangSpec : SpecBase<hs::HuangFiber<T>, hs::HuangMa
         add("aspect_ratio", [nan](auto& p) { p.aspect_ratio = nan; });
         add("orientation", [](auto& p) { p.orientation = T(4); });
         for (int n : {-1, Material::kMaxNodes + 1})
-            r.push_back({[n] { Material m(hs::HuangParams<T>(), n); }, "nodes"});
-        for (int n : {0, Material::kMaxNormalNodes + 1})
-            r.push_back({[n] { Material m(hs::HuangParams<T>(), 8, n); }, "normal_nodes"});
+            r.push_back({[n] { Material m(hs::HuangParams<T>(), quadrature(n, 0, 0)); }, "offset_nodes"});
+        for (int n : {-1, Material::kMaxTTPoints + 1})
+            r.push_back({[n] { Material m(hs::HuangParams<T>(), quadrature(0, n, 0)); }, "tt_points"});
+        for (int n : {-3, Material::kMaxTrtPerTT + 1})
+            r.push_back({[n] { Material m(hs::HuangParams<T>(), quadrature(0, 0, n)); }, "trt_per_tt"});
+        // More TRT points than the material holds.
+        r.push_back({[] { Material m(hs::HuangParams<T>(), quadrature(0, Material::kMaxTTPoints, Material::kMaxTrtPerTT)); },
+                     "trt_per_tt"});
         return r;
     }
 };

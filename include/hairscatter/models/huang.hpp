@@ -5,7 +5,8 @@
 // lumped into one residual lobe (docs/theory.md §3.6, docs/models.md).
 //
 // Deterministic: eval integrates the cross-section and the internal microfacet normals by
-// fixed quadrature rules (two knobs: the offset nodes and the normal nodes), draws no random
+// fixed quadrature rules (three knobs: the R rule's offset nodes, the TT and TRT lattices'
+// points), draws no random
 // numbers, and sample() draws from exactly the density pdf() returns.
 #pragma once
 
@@ -23,6 +24,7 @@
 #include "../fiber/ellipse.hpp"
 #include "../fiber/frame.hpp"
 #include "../fiber/params.hpp"
+#include "../lobes/lobe_controls.hpp"
 #include "../lobes/longitudinal.hpp"
 #include "../lobes/microfacet.hpp"
 #include "../math/constants.hpp"
@@ -77,33 +79,64 @@ template <typename T> std::string validate(const HuangParams<T>& p) {
     return msg.str();
 }
 
-// Everything that depends only on the parameters and the two node counts, built once on the
-// host (the constructor throws std::invalid_argument naming a bad parameter or count).
-// Trivially copyable, a few KB: copy it to device memory once and pass the fiber a pointer.
+// The quadrature of HuangFiber, three knobs (0: the automatic choice of each):
+//   offset_nodes  the R rule: Gauss–Legendre nodes in γ (auto_nodes);
+//   tt_points     the paths into the fiber: points of a rank-1 lattice over (γ, u1, u2),
+//                 the offset and the entry's visible normal (auto_tt_points);
+//   trt_per_tt    internal reflections per path: with them the TRT paths are the points of
+//                 a rank-1 lattice of N_TT × trt_per_tt points over (γ, u1, u2, u1', u2'),
+//                 (u1', u2') the visible normal that reflects inside (auto_trt_per_tt).
+struct HuangQuadrature {
+    int offset_nodes = 0;
+    int tt_points = 0;
+    int trt_per_tt = 0;
+};
+
+// Everything that depends only on the parameters, the quadrature and the lobe controls,
+// built once on the host (the constructor throws std::invalid_argument naming a bad
+// parameter, count or control). Trivially copyable, ~48 KB in float: copy it to device
+// memory once and pass the fiber a pointer.
 //
 // The offset integral: a far-field ray hits the section at h ∈ (-1, 1) uniformly
-// (fiber/ellipse.hpp); nodes of an n-point Gauss–Legendre rule in γ = asin h (the rim goes
-// like sqrt(1 - h²) and is smooth in γ), each weighted by how much of the beam the tilted
-// surface there intercepts, ∝ max(0, v·m) |A⁻¹c| per unit γ (the cosine to the mesonormal
-// m instead of the section's normal), renormalised to sum to 1 at every wo.
+// (fiber/ellipse.hpp); in γ = asin h (the rim goes like sqrt(1 - h²) and is smooth in γ)
+// each offset is weighted by how much of the beam the tilted surface there intercepts,
+// ∝ max(0, v·m) |A⁻¹c| per unit γ (the cosine to the mesonormal m instead of the section's
+// normal, as Huang et al. 2022's far-field integral over the offset).
 //
-// The internal microfacet normals (TT's entry, TRT's internal reflection): the visible-normal
-// distribution's unit square (u1 the cap's azimuth, u2 its height, lobes/microfacet.hpp) by
-// k midpoints in u1 (periodic) × k Gauss–Legendre nodes in u2, k = normal_nodes.
+// Rules that integrate each path order jointly:
+//   R    n Gauss–Legendre nodes in γ (the R lobe is closed-form in the normal);
+//   TT   a rank-1 lattice of N_TT points over (γ, u1, u2): u the entry's visible normal in
+//        the unit square of lobes/microfacet.hpp (u1 the cap's azimuth, u2 its height);
+//   TRT  a rank-1 lattice of N_TRT = m N_TT points over (γ, u1, u2, u1', u2'), (u1', u2')
+//        the visible normal that reflects inside, whose generator is m times TT's in its
+//        first three coordinates: TRT point k continues TT path k mod N_TT, so each TT path
+//        reflects at m normals of its own and the TRT paths share TT's entries and chords.
+// A lattice's N points are x_k = frac((k g + 1/2) / N) with the Korobov generator
+// g = (1, a, a², …) mod N (TRT's last two: (b, b²) mod N_TRT) whose a (b) minimises the
+// worst-case error P₂ (Sloan & Joe 1994) of the unshifted lattice, found at construction,
+// and shifted by half a cell. (The tent map 1 - |2x - 1| of Hickernell 2002 on γ
+// and the heights measured worse here: it halves the distinct offsets, and the integrand
+// has kinks anyway.) Unlike a product rule,
+// every point has its own offset and its own normals, so TT and TRT are not a few shifted
+// copies of the same lobes.
 //
-// The reflectance tables: E(c) = ∫ F(v·h) D_v(h) dh, the share of the light arriving at
-// cos c to the mesonormal that the interface reflects, outside (index η) and inside (1/η,
-// with total internal reflection), tabulated on kTableSize cosines from a fine product rule.
-// They fix each interface's split exactly: the quadrature's normals only decide where the
-// transmitted (or internally reflected) part goes, and the energy stays exact.
+// The energies stay exact: the R rule fixes the light reflected at the surface,
+// Σ_k ŵ_k E_out, and so the light transmitted, Σ_k ŵ_k (1 - E_out); the TT paths' weights
+// ∝ max(0, v·m)|A⁻¹c| (1 - F(v·h)) are scaled to carry exactly that, and each path's exit
+// splits its light into E_in(c₂) reflected, shared by its m internal normals ∝ F, and the
+// rest refracted out. E(c) = ∫ F(v·h) D_v(h) dh,
+// the share of the light arriving at cos c to the mesonormal that the interface reflects,
+// outside (index η) and inside (1/η, with total internal reflection), comes from tables over
+// kTableSize cosines built from a fine product rule.
 template <typename T> class HuangMaterial {
   public:
+    using V3 = glm::vec<3, T>;
     static constexpr int kLobes = 3;  // R, TT, TRT explicit; index 3 is the residual
     static constexpr int kMaxNodes = 128;
-    static constexpr int kAutoNodes = 0;  // choose the offset nodes from the roughness (auto_nodes)
-    static constexpr int kMaxNormalNodes = 4;
-    static constexpr int kMaxNormalPoints = kMaxNormalNodes * kMaxNormalNodes;
-    static constexpr int kDefaultNormalNodes = 2;
+    static constexpr int kAutoNodes = 0;  // the automatic choice of any of the three knobs
+    static constexpr int kMaxTTPoints = 1024;
+    static constexpr int kMaxTrtPerTT = 8;
+    static constexpr int kMaxTRTPoints = 2048;  // N_TT × trt_per_tt
     static constexpr int kTableSize = 129;
 
     // Offset nodes that resolve the R lobe: R's exit azimuth turns by 2 per unit γ, and the
@@ -116,31 +149,49 @@ template <typename T> class HuangMaterial {
         const int k = n > double(kMaxNodes) ? kMaxNodes : int(n);
         return k < 16 ? 16 : k;
     }
+    // The lattices' sizes, chosen from the measured error against cost (tests/huang_test.cpp
+    // prints it): N_TT = kDefaultTT at roughness 0.3 and above, growing as 1/α below it (the
+    // lobes narrow and the points must follow) up to kMaxTRTPoints / kDefaultTrtPerTT.
+    static int auto_tt_points(T roughness) {
+        const double r = double(roughness);
+        const double n = r >= 0.3 ? kDefaultTT : std::ceil(kDefaultTT * 0.3 / r);
+        const double max = kMaxTRTPoints / kDefaultTrtPerTT;
+        return n > max ? int(max) : int(n);
+    }
+    static int auto_trt_per_tt(T) { return kDefaultTrtPerTT; }
 
-    explicit HuangMaterial(const HuangParams<T>& params, int nodes = kAutoNodes, int normal_nodes = kDefaultNormalNodes)
-        : params_(params) {
+    explicit HuangMaterial(const HuangParams<T>& params, const HuangQuadrature& quadrature = HuangQuadrature(),
+                           const LobeControls<T>& controls = LobeControls<T>())
+        : params_(params), controls_(controls) {
         const std::string m = validate(params);
         if (!m.empty()) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: invalid Huang parameters: " + m));
-        if (!(nodes >= 0 && nodes <= kMaxNodes))
-            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: HuangMaterial: nodes = " + std::to_string(nodes) +
-                                                    " is outside its range [1, " + std::to_string(kMaxNodes) +
-                                                    "] (or 0 for the automatic choice)"));
-        if (!(normal_nodes >= 1 && normal_nodes <= kMaxNormalNodes))
-            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: HuangMaterial: normal_nodes = " +
-                                                    std::to_string(normal_nodes) + " is outside its range [1, " +
-                                                    std::to_string(kMaxNormalNodes) + "]"));
-        nodes_ = nodes == kAutoNodes ? auto_nodes(params.roughness) : nodes;
-        normal_nodes_ = normal_nodes;
+        check_count("offset_nodes", quadrature.offset_nodes, kMaxNodes);
+        check_count("tt_points", quadrature.tt_points, kMaxTTPoints);
+        check_count("trt_per_tt", quadrature.trt_per_tt, kMaxTrtPerTT);
+        const std::string c = validate(controls);
+        if (!c.empty()) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: invalid lobe controls: " + c));
+        if (controls.alpha_override != 0u)
+            HAIRSCATTER_THROW(std::invalid_argument(
+                "hairscatter: HuangMaterial: alpha_override = " + std::to_string(controls.alpha_override) +
+                " is not supported: the cuticle tilt is the mesonormal's, shared by every interface of every "
+                "path (set HuangParams::alpha instead)"));
+        for (int p = 0; p <= kLobes; ++p) lobe_weight_[p] = controls.weight(p);
+
+        nodes_ = quadrature.offset_nodes == kAutoNodes ? auto_nodes(params.roughness) : quadrature.offset_nodes;
+        tt_n_ = quadrature.tt_points == kAutoNodes ? auto_tt_points(params.roughness) : quadrature.tt_points;
+        per_tt_ = quadrature.trt_per_tt == kAutoNodes ? auto_trt_per_tt(params.roughness) : quadrature.trt_per_tt;
+        if (tt_n_ * per_tt_ > kMaxTRTPoints)
+            HAIRSCATTER_THROW(std::invalid_argument(
+                "hairscatter: HuangMaterial: tt_points × trt_per_tt = " + std::to_string(tt_n_) + " × " +
+                std::to_string(per_tt_) + " is more than the " + std::to_string(kMaxTRTPoints) + " TRT points it holds"));
         section_ = EllipticalSection<T>(params.aspect_ratio, params.orientation);
         ggx_ = Ggx<T>(params.roughness);
         // The residual lumps every order past TRT: a wide longitudinal lobe (variance 4β, as
         // Blender Cycles' implementation of the model) and uniform in azimuth, as Chiang et
         // al. 2016's residual.
         residual_ = DeonLongitudinal<T>(T(4) * params.roughness);
-        using std::cos;
-        using std::sin;
-        sin_tilt_ = T(sin(double(params.alpha)));
-        cos_tilt_ = T(cos(double(params.alpha)));
+        sin_tilt_ = T(std::sin(double(params.alpha)));
+        cos_tilt_ = T(std::cos(double(params.alpha)));
 
         const GaussLegendre<double> gl(nodes_);
         const double half_pi = 1.57079632679489661923;
@@ -152,43 +203,93 @@ template <typename T> class HuangMaterial {
             weight_[k] = T(half_pi * gl.weights[std::size_t(k)]);
         }
 
-        const GaussLegendre<double> glu(normal_nodes_);
-        for (int i = 0; i < normal_nodes_; ++i)
-            for (int j = 0; j < normal_nodes_; ++j) {
-                const int q = i * normal_nodes_ + j;
-                cos_u1_[q] = T(std::cos(6.28318530717958647692 * (i + 0.5) / normal_nodes_));
-                sin_u1_[q] = T(std::sin(6.28318530717958647692 * (i + 0.5) / normal_nodes_));
-                u2_[q] = T(0.5 + 0.5 * glu.nodes[std::size_t(j)]);
-                uw_[q] = T(0.5 * glu.weights[std::size_t(j)] / normal_nodes_);
+        long long g[3], b[2];
+        korobov(tt_n_, g);
+        for (int i = 0; i < tt_n_; ++i) tt_[i] = entry_point(tt_n_, i, g);
+        const int n = tt_n_ * per_tt_;
+        korobov_extension(tt_n_, per_tt_, g, b);
+        for (int i = 0; i < tt_n_; ++i)
+            for (int l = 0; l < per_tt_; ++l) {
+                const int k = i + l * tt_n_;
+                reflect_[i * per_tt_ + l] = normal_point(lattice(n, k, b[0]), lattice(n, k, b[1]));
             }
 
         const GaussLegendre<double> table_rule(kTableRule);
         for (int i = 0; i < kTableSize; ++i) {
-            const double c = double(i) / (kTableSize - 1);
-            outside_[i] = T(mean_reflectance(double(params.roughness), c, double(params.eta), table_rule));
-            inside_[i] = T(mean_reflectance(double(params.roughness), c, 1 / double(params.eta), table_rule));
+            const double cos_c = double(i) / (kTableSize - 1);
+            outside_[i] = T(mean_reflectance(double(params.roughness), cos_c, double(params.eta), table_rule));
+            inside_[i] = T(mean_reflectance(double(params.roughness), cos_c, 1 / double(params.eta), table_rule));
         }
     }
+    // The lobe controls with the default quadrature.
+    HuangMaterial(const HuangParams<T>& params, const LobeControls<T>& controls)
+        : HuangMaterial(params, HuangQuadrature(), controls) {}
 
     // E(c) = ∫ F(v·h, n) D_v(h) dh for v at cos c to the normal, n = η_t/η_i, in double by a
-    // k-midpoint (azimuth) × k-point Gauss–Legendre (height) product rule over D_v's unit
+    // k-midpoint (azimuth u1) × k-point Gauss–Legendre (height u2) rule over D_v's unit
     // square, gl the k-point rule (the tables use k = kTableRule; tests/huang_test.cpp
-    // measures the error against k = 1024).
+    // measures the error against k = 1024). Leaving the denser side (n < 1) F has a kink
+    // where v·h crosses the critical cosine sqrt(1 - n²) (total internal reflection below
+    // it), which slows any product rule: each height line is cut there (found by a scan of
+    // kKinkScan points and bisection) and every piece gets the k-point rule.
     static constexpr int kTableRule = 40;
+    static constexpr int kKinkScan = 16;
     static double mean_reflectance(double roughness, double c, double n, const GaussLegendre<double>& gl) {
         const Ggx<double> ggx(roughness);
         const glm::dvec3 v(std::sqrt(std::max(0.0, 1 - c * c)), 0.0, c);
         const int k = int(gl.nodes.size());
+        const double critical = n < 1 ? std::sqrt(1 - n * n) : -2.0;  // -2: no cut
         double e = 0;
-        for (int i = 0; i < k; ++i)
-            for (int j = 0; j < k; ++j) {
-                const glm::dvec3 h = ggx.sample_visible_local(v, (i + 0.5) / k, 0.5 + 0.5 * gl.nodes[std::size_t(j)]);
-                e += 0.5 * gl.weights[std::size_t(j)] / k * fresnel_any(glm::dot(v, h), n);
+        for (int i = 0; i < k; ++i) {
+            const double u1 = (i + 0.5) / k;
+            const auto gap = [&](double u2) { return glm::dot(v, ggx.sample_visible_local(v, u1, u2)) - critical; };
+            double cuts[kKinkScan + 2];
+            int n_cuts = 0;
+            cuts[n_cuts++] = 0;
+            if (n < 1) {
+                double lo = 0, g_lo = gap(0);
+                for (int j = 1; j <= kKinkScan; ++j) {
+                    const double hi = double(j) / kKinkScan, g_hi = gap(hi);
+                    if ((g_lo < 0) != (g_hi < 0)) {
+                        double a = lo, b = hi;
+                        for (int it = 0; it < 60; ++it) {
+                            const double mid = 0.5 * (a + b);
+                            if ((gap(mid) < 0) == (g_lo < 0)) a = mid;
+                            else b = mid;
+                        }
+                        cuts[n_cuts++] = 0.5 * (a + b);
+                    }
+                    lo = hi;
+                    g_lo = g_hi;
+                }
             }
+            cuts[n_cuts++] = 1;
+            for (int piece = 0; piece + 1 < n_cuts; ++piece) {
+                const double a = cuts[piece], width = cuts[piece + 1] - a;
+                for (int j = 0; j < k; ++j) {
+                    const double u2 = a + width * (0.5 + 0.5 * gl.nodes[std::size_t(j)]);
+                    const glm::dvec3 h = ggx.sample_visible_local(v, u1, u2);
+                    e += width * 0.5 * gl.weights[std::size_t(j)] / k * fresnel_any(glm::dot(v, h), n);
+                }
+            }
+        }
         return e;
     }
 
+    // A visible normal's unit-square coordinates, u1 as its cosine and sine.
+    struct NormalPoint {
+        T cos_u1, sin_u1, u2;
+    };
+    // A lattice point's offset (h = sin γ, cos γ) and entry normal.
+    struct EntryPoint {
+        T h, cos_gamma;
+        NormalPoint normal;
+    };
+
     HAIRSCATTER_HD const HuangParams<T>& params() const { return params_; }
+    HAIRSCATTER_HD const LobeControls<T>& controls() const { return controls_; }
+    // Lobe p's factor on its energy, gain_p × tint_p (1 without controls).
+    HAIRSCATTER_HD const V3& lobe_weight(int p) const { return lobe_weight_[p]; }
     HAIRSCATTER_HD const EllipticalSection<T>& section() const { return section_; }
     HAIRSCATTER_HD const Ggx<T>& ggx() const { return ggx_; }
     HAIRSCATTER_HD const DeonLongitudinal<T>& residual() const { return residual_; }
@@ -199,19 +300,113 @@ template <typename T> class HuangMaterial {
     HAIRSCATTER_HD T node_h(int k) const { return h_[k]; }
     HAIRSCATTER_HD T node_cos_gamma(int k) const { return cos_gamma_[k]; }
     HAIRSCATTER_HD T node_weight(int k) const { return weight_[k]; }
-
-    HAIRSCATTER_HD int normal_nodes() const { return normal_nodes_; }
-    HAIRSCATTER_HD int normal_points() const { return normal_nodes_ * normal_nodes_; }
-    HAIRSCATTER_HD T normal_cos_u1(int q) const { return cos_u1_[q]; }
-    HAIRSCATTER_HD T normal_sin_u1(int q) const { return sin_u1_[q]; }
-    HAIRSCATTER_HD T normal_u2(int q) const { return u2_[q]; }
-    HAIRSCATTER_HD T normal_weight(int q) const { return uw_[q]; }
+    HAIRSCATTER_HD int tt_points() const { return tt_n_; }
+    HAIRSCATTER_HD int trt_per_tt() const { return per_tt_; }
+    HAIRSCATTER_HD int trt_points() const { return tt_n_ * per_tt_; }
+    HAIRSCATTER_HD const EntryPoint& tt_point(int i) const { return tt_[i]; }
+    // The l-th internal normal of TT path i (TRT point i + l N_TT).
+    HAIRSCATTER_HD const NormalPoint& reflect_point(int i, int l) const { return reflect_[i * per_tt_ + l]; }
 
     // E(c) outside and inside, linearly interpolated in c ∈ [0, 1].
     HAIRSCATTER_HD T reflectance_outside(T c) const { return lookup(outside_, c); }
     HAIRSCATTER_HD T reflectance_inside(T c) const { return lookup(inside_, c); }
 
+    // For the dual-scattering tables (dual/tables.hpp): lobe p peaks near θi = lobe_shift(p)
+    // - θo, the first-order shifts of a tilted mesonormal (R 2α, TT -α, TRT -4α, as
+    // Marschner et al. 2003's cuticle shifts), with variance lobe_variance(p): the R, TT,
+    // TRT variances β², β²/2, 2β² of d'Eon et al. 2011 read with the microfacet roughness
+    // as βm, and the residual's own 4β.
+    HAIRSCATTER_HD T lobe_shift(int p) const {
+        const T a = params_.alpha;
+        return p == 0 ? T(2) * a : p == 1 ? -a : p == 2 ? T(-4) * a : T(0);
+    }
+    HAIRSCATTER_HD T lobe_variance(int p) const {
+        const T b = params_.roughness;
+        return p == 0 ? b * b : p == 1 ? T(0.5) * b * b : p == 2 ? T(2) * b * b : T(4) * b;
+    }
+
   private:
+    static constexpr int kDefaultTT = 64;
+    static constexpr int kDefaultTrtPerTT = 2;
+    static void check_count(const char* name, int n, int max) {
+        if (!(n >= 0 && n <= max))
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: HuangMaterial: " + std::string(name) + " = " +
+                                                    std::to_string(n) + " is outside its range [1, " +
+                                                    std::to_string(max) + "] (or 0 for the automatic choice)"));
+    }
+
+    // frac(i g / N) in double.
+    // frac((i g + 1/2) / N): the lattice shifted by half a cell, so that no point sits on the
+    // edges (γ = ±π/2, the cap's rim) and every coordinate is a midpoint rule of N points.
+    static double lattice(int n, int i, long long g) { return (double((static_cast<long long>(i) * g) % n) + 0.5) / n; }
+    static NormalPoint normal_point(double u1, double u2) {
+        const double two_pi = 6.28318530717958647692;
+        return {T(std::cos(two_pi * u1)), T(std::sin(two_pi * u1)), T(u2)};
+    }
+    static EntryPoint entry_point(int n, int i, const long long* g) {
+        const double gamma = 3.14159265358979323846 * (lattice(n, i, g[0]) - 0.5);
+        return {T(std::sin(gamma)), T(std::cos(gamma)), normal_point(lattice(n, i, g[1]), lattice(n, i, g[2]))};
+    }
+    // P₂ = -1 + (1/n) Σ_k Π_j (1 + 2π² B₂(x_kj)), B₂(x) = x² - x + 1/6, of the unshifted
+    // rank-1 lattice of n points with generator g (d coordinates): the worst-case error of
+    // lattice rules for the Korobov space of smoothness 2 (Sloan & Joe 1994). Stops once
+    // the sum passes `stop` (n times the best P₂ + 1 so far).
+    static double p2_sum(int n, const long long* g, int d, double stop) {
+        const double two_pi2 = 19.739208802178717238;
+        double sum = 0;
+        for (int k = 0; k < n && sum < stop; ++k) {
+            double prod = 1;
+            for (int j = 0; j < d; ++j) {
+                const double u = double((static_cast<long long>(k) * g[j]) % n) / n;
+                prod *= 1 + two_pi2 * (u * u - u + 1.0 / 6.0);
+            }
+            sum += prod;
+        }
+        return sum;
+    }
+    static bool coprime(long long a, long long n) {
+        while (n != 0) {
+            const long long t = a % n;
+            a = n;
+            n = t;
+        }
+        return a == 1;
+    }
+    // TT's generator (1, a, a²) mod n minimising P₂; a and n - a are equivalent (B₂ is
+    // symmetric), so a ≤ n/2. O(n²): 3 ms at n = 1024.
+    static void korobov(int n, long long* g) {
+        g[0] = g[1] = g[2] = 1;
+        double best = std::numeric_limits<double>::max();
+        for (long long a = 2; a <= n / 2; ++a) {
+            if (!coprime(a, n)) continue;
+            const long long c[3] = {1, a, a * a % n};
+            const double sum = p2_sum(n, c, 3, best);
+            if (sum < best) {
+                best = sum;
+                g[1] = c[1];
+                g[2] = c[2];
+            }
+        }
+    }
+    // TRT's generator (m g, b, b²) mod N = m n: its first three coordinates are TT's lattice
+    // (point k at TT point k mod n), b ≤ N/2 minimising P₂ of all five. O(N²): 20 ms at
+    // N = 2048.
+    static void korobov_extension(int n, int m, const long long* g, long long* b) {
+        const long long big = static_cast<long long>(n) * m;
+        b[0] = b[1] = 1;
+        double best = std::numeric_limits<double>::max();
+        for (long long a = 1; a <= big / 2 || a == 1; ++a) {
+            if (!coprime(a, big)) continue;
+            const long long c[5] = {m * g[0], m * g[1], m * g[2], a, a * a % big};
+            const double sum = p2_sum(int(big), c, 5, best);
+            if (sum < best) {
+                best = sum;
+                b[0] = c[3];
+                b[1] = c[4];
+            }
+        }
+    }
+
     HAIRSCATTER_HD static T lookup(const T* table, T c) {
         const T x = clamp(c, T(0), T(1)) * T(kTableSize - 1);
         const int i = table_cell(x, kTableSize - 2);
@@ -220,13 +415,16 @@ template <typename T> class HuangMaterial {
     }
 
     HuangParams<T> params_;
+    LobeControls<T> controls_;
+    V3 lobe_weight_[kLobes + 1] = {V3(T(1)), V3(T(1)), V3(T(1)), V3(T(1))};
     EllipticalSection<T> section_;
     Ggx<T> ggx_;
     DeonLongitudinal<T> residual_;
     T sin_tilt_ = T(0), cos_tilt_ = T(1);
-    int nodes_ = 0, normal_nodes_ = 0;
+    int nodes_ = 0, tt_n_ = 0, per_tt_ = 0;
     T h_[kMaxNodes] = {}, cos_gamma_[kMaxNodes] = {}, weight_[kMaxNodes] = {};
-    T cos_u1_[kMaxNormalPoints] = {}, sin_u1_[kMaxNormalPoints] = {}, u2_[kMaxNormalPoints] = {}, uw_[kMaxNormalPoints] = {};
+    EntryPoint tt_[kMaxTTPoints] = {};
+    NormalPoint reflect_[kMaxTRTPoints] = {};
     T outside_[kTableSize] = {}, inside_[kTableSize] = {};
 };
 
@@ -234,34 +432,38 @@ template <typename T> class HuangMaterial {
 // fiber frame, wo toward the viewer, wi toward the light, eval with the cosine inside
 // (∫ eval dωi = 1 for σa = 0). The light is traced from wo (reciprocity of the far field):
 //
-//   f(wo, wi) = Σ_k ŵ_k [ R_k(wi) + Σ_j t_kj TT_kj(wi) + Σ_j Σ_l t_kj r_kjl TRT_kjl(wi) ]
-//             + E_res M(θi | θo) / 2π,
+//   f(wo, wi) = W_R Σ_k ŵ_k R_k(wi) + W_TT s_TT Σ_i y_i A_1 TT_i(wi)
+//             + W_TRT s_TT Σ_i Σ_l y_i A_1 r_il A_2 TRT_il(wi) + W_res E_res M(θi | θo) / 2π,
 //
-// k the offset nodes (weights ŵ_k), j the entry normals, l the internal reflection normals;
-//   R_k   = F(v·h) D_v(h) / (4 v·h), h the half vector of wo and wi (Huang et al.'s R lobe);
+// k the R rule's offset nodes (weights ŵ_k), i the TT lattice's paths, l each path's
+// internal normals, W_p the lobe controls' gain × tint (1 without controls);
+//   R_k   = F(v·h) D_v(h) / (4 v·h), h the half vector of wo and wi (Huang et al. 2022's
+//           R lobe, with the visible normals of Heitz 2014);
 //   TT, TRT = (1 - F(v·h)) D_v(h) |wi·h| / |η v + wi|², the refraction out of the fiber at
 //           the exit's mesonormal, v the internal ray reversed (their TT and TRT, with the
-//           generalised half vector of Walter et al. 2007);
-//   t_kj  = (1 - E_out(wo·m_k)) ŵ'_j (1 - F_j) / Σ ŵ'(1 - F) · A_1, the light refracted
-//           into the fiber at normal node j, times the chord's transmittance;
-//   r_kjl = E_in(c_2) ŵ'_l F_l / Σ ŵ'F · A_2, the light reflected at the exit by node l;
-//   E_res = what TRT's exit reflects, E_in(c_3) Σ_{n≥1} A_3^n R̄^(n-1) (1 - R̄) summed in
+//           generalised half vector and Jacobian of Walter et al. 2007 eqs. 16–17);
+//   y_i   = max(0, v·m)|A⁻¹c| (1 - F) at path i's offset and entry normal, A_1, A_2 the
+//           chords' transmittances;
+//   s_TT  = Σ_k ŵ_k (1 - E_out) / Σ_i y_i: the paths carry exactly the light the surface
+//           transmits;
+//   r_il  = E_in(c₂) F_l / Σ_l F_l, the exit's reflected share split over the normals;
+//   E_res = what TRT's exit reflects, E_in(c₃) Σ_{n≥1} A_3^n R̄^(n-1) (1 - R̄) summed in
 //           closed form, A_3 = sqrt(A_1 A_2) and R̄ the Fresnel reflectance at the mesonormal
 //           (Chiang et al. 2016's geometric series); plus whatever the geometry cannot
 //           follow (a chord that does not enter, an exit hit from behind its mesonormal).
 // Shadowing–masking of the scattered direction is left out: every microfacet event keeps
 // its energy, which is the energy compensation the paper adds taken to its limit.
 //
-// sample picks a path end (node k, then R, one TT_kj, one TRT_kjl or the residual) with
-// probability ∝ its energy's channel mean, then a direction from that end's lobe: a
-// visible normal and its reflection (R), a visible normal and the refraction through it —
-// or its reflection where it totally reflects (TT, TRT) — or the residual's M and a uniform
-// φ. pdf is that mixture's density, computed in the same loop as f.
+// sample picks a lobe with probability ∝ its energy's channel mean, then one of its path
+// ends (an R node, a TT path or a TRT point) ∝ that end's, then a direction from the end's lobe:
+// a visible normal and its reflection (R), a visible normal and the refraction through it —
+// or its reflection where it totally reflects (TT, TRT) — or the residual's M and a
+// uniform φ. pdf is that mixture's density, computed in the same walk as f.
 //
 // Holds a pointer to the material, which must outlive the fiber and its at(wo) objects (a
 // temporary material is rejected at compile time; on a GPU, a pointer to a device copy).
-// Each call walks every path (n (1 + 2k² + k⁴) ends), so the cost is linear in the offset
-// nodes and grows as k⁴ in the normal nodes (docs/tradeoff.md).
+// Each call walks every path (n + N_TT + N_TT m ends), so the cost is linear in the
+// offset nodes and the TT points, and in m (docs/tradeoff.md).
 template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
   public:
     using V2 = glm::vec<2, T>;
@@ -269,6 +471,7 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
     using V4 = glm::vec<4, T>;
     using Material = HuangMaterial<T>;
     static constexpr int kLobes = Material::kLobes;
+    using LobeSplit = hairscatter::LobeSplit<T, kLobes>;
 
     HAIRSCATTER_HD explicit HuangFiber(const Material& material) : mat_(&material) {}
     HuangFiber(const Material&&) = delete;
@@ -279,10 +482,56 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
     // tables' interpolation (each lobe integrates to its end's energy).
     HAIRSCATTER_HD V3 albedo(const V3& wo) const {
         if (!is_finite(wo)) return V3(T(0));
+        const Lobes e = lobes<false, false>(outgoing<false>(wo), V3(T(0)), T(0));
+        return e.energy[0] + e.energy[1] + e.energy[2] + e.energy[3];
+    }
+
+    // Per lobe: its energy A_p(wo) (exact, as albedo) and the fraction of it scattered into
+    // the half |φ - centre| < π/2 (φ relative to wo's azimuth), channel sums: the lobe's f
+    // integrated over that half by a Gauss–Legendre product rule in θi × φ
+    // (dω = cos θi dθi dφ; kSplitNodes per panel, 12 panels in θi and 10 in φ between the
+    // half's edges), over A_p; the residual's is 1/2. Complementary halves add up to
+    // ∫ f_p / A_p, 1 within the reflectance tables' error and the rule's (the refracted lobes
+    // end abruptly where no microfacet refracts): 0.6 % at worst, near grazing θo
+    // (tests/huang_test.cpp). Host only; 4320 evaluations of the lobes per call, for the
+    // dual-scattering tables.
+    static constexpr int kSplitNodes = 6;
+    LobeSplit lobe_split(const V3& wo, T centre = T(0)) const {
+        LobeSplit r;
+        for (int p = 0; p <= kLobes; ++p) {
+            r.a[p] = V3(T(0));
+            r.backward[p] = T(0.5);
+        }
+        if (!is_finite(wo)) return r;
         const Outgoing o = outgoing<false>(wo);
-        V3 a(T(0));
-        for (int k = 0; k < mat_->nodes(); ++k) walk(o, k, [&](const End& e) { a += e.energy; });
-        return a;
+        const Lobes e = lobes<false, false>(o, V3(T(0)), T(0));
+        static const GaussLegendre<double> gl(kSplitNodes);
+        const double pi = 3.14159265358979323846;
+        // Panels graded toward the half's edges φ = centre ± π/2, where the forward lobes'
+        // tails and abrupt ends cross into it: edges at (π/2) sin(π x / 2), x uniform.
+        const int panels_theta = 12, panels_phi = 10;
+        double back[kLobes] = {};
+        for (int a = 0; a < panels_theta * kSplitNodes; ++a) {
+            const double x = 0.5 + 0.5 * gl.nodes[std::size_t(a % kSplitNodes)];
+            const double theta = -pi / 2 + pi * (a / kSplitNodes + x) / panels_theta;
+            const double wt = pi / panels_theta * 0.5 * gl.weights[std::size_t(a % kSplitNodes)] * std::cos(theta);
+            for (int b = 0; b < panels_phi * kSplitNodes; ++b) {
+                const int j = b / kSplitNodes;
+                const double lo = pi / 2 * std::sin(pi / 2 * (-1 + 2.0 * j / panels_phi));
+                const double hi = pi / 2 * std::sin(pi / 2 * (-1 + 2.0 * (j + 1) / panels_phi));
+                const double phi = double(centre) + lo + (hi - lo) * (0.5 + 0.5 * gl.nodes[std::size_t(b % kSplitNodes)]);
+                const double w = wt * (hi - lo) * 0.5 * gl.weights[std::size_t(b % kSplitNodes)];
+                const V3 wi = direction_from_azimuth(wo, T(std::sin(theta)), T(phi));
+                const Lobes f = lobes<true, false>(o, mat_->section().to_section(wi), wi.x);
+                for (int p = 0; p < kLobes; ++p) back[p] += w * double(f.f[p].x + f.f[p].y + f.f[p].z);
+            }
+        }
+        for (int p = 0; p <= kLobes; ++p) {
+            r.a[p] = e.energy[p];
+            const double total = double(e.energy[p].x + e.energy[p].y + e.energy[p].z);
+            if (p < kLobes && total > 0) r.backward[p] = T(std::min(1.0, std::max(0.0, back[p] / total)));
+        }
+        return r;
     }
 
   private:
@@ -290,7 +539,7 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
     friend class BoundFiber<HuangFiber>;
 
     // The terms that depend on wo only: wo in the section frame, the far-field view and the
-    // offset weights' normaliser.
+    // R rule's normaliser.
     struct Outgoing {
         V3 v;
         T sin_o, cos_o;
@@ -300,14 +549,21 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
     };
 
     // One end of a path: the light that reaches the last interface (prefix), what that
-    // interface scatters in all (energy) and how: R (p = 0) reflects off the outside, TT and
-    // TRT (1, 2) refract out, the residual (3) is M/2π. v is on the incident side of the
-    // interface normal m, cos_v = v·m > 0.
+    // interface scatters in all (energy), in the units of its rule (before s_TT and the
+    // controls), and how: R (p = 0) reflects off the outside, TT and TRT (1, 2) refract
+    // out. v is on the incident side of the interface normal m, cos_v = v·m > 0.
     struct End {
         int p;
         V3 prefix, energy;
         V3 v, m;
         T cos_v;
+    };
+
+    // What a walk adds up besides its ends: the paths' weights y_i, what goes to the
+    // residual, and the light the surface transmits (R's rule).
+    struct RuleTotals {
+        V3 residual{T(0)};
+        T norm = T(0), transmitted = T(0);
     };
 
     static HAIRSCATTER_HD T mean(const V3& x) { return (x.x + x.y + x.z) * T(1.0 / 3.0); }
@@ -322,19 +578,20 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         return V3(elem::exp(-s.x * length), elem::exp(-s.y * length), elem::exp(-s.z * length));
     }
 
-    // The far-field weight of node k before normalising, and its circle point and mesonormal.
-    struct NodeGeometry {
+    // The far-field hit at offset (h, cos γ): its circle point, mesonormal, v·m and the beam
+    // it intercepts per unit γ, |A⁻¹c| max(0, v·m) (|A⁻¹c| alone where no offset is visible).
+    struct Hit {
         V2 c;
         V3 m;
-        T cos_v, raw;
+        T cos_v, beam;
     };
-    HAIRSCATTER_HD NodeGeometry node(const Outgoing& o, int k) const {
-        NodeGeometry g;
-        g.c = EllipticalSection<T>::hit(o.view, mat_->node_h(k), mat_->node_cos_gamma(k));
+    HAIRSCATTER_HD Hit hit(const Outgoing& o, T h, T cos_gamma) const {
+        Hit g;
+        g.c = EllipticalSection<T>::hit(o.view, h, cos_gamma);
         g.m = mesonormal(g.c);
         g.cos_v = glm::dot(o.v, g.m);
-        g.raw = mat_->node_weight(k) * mat_->section().normal_scale(g.c);
-        if (o.visible) g.raw *= g.cos_v > T(0) ? g.cos_v : T(0);
+        g.beam = mat_->section().normal_scale(g.c);
+        if (o.visible) g.beam *= g.cos_v > T(0) ? g.cos_v : T(0);
         return g;
     }
 
@@ -344,130 +601,141 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         o.sin_o = clamp(wo.x, T(-1), T(1));
         o.cos_o = cos_from_sin(o.sin_o);
         o.view = mat_->section().view(o.v);
+        const auto beam_total = [&]() {
+            T total = T(0);
+            for (int k = 0; k < mat_->nodes(); ++k)
+                total += mat_->node_weight(k) * hit(o, mat_->node_h(k), mat_->node_cos_gamma(k)).beam;
+            return total;
+        };
         o.visible = true;
-        T total = T(0);
-        for (int k = 0; k < mat_->nodes(); ++k) total += node(o, k).raw;
+        T total = beam_total();
         if (!(total > T(0))) {
             // No mesonormal faces wo: every node's share goes to the residual, by offset width.
             o.visible = false;
-            total = T(0);
-            for (int k = 0; k < mat_->nodes(); ++k) total += node(o, k).raw;
+            total = beam_total();
         }
         o.inv_total = T(1) / total;
         return o;
     }
 
-    // The normal nodes of D_v about m from v, and each one's share ŵ'(1 - F) of the
-    // transmitted light (transmit) or ŵ'F of the reflected light, F at relative index n.
-    struct NormalNodes {
-        V3 h[Material::kMaxNormalPoints];
-        T share[Material::kMaxNormalPoints];
-        T sum;
-    };
-    HAIRSCATTER_HD NormalNodes normal_nodes(const V3& m, const V3& v, T n, bool transmit) const {
-        NormalNodes r;
-        r.sum = T(0);
+    // The visible normal of D_v about m from v at the unit-square point q.
+    HAIRSCATTER_HD V3 visible_normal(const V3& m, const V3& v, const typename Material::NormalPoint& q) const {
         const TangentFrame<T> frame(m, v);
-        const V3 v_local = frame.to_local(v);
-        for (int q = 0; q < mat_->normal_points(); ++q) {
-            r.h[q] = frame.to_world(mat_->ggx().sample_visible_local(v_local, mat_->normal_cos_u1(q),
-                                                                     mat_->normal_sin_u1(q), mat_->normal_u2(q)));
-            const T f = fresnel_any(glm::dot(v, r.h[q]), n);
-            r.share[q] = mat_->normal_weight(q) * (transmit ? T(1) - f : f);
-            r.sum += r.share[q];
-        }
-        return r;
+        return frame.to_world(mat_->ggx().sample_visible_local(frame.to_local(v), q.cos_u1, q.sin_u1, q.u2));
     }
 
-    // Calls visit(End) for every path end of node k, in a fixed order (sample relies on it).
-    template <typename Visit> HAIRSCATTER_HD void walk(const Outgoing& o, int k, Visit&& visit) const {
-        const NodeGeometry g = node(o, k);
-        const T w = g.raw * o.inv_total;
-        if (!(w > T(0))) return;
-        if (!o.visible || !(g.cos_v > T(0))) {
-            visit(residual_end(V3(w)));
-            return;
-        }
-        const T eta = mat_->params().eta, inv_eta = T(1) / eta;
-        const T e_out = mat_->reflectance_outside(g.cos_v);
-        visit(End{0, V3(w), V3(w * e_out), o.v, g.m, g.cos_v});
-
-        // Entry: the transmitted share (1 - E_out) split over the normal nodes ∝ ŵ'(1 - F).
-        const NormalNodes nn = normal_nodes(g.m, o.v, eta, true);
-        const T transmitted = w * (T(1) - e_out);
-        if (!(nn.sum > T(0))) {
-            visit(residual_end(V3(transmitted)));
-            return;
-        }
-        for (int q = 0; q < mat_->normal_points(); ++q) {
-            const Refracted<T> r = refract_through(o.v, nn.h[q], inv_eta);
-            // Refraction into the denser side always exists; normalise away the rounding.
-            const V3 t = r.ok ? glm::normalize(r.o) : -g.m;
-            inside(g.c, t, V3(transmitted * nn.share[q] / nn.sum), visit);
-        }
-    }
-
-    // The light entering at circle point c along t with throughput `in`: the chord, the exit
-    // (TT), and per internal-reflection node the second chord and TRT's exit and residual.
-    template <typename Visit>
-    HAIRSCATTER_HD void inside(const V2& c, const V3& t, const V3& in, Visit&& visit) const {
-        const T eta = mat_->params().eta, inv_eta = T(1) / eta;
-        const auto chord = mat_->section().chord(c, V2(t.y, t.z));
-        if (!chord.ok) {
-            visit(residual_end(in));
-            return;
-        }
-        const V3 a1 = transmittance(chord.length);
-        const V3 at_exit = in * a1;
-        const V3 m_in = -mesonormal(chord.c);
-        const V3 v2 = -t;
-        const T cos2 = glm::dot(v2, m_in);
-        if (!(cos2 > T(0))) {
-            visit(residual_end(at_exit));
-            return;
-        }
-        const T e_in = mat_->reflectance_inside(cos2);
-        visit(End{1, at_exit, at_exit * (T(1) - e_in), v2, m_in, cos2});
-
-        // Internal reflection: the reflected share E_in split over the normal nodes ∝ ŵ'F;
-        // F ≥ ((η - 1)/(η + 1))² > 0 at every normal, so the sum is > 0.
-        const NormalNodes nn = normal_nodes(m_in, v2, inv_eta, false);
-        for (int q = 0; q < mat_->normal_points(); ++q) {
-            const V3 in2 = at_exit * (e_in * nn.share[q] / nn.sum);
-            const V3 r = glm::normalize(reflect_about(v2, nn.h[q]));
-            const auto chord2 = mat_->section().chord(chord.c, V2(r.y, r.z));
-            if (!chord2.ok) {
-                visit(residual_end(in2));
+    // R's rule: per offset node the surface reflection and the transmitted share.
+    template <typename Visit> HAIRSCATTER_HD void walk_r(const Outgoing& o, RuleTotals& s, Visit&& visit) const {
+        for (int k = 0; k < mat_->nodes(); ++k) {
+            const Hit g = hit(o, mat_->node_h(k), mat_->node_cos_gamma(k));
+            const T w = mat_->node_weight(k) * g.beam * o.inv_total;
+            if (!(w > T(0))) continue;
+            if (!o.visible || !(g.cos_v > T(0))) {
+                s.residual += V3(w);
                 continue;
             }
-            const V3 a2 = transmittance(chord2.length);
-            const V3 at_exit2 = in2 * a2;
-            const V3 m3 = -mesonormal(chord2.c);
-            const T cos3 = -glm::dot(r, m3);
-            if (!(cos3 > T(0))) {
-                visit(residual_end(at_exit2));
-                continue;
-            }
-            const T e3 = mat_->reflectance_inside(cos3);
-            visit(End{2, at_exit2, at_exit2 * (T(1) - e3), -r, m3, cos3});
-            // Orders past TRT: A_3 Σ (A_3 R̄)^n (1 - R̄); its limit 1 where A_3 R̄ → 1 (no loss).
-            const T r_bar = fresnel_any(cos3, inv_eta);
-            V3 series;
-            for (int ch = 0; ch < 3; ++ch) {
-                using std::sqrt;
-                const T a3 = sqrt(a1[ch] * a2[ch]);
-                const T den = T(1) - a3 * r_bar;
-                series[ch] = den > T(1e-6) ? a3 * (T(1) - r_bar) / den : T(1);
-            }
-            visit(residual_end(at_exit2 * e3 * series));
+            const T e_out = mat_->reflectance_outside(g.cos_v);
+            s.transmitted += w * (T(1) - e_out);
+            visit(End{0, V3(w), V3(w * e_out), o.v, g.m, g.cos_v});
         }
     }
 
-    HAIRSCATTER_HD static End residual_end(const V3& energy) {
-        End e{};
-        e.p = kLobes;
-        e.energy = energy;
-        return e;
+    // A lattice point's entry: the hit, the direction t the light refracts into through the
+    // point's visible normal, and its weight y = beam (1 - F). False where nothing enters.
+    HAIRSCATTER_HD bool enter(const Outgoing& o, const typename Material::EntryPoint& p, Hit& g, V3& t, T& y) const {
+        g = hit(o, p.h, p.cos_gamma);
+        if (!(g.beam > T(0) && g.cos_v > T(0))) return false;
+        const T eta = mat_->params().eta;
+        const V3 h = visible_normal(g.m, o.v, p.normal);
+        y = g.beam * (T(1) - fresnel_any(glm::dot(o.v, h), eta));
+        const Refracted<T> r = refract_through(o.v, h, T(1) / eta);
+        // Refraction into the denser side always exists; normalise away the rounding.
+        t = r.ok ? glm::normalize(r.o) : -g.m;
+        return y > T(0);
+    }
+
+    // The paths into the fiber, per TT point: the chord, the exit (TT) and its
+    // reflected share E_in split over the path's m internal normals ∝ F, then per normal
+    // the second chord, the exit (TRT) and the residual's series.
+    template <typename Visit> HAIRSCATTER_HD void walk_paths(const Outgoing& o, RuleTotals& s, Visit&& visit) const {
+        if (!o.visible) return;
+        const T inv_eta = T(1) / mat_->params().eta;
+        const int m = mat_->trt_per_tt();
+        for (int i = 0; i < mat_->tt_points(); ++i) {
+            Hit g;
+            V3 t;
+            T y;
+            if (!enter(o, mat_->tt_point(i), g, t, y)) continue;
+            s.norm += y;
+            const auto chord = mat_->section().chord(g.c, V2(t.y, t.z));
+            if (!chord.ok) {
+                s.residual += V3(y);
+                continue;
+            }
+            const V3 a1 = transmittance(chord.length);
+            const V3 at_exit = y * a1;
+            const V3 m_in = -mesonormal(chord.c);
+            const V3 v2 = -t;
+            const T cos2 = glm::dot(v2, m_in);
+            if (!(cos2 > T(0))) {
+                s.residual += at_exit;
+                continue;
+            }
+            const T e_in = mat_->reflectance_inside(cos2);
+            visit(End{1, at_exit, at_exit * (T(1) - e_in), v2, m_in, cos2});
+
+            // F ≥ ((η - 1)/(η + 1))² > 0 at every normal, so the sum is > 0.
+            V3 h[Material::kMaxTrtPerTT];
+            T f[Material::kMaxTrtPerTT], sum = T(0);
+            for (int l = 0; l < m; ++l) {
+                h[l] = visible_normal(m_in, v2, mat_->reflect_point(i, l));
+                f[l] = fresnel_any(glm::dot(v2, h[l]), inv_eta);
+                sum += f[l];
+            }
+            for (int l = 0; l < m; ++l) {
+                const V3 in2 = at_exit * (e_in * f[l] / sum);
+                const V3 r = glm::normalize(reflect_about(v2, h[l]));
+                const auto chord2 = mat_->section().chord(chord.c, V2(r.y, r.z));
+                if (!chord2.ok) {
+                    s.residual += in2;
+                    continue;
+                }
+                const V3 a2 = transmittance(chord2.length);
+                const V3 at_exit2 = in2 * a2;
+                const V3 m3 = -mesonormal(chord2.c);
+                const T cos3 = -glm::dot(r, m3);
+                if (!(cos3 > T(0))) {
+                    s.residual += at_exit2;
+                    continue;
+                }
+                const T e3 = mat_->reflectance_inside(cos3);
+                visit(End{2, at_exit2, at_exit2 * (T(1) - e3), -r, m3, cos3});
+                // Orders past TRT: A_3 Σ (A_3 R̄)^n (1 - R̄); its limit 1 where A_3 R̄ → 1.
+                const T r_bar = fresnel_any(cos3, inv_eta);
+                V3 series;
+                for (int ch = 0; ch < 3; ++ch) {
+                    using std::sqrt;
+                    const T a3 = sqrt(a1[ch] * a2[ch]);
+                    const T den = T(1) - a3 * r_bar;
+                    series[ch] = den > T(1e-6) ? a3 * (T(1) - r_bar) / den : T(1);
+                }
+                s.residual += at_exit2 * e3 * series;
+            }
+        }
+    }
+
+    // The paths' scale s_TT (R's is 1) and the residual's energy, from the two walks'
+    // totals; with no path that enters, the transmitted light goes to the residual.
+    struct Scales {
+        T s_tt;
+        V3 residual;
+    };
+    HAIRSCATTER_HD static Scales scales(const RuleTotals& r, const RuleTotals& paths) {
+        Scales sc;
+        sc.s_tt = paths.norm > T(0) ? r.transmitted / paths.norm : T(0);
+        sc.residual = r.residual + sc.s_tt * paths.residual;
+        if (!(paths.norm > T(0))) sc.residual += V3(r.transmitted);
+        return sc;
     }
 
     // The lobe of end e at wi (section frame): f's factor (times e.prefix) and the
@@ -491,57 +759,90 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         return r;
     }
 
+    // Per lobe p (3 the residual) at wi (section frame; sin_i its inclination), with the
+    // rules' scales and the controls applied: f, the energy-weighted sampling density
+    // Σ energy·q, and the energy. kF, kPdf: whether f and the density are wanted (neither:
+    // the energies only, no lobe is evaluated).
+    struct Lobes {
+        V3 f[kLobes + 1], q[kLobes + 1], energy[kLobes + 1];
+        Scales scales;
+    };
+    template <bool kF, bool kPdf> HAIRSCATTER_HD Lobes lobes(const Outgoing& o, const V3& w, T sin_i) const {
+        V3 f[kLobes], q[kLobes], energy[kLobes];
+        for (int p = 0; p < kLobes; ++p) f[p] = q[p] = energy[p] = V3(T(0));
+        const auto add = [&](const End& e) {
+            energy[e.p] += e.energy;
+            if (!(kF || kPdf)) return;
+            const LobeValue x = lobe<kF, kPdf>(e, w);
+            if (kF) f[e.p] += x.f * e.prefix;
+            if (kPdf) q[e.p] += x.q * e.energy;
+        };
+        RuleTotals r, paths;
+        walk_r(o, r, add);
+        walk_paths(o, paths, add);
+        Lobes out;
+        out.scales = scales(r, paths);
+        for (int p = 0; p < kLobes; ++p) {
+            const V3 s = (p == 0 ? T(1) : out.scales.s_tt) * mat_->lobe_weight(p);
+            out.f[p] = s * f[p];
+            out.q[p] = s * q[p];
+            out.energy[p] = s * energy[p];
+        }
+        out.energy[kLobes] = out.scales.residual * mat_->lobe_weight(kLobes);
+        T m = T(0);
+        if (kF || kPdf) m = mat_->residual().eval(sin_i, cos_from_sin(sin_i), o.sin_o, o.cos_o) * kInvTwoPi<T>;
+        out.f[kLobes] = m * out.energy[kLobes];
+        out.q[kLobes] = out.f[kLobes];
+        return out;
+    }
+
     template <bool kF, bool kPdf> HAIRSCATTER_HD HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
         (void)wo;
-        const V3 w = mat_->section().to_section(wi);
-        V3 f(T(0)), residual(T(0));
-        T pdf = T(0), total = T(0);
-        for (int k = 0; k < mat_->nodes(); ++k)
-            walk(o, k, [&](const End& e) {
-                const T weight = mean(e.energy);
-                total += weight;
-                if (e.p == kLobes) {
-                    residual += e.energy;
-                    return;
-                }
-                const LobeValue x = lobe<kF, kPdf>(e, w);
-                if (kF) f += x.f * e.prefix;
-                if (kPdf) pdf += weight * x.q;
-            });
         const T sin_i = clamp(wi.x, T(-1), T(1));
-        const T m = mat_->residual().eval(sin_i, cos_from_sin(sin_i), o.sin_o, o.cos_o) * kInvTwoPi<T>;
+        const Lobes l = lobes<kF, kPdf>(o, mat_->section().to_section(wi), sin_i);
         HairEvalPdf<T> r;
-        r.f = f + m * residual;
-        // total ≥ the R ends' share, > 0 (E_out ≥ F0 at every node), or the residual's.
-        r.pdf = (pdf + m * mean(residual)) / total;
+        T q = T(0), total = T(0);
+        for (int p = 0; p <= kLobes; ++p) {
+            r.f += l.f[p];
+            q += mean(l.q[p]);
+            total += mean(l.energy[p]);
+        }
+        // total > 0 unless the controls zero every lobe (then nothing is sampled either).
+        r.pdf = total > T(0) ? q / total : T(0);
         return r;
     }
 
-    // u.x picks the node and then, its leftover rescaled, the path end; (u.y, u.z) the
+    // u.x picks the lobe and then, its leftover rescaled, the path end; (u.y, u.z) the
     // visible normal of the end's interface or θi of the residual, u.w the residual's φ.
     HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
-        const int n = mat_->nodes();
-        T t[Material::kMaxNodes] = {};
-        T total = T(0);
-        for (int k = 0; k < n; ++k) {
-            T s = T(0);
-            walk(o, k, [&](const End& e) { s += mean(e.energy); });
-            t[k] = s;
-            total += s;
+        const Lobes e = lobes<false, false>(o, V3(T(0)), T(0));
+        T w[kLobes + 1], total = T(0);
+        for (int p = 0; p <= kLobes; ++p) {
+            w[p] = mean(e.energy[p]);
+            total += w[p];
         }
-        const DiscreteChoice<T> node_choice = sample_discrete(t, n, u.x, total);
-        const T target = node_choice.rescaled * t[node_choice.index];
-        // The first end whose cumulative weight passes the target (or the last with weight).
-        End chosen = residual_end(V3(T(0)));
+        // Nothing scatters (every gain 0, or all of it absorbed): a residual direction with
+        // pdf 0 and weight 0.
+        const DiscreteChoice<T> lobe_choice = sample_discrete(w, kLobes + 1, u.x, total);
+        const int p = total > T(0) ? lobe_choice.index : kLobes;
+        const V3 weight = (p == 0 ? T(1) : e.scales.s_tt) * mat_->lobe_weight(p);
+        const T target = lobe_choice.rescaled * w[p];
+        // The first end of lobe p whose cumulative weight passes the target (or the last
+        // with weight).
+        End chosen{};
+        chosen.p = kLobes;
         T before = T(0);
         bool done = false;
-        walk(o, node_choice.index, [&](const End& e) {
-            const T weight = mean(e.energy);
-            if (done || !(weight > T(0))) return;
-            chosen = e;
-            before += weight;
+        const auto pick = [&](const End& end) {
+            const T x = end.p == p ? mean(weight * end.energy) : T(0);
+            if (done || !(x > T(0))) return;
+            chosen = end;
+            before += x;
             done = target < before;
-        });
+        };
+        RuleTotals unused;
+        if (p == 0) walk_r(o, unused, pick);
+        if (p == 1 || p == 2) walk_paths(o, unused, pick);
 
         const T eta = mat_->params().eta;
         const InterfaceLobes<T> l{&mat_->ggx(), chosen.v, chosen.m, chosen.cos_v};
