@@ -113,7 +113,8 @@ template <class Fiber> auto bind_fiber(const Fiber& fiber, const typename Fiber:
     else return BoundFiber<Fiber>(fiber, wo);
 }
 
-// The artists' extras (docs/controls.md): lobe controls (every model but Huang's), and, for
+// The artists' extras (docs/controls.md): lobe controls (every model; Huang's and
+// Marschner's refuse what they cannot honour: per-lobe tilts, a residual), and, for
 // Chiang, one fiber per strand (a strand's material is strand_params[strand % size]);
 // empty: every strand is the base fiber.
 template <typename T> struct FiberExtras {
@@ -138,10 +139,6 @@ template <typename T> class FiberModels {
         if (model != FiberModel::kChiang && !extras.strand_params.empty())
             throw std::invalid_argument(std::string("per-strand variation (--strand-seed, --*-range) needs --model "
                                                     "chiang (not ") + to_string(model) + ")");
-        if (model == FiberModel::kHuang && extras.has_controls)
-            throw std::invalid_argument("--gain-*, --tint-*, --alpha-r/tt/trt: --model huang takes no lobe controls "
-                                        "yet (HuangMaterial has no LobeControls argument); use chiang, farfield, "
-                                        "tabulated or marschner");
         with_chiang_lobes(lobes, [](auto) { return 0; });  // rejects an empty set
         chiang_ = std::make_unique<hs::ChiangMaterial<T>>(params, extras.controls);
         strands_.reserve(extras.strand_params.size());
@@ -164,10 +161,10 @@ template <typename T> class FiberModels {
                 break;
             case FiberModel::kHuang:
                 try {
-                    huang_ = std::make_unique<hs::HuangMaterial<T>>(huang_params(params, shape));
+                    huang_ = std::make_unique<hs::HuangMaterial<T>>(huang_params(params, shape), extras.controls);
                 } catch (const std::invalid_argument& e) {
                     throw std::invalid_argument(std::string("--model huang (roughness = beta_m, --aspect, "
-                                                            "--orientation): ") + e.what());
+                                                            "--orientation, lobe controls): ") + e.what());
                 }
                 break;
         }

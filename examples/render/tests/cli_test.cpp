@@ -97,7 +97,7 @@ TEST(RenderCli, RefusesBadControlsNamingTheOption) {
     expect_refused("--redness-range 0,1.5 --melanin 0.5", "--redness-range");
     expect_refused("--roughness-range 0,2", "--roughness-range");
     expect_refused("--melanin-range 0.2,0.6 --colour brown", "--melanin-range");
-    expect_refused("--integrator single --model huang --gain-r 2", "--model huang takes no lobe controls");
+    expect_refused("--integrator single --model huang --alpha-tt 3", "HuangParams::alpha");
     expect_refused("--integrator single --model marschner --gain-res 2", "no residual lobe");
     expect_refused("--integrator path --model marschner --strand-seed 3", "--model chiang");
 }

@@ -114,7 +114,7 @@ TEST(ExamplesCommon, ControlsFromOptions) {
     EXPECT_THROW(ex::FiberModels<float>(ex::FiberModel::kTabulated, ex::LobeBits::kAll, ex::params_as<float>(base), extras),
                  std::invalid_argument);
 
-    // The lobe controls reach every model but Huang's, which refuses them naming itself.
+    // The lobe controls reach every model; Huang's refuses a per-lobe tilt, naming itself.
     ex::FiberExtras<float> controls;
     controls.controls = ex::controls_as<float>(lc);
     controls.has_controls = true;
@@ -122,9 +122,12 @@ TEST(ExamplesCommon, ControlsFromOptions) {
                                  ex::FiberModel::kMarschner})
         EXPECT_NO_THROW(ex::FiberModels<float>(model, ex::LobeBits::kAll, ex::params_as<float>(base), controls))
             << ex::to_string(model);
+    ex::FiberExtras<float> gains = controls;
+    gains.controls.alpha_override = 0u;  // the gains and tints without the R tilt
+    EXPECT_NO_THROW(ex::FiberModels<float>(ex::FiberModel::kHuang, ex::LobeBits::kAll, ex::params_as<float>(base), gains));
     try {
         ex::FiberModels<float>(ex::FiberModel::kHuang, ex::LobeBits::kAll, ex::params_as<float>(base), controls);
-        ADD_FAILURE() << "huang accepted lobe controls";
+        ADD_FAILURE() << "huang accepted a per-lobe tilt";
     } catch (const std::invalid_argument& e) {
         EXPECT_NE(std::string(e.what()).find("--model huang"), std::string::npos) << e.what();
     }
