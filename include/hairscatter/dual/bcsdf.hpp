@@ -432,16 +432,20 @@ template <typename Fiber> class DualScatteringBcsdf {
                 }
             }
             const bool global = scale_back.x > T(0) || scale_back.y > T(0) || scale_back.z > T(0);
+            V3 f = df * f_single;
+            if (!global) {
+                // Lit (or no global light left): f_back's one lobe, not the whole batch.
+                if (lit_back)
+                    f += kBack * df * s.d_b * ab * (DeonLongitudinal<T>(s2b).eval(sin_i, cos_i, sb, cb) * kInvPi<T>);
+                return f;
+            }
 
             // Every M at θi in one batch (f_back's, the global lobes', f_back^G's).
             Lanes lanes;
             lobe_lanes(lanes, fw.spread, s2b, sb, cb);
             T m[kLanes];
             lanes.eval_all(sin_i, cos_i, m);
-
-            V3 f = df * f_single;
             if (lit_back) f += kBack * df * s.d_b * ab * (m[kBackLane] * kInvPi<T>);
-            if (!global) return f;
 
             V3 g(T(0));
             if (improved() || !backward)
