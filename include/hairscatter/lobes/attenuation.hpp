@@ -39,9 +39,11 @@ template <typename T> HAIRSCATTER_HD T refracted_cos(T cos_i, T n) {
 // denominators stay positive for η > 1 even at grazing incidence (cos_i = 0 gives F = 1).
 template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T fresnel_dielectric(T cos_i, T eta) {
     cos_i = clamp(cos_i, T(0), T(1));
-    const T sin2_t = (T(1) - cos_i * cos_i) / (eta * eta);
-    const T cos_t = safe_sqrt(T(1) - sin2_t);
-    return T(0.5) * (detail::fresnel_parallel(cos_i, cos_t, eta) + detail::fresnel_perpendicular(cos_i, cos_t, eta));
+    const T inv_eta2 = T(1) / (eta * eta);  // (independent of the direction: off its chain)
+    const T cos_t = safe_sqrt(T(1) - (T(1) - cos_i * cos_i) * inv_eta2);
+    const T perp_d = cos_i + eta * cos_t, par_d = eta * cos_i + cos_t;
+    const T inv_d = T(1) / (perp_d * par_d);
+    return T(0.5) * (sqr((cos_i - eta * cos_t) * par_d * inv_d) + sqr((eta * cos_i - cos_t) * perp_d * inv_d));
 }
 
 // Marschner et al. 2003's Fresnel factor F(η', η'', γ) (their appendix B): the
@@ -109,8 +111,9 @@ template <typename T> struct FiberRefraction {
     FiberRefraction() = default;
     HAIRSCATTER_HD FiberRefraction(T sin_o, T cos_o, T eta) {
         using std::sqrt;
-        gamma_t_scale = cos_o / sqrt(eta * eta - sin_o * sin_o);
-        chord_scale = T(2) / cos_from_sin(sin_o / eta);
+        const T inv_root = T(1) / sqrt(eta * eta - sin_o * sin_o);
+        gamma_t_scale = cos_o * inv_root;
+        chord_scale = T(2) * eta * inv_root;
     }
 
     struct AtOffset {

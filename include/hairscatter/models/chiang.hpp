@@ -197,22 +197,19 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         const T sin_o = clamp(wo.x, T(-1), T(1));
         const T cos_o = cos_from_sin(sin_o);
         const T fresnel = fresnel_dielectric(cos_o * cos_gamma_o_, prm.eta);
-        V3 a[kLobes + 1];
         T gamma_t = T(0);
         if constexpr (kRefracts) {
             const auto path = FiberRefraction<T>(sin_o, cos_o, prm.eta).at(h_, prm.sigma_a);
             gamma_t = path.gamma_t;
             const Attenuation<T, kLobes> att = attenuation<T, kLobes>(fresnel, path.transmittance);
-            for (int p = 0; p <= kLobes; ++p) a[p] = att.a[p];
+            for (int k = 0; k < kLanes; ++k) o.a[k] = k < kKeptLanes ? att.a[lane_lobe(kKept, k)] : V3(T(0));
         } else {
-            a[0] = V3(fresnel);
+            o.a[0] = V3(fresnel);  // R alone: one lane
         }
         mat_->template condition<kKept>(o.m, sin_o, cos_o);
-        for (int k = 0; k < kLanes; ++k) {
-            const int p = lane_lobe(kKept, k);
-            o.a[k] = k < kKeptLanes ? a[p] : V3(T(0));
-            o.phi_p[k] = k < kExplicit ? exit_azimuth_wrapped(p, gamma_o_, gamma_t) : T(0);
-        }
+        // Φ(p, h) of every lane in one loop the compilers vectorise (select, not a branch).
+        for (int k = 0; k < kLanes; ++k)
+            o.phi_p[k] = select(k < kExplicit, exit_azimuth_wrapped(lane_lobe(kKept, k), gamma_o_, gamma_t), T(0));
         // The lobe controls, in this one place: f, the selection weights w, albedo and
         // lobe_split all read the scaled A_p, so sampling stays proportional to eval (the
         // per-lobe tilts are in the material's DeonLobes, which condition() rotates by).
