@@ -299,6 +299,46 @@ template <typename T> void every_model_at_limit() {
 TEST(Limits, EveryModelFiniteAtMinimumRoughnessFloat) { every_model_at_limit<float>(); }
 TEST(Limits, EveryModelFiniteAtMinimumRoughnessDouble) { every_model_at_limit<double>(); }
 
+// Indices at the ends of what validation accepts (η just above 1, and η whose square
+// overflows), with wo and wi along the axis, where sinθo = ±1 meets the refracted path:
+// every model stays finite and non-negative (a fuzzer found the overflowing square in an
+// earlier form of the refraction, which gave NaN for Marschner at η = 2.7e23).
+template <typename T> void every_model_at_extreme_eta() {
+    using V3 = glm::vec<3, T>;
+    const T etas[] = {std::nextafter(T(1), T(2)), T(1.0001), T(3e19), T(2.7e23), std::numeric_limits<T>::max()};
+    const V3 axis[] = {V3(T(-1), T(1.8e-39), T(1.5e-42)), V3(T(1), T(0), T(0)), V3(T(-1), T(0), T(0)),
+                       unit<T>(1.5707, 0.3), unit<T>(-1.5707, 2.0)};
+    for (const T eta : etas) {
+        hs::FiberParams<T> p = brown<T>();
+        p.eta = eta;
+        hs::MarschnerParams<T> mp;
+        mp.sigma_a = p.sigma_a;
+        mp.eta = eta;
+        ASSERT_EQ(hs::validate(p), "") << double(eta);
+        ASSERT_EQ(hs::validate(mp), "") << double(eta);
+        const hs::ChiangMaterial<T> chiang(p);
+        const hs::DeonFarFieldMaterial<T> far(p, 16);
+        const hs::MarschnerMaterial<T> marschner(mp);
+        auto check = [&](const auto& fiber, const char* name) {
+            expect_finite_over_sphere<T>(fiber, name, 200);
+            for (const V3& wo : axis)
+                for (const V3& wi : axis) {
+                    const hs::HairEvalPdf<T> e = fiber.eval_pdf(wo, wi);
+                    EXPECT_TRUE(finite3(e.f) && e.f.x >= T(0) && e.f.y >= T(0) && e.f.z >= T(0) &&
+                                hs::is_finite(e.pdf) && e.pdf >= T(0))
+                        << name << " eta " << double(eta) << " wo.x " << double(wo.x) << " wi.x " << double(wi.x);
+                }
+        };
+        check(hs::ChiangFiber<T>(chiang, T(0.5)), "chiang");
+        check(hs::ChiangFiber<T>(chiang, T(1)), "chiang h = 1");
+        check(hs::DeonFarFieldFiber<T>(far), "far field");
+        check(hs::MarschnerFiber<T>(marschner), "marschner");
+    }
+}
+
+TEST(Limits, EveryModelFiniteAtExtremeEtaFloat) { every_model_at_extreme_eta<float>(); }
+TEST(Limits, EveryModelFiniteAtExtremeEtaDouble) { every_model_at_extreme_eta<double>(); }
+
 // wo on the fiber axis (exactly, and within 1e-6 of it): sample()'s pdf is the pdf of
 // its direction. Exactly on the axis wo has no azimuth; sample measured φ from the y axis
 // while pdf took atan2(0, 0) = 0 for every wi, so the two disagreed for every model.

@@ -39,11 +39,11 @@ template <typename T> HAIRSCATTER_HD T refracted_cos(T cos_i, T n) {
 // denominators stay positive for η > 1 even at grazing incidence (cos_i = 0 gives F = 1).
 template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T fresnel_dielectric(T cos_i, T eta) {
     cos_i = clamp(cos_i, T(0), T(1));
-    const T inv_eta2 = T(1) / (eta * eta);  // (independent of the direction: off its chain)
+    const T inv_eta2 = T(1) / (eta * eta);  // depends on η alone: off the direction's chain
     const T cos_t = safe_sqrt(T(1) - (T(1) - cos_i * cos_i) * inv_eta2);
-    const T perp_d = cos_i + eta * cos_t, par_d = eta * cos_i + cos_t;
-    const T inv_d = T(1) / (perp_d * par_d);
-    return T(0.5) * (sqr((cos_i - eta * cos_t) * par_d * inv_d) + sqr((eta * cos_i - cos_t) * perp_d * inv_d));
+    // (Two divisions, not one of the product of the denominators: that product overflows
+    // for an η near the top of the float range, which validation accepts.)
+    return T(0.5) * (detail::fresnel_parallel(cos_i, cos_t, eta) + detail::fresnel_perpendicular(cos_i, cos_t, eta));
 }
 
 // Marschner et al. 2003's Fresnel factor F(η', η'', γ) (their appendix B): the
@@ -109,11 +109,16 @@ template <typename T> struct FiberRefraction {
     T chord_scale = T(2);    // chord = chord_scale · cosγt
 
     FiberRefraction() = default;
+    // One square root and one division serve both: with x = sinθo / η (1/η depends on η
+    // alone, off the direction's chain), cosθt = √((1 - x)(1 + x)), chord_scale = 2 / cosθt
+    // and gamma_t_scale = cosθo / (η cosθt). Nothing overflows for any η > 1 (η² would).
     HAIRSCATTER_HD FiberRefraction(T sin_o, T cos_o, T eta) {
-        using std::sqrt;
-        const T inv_root = T(1) / sqrt(eta * eta - sin_o * sin_o);
-        gamma_t_scale = cos_o * inv_root;
-        chord_scale = T(2) * eta * inv_root;
+        const T inv_eta = T(1) / eta;
+        // (floored: for η within an ulp of 1 at θo = ±90°, x rounds to 1 and cosθt to 0)
+        const T cos_t = cos_from_sin(sin_o * inv_eta);
+        const T inv_cos_t = T(1) / pick(cos_t > kMinNormal<T>, cos_t, kMinNormal<T>);
+        gamma_t_scale = cos_o * inv_eta * inv_cos_t;
+        chord_scale = T(2) * inv_cos_t;
     }
 
     struct AtOffset {
