@@ -21,7 +21,8 @@
 #             small, and the origin study at a tiny size (scripts/study.sh --tiny)
 #   fuzz      libFuzzer targets of fuzz/ (clang -fsanitize=fuzzer,address,undefined), each
 #             run for FUZZ_SECONDS (default 30 here; fuzz/run.sh alone runs 60) from its
-#             committed corpus (skipped without a clang that links libFuzzer)
+#             committed corpus (skipped without a clang that links libFuzzer); with -j 2 or
+#             more it runs in the background beside fastmath, consumer and cuda
 #
 # Options: -j N / JOBS=N parallelism (default: nproc); --no-deps (or
 # HAIRSCATTER_SKIP_DEPS=1) skips the apt package check.
@@ -79,8 +80,16 @@ section() {
 
 fmt_time() { printf '%dm%02ds' $(($1 / 60)) $(($1 % 60)); }
 
+kill_tree() {
+    local child
+    for child in $(pgrep -P "$1" 2>/dev/null); do kill_tree "$child"; done
+    kill "$1" 2>/dev/null || true
+}
+
 on_exit() {
     local rc=$?
+    # A step that failed while the fuzz step ran in the background: stop it too.
+    if [[ -n "${fuzz_pid:-}" ]]; then kill_tree "$fuzz_pid"; fi
     if [[ -n "$current_step" ]]; then
         summary+=("$(printf '%-10s FAILED  %s' "$current_step" "$(fmt_time $((SECONDS - step_start)))")")
     fi
@@ -286,8 +295,42 @@ fi
 run_step gcc      "GCC Release -Werror: build + ctest (build/test-gcc)"            step_gcc
 run_step clang    "Clang Release -Werror: build + ctest, no statistical tests (build/test-clang)"        step_clang
 run_step asan     "GCC ASan+UBSan (-O1 -g1, asserts on): build + ctest (build/test-asan)" step_asan
+# The fuzz step keeps one core busy (one target at a time, one libFuzzer process), and so do
+# the fastmath, consumer and cuda steps for most of their time (one translation unit at a
+# time): with two or more jobs the fuzz step runs in the background beside them, its output
+# going to build/logs/fuzz.log, printed when it ends (before the example step, which builds
+# on every core).
+fuzz_pid=""
+fuzz_start=0
+start_fuzz_in_background() {
+    enabled fuzz && [[ "$JOBS" -ge 2 ]] || return 0
+    section "[fuzz] started in the background beside fastmath, consumer and cuda (build/logs/fuzz.log)"
+    fuzz_start=$SECONDS
+    step_fuzz >"$LOG_DIR/fuzz.log" 2>&1 &
+    fuzz_pid=$!
+}
+finish_fuzz_in_background() {
+    [[ -n "$fuzz_pid" ]] || return 0
+    section "[fuzz] libFuzzer targets (ran in the background; its log follows)"
+    current_step="fuzz"
+    step_start=$fuzz_start
+    local rc=0
+    wait "$fuzz_pid" || rc=$?
+    fuzz_pid=""
+    cat "$LOG_DIR/fuzz.log"
+    [[ $rc -eq 0 ]] || return "$rc"
+    summary+=("$(printf '%-10s ok      %s (in the background)' fuzz "$(fmt_time $((SECONDS - step_start)))")")
+    current_step=""
+}
+
+start_fuzz_in_background
 run_step fastmath "-ffast-math: the #error, and the robustness tests under it (build/test-fastmath)" step_fastmath
 run_step consumer "Install + downstream consumer (find_package, add_subdirectory)" step_consumer
 run_step cuda     "CUDA compile check (nvcc -c tests/cuda/*.cu)"                   step_cuda
-run_step example  "Example and benchmarks build (-Werror); the example runs small" step_example
-run_step fuzz     "libFuzzer targets, FUZZ_SECONDS (30) each (skipped without clang's libFuzzer)" step_fuzz
+if [[ -n "$fuzz_pid" ]]; then
+    finish_fuzz_in_background
+    run_step example  "Example and benchmarks build (-Werror); the example runs small" step_example
+else
+    run_step example  "Example and benchmarks build (-Werror); the example runs small" step_example
+    run_step fuzz     "libFuzzer targets, FUZZ_SECONDS (30) each (skipped without clang's libFuzzer)" step_fuzz
+fi

@@ -302,10 +302,16 @@ TEST(Limits, EveryModelFiniteAtMinimumRoughnessDouble) { every_model_at_limit<do
 // Indices at the ends of what validation accepts (η just above 1, and η whose square
 // overflows), with wo and wi along the axis, where sinθo = ±1 meets the refracted path:
 // every model stays finite and non-negative (a fuzzer found the overflowing square in an
-// earlier form of the refraction, which gave NaN for Marschner at η = 2.7e23).
+// earlier form of the refraction, which gave NaN for Marschner at η = 2.7e23). Under
+// -ffast-math (-ffinite-math-only: the compiler assumes no Inf) the indices whose square
+// overflows are not supported (docs/robustness.md): there the list stops at η = 1e4.
 template <typename T> void every_model_at_extreme_eta() {
     using V3 = glm::vec<3, T>;
-    const T etas[] = {std::nextafter(T(1), T(2)), T(1.0001), T(3e19), T(2.7e23), std::numeric_limits<T>::max()};
+#if defined(__FAST_MATH__)
+    const T etas[] = {std::nextafter(T(1), T(2)), T(1.0001), T(100), T(1e4)};
+#else
+    const T etas[] = {std::nextafter(T(1), T(2)), T(1.0001), T(1e4), T(3e19), T(2.7e23), std::numeric_limits<T>::max()};
+#endif
     const V3 axis[] = {V3(T(-1), T(1.8e-39), T(1.5e-42)), V3(T(1), T(0), T(0)), V3(T(-1), T(0), T(0)),
                        unit<T>(1.5707, 0.3), unit<T>(-1.5707, 2.0)};
     for (const T eta : etas) {
