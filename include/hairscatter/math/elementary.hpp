@@ -161,10 +161,10 @@ template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float atan2(float y, float x
     // unpredictable, and a mispredicted branch costs more than the whole polynomial.
     const float ax = std::fabs(x), ay = std::fabs(y);
     const bool steep = ay > ax;
-    const float hi = pick(steep, ay, ax), lo = pick(steep, ax, ay);
-    const float r = detail::atan_unit(lo / pick(hi > 0.0f, hi, 1.0f));  // lo = 0 when hi = 0
-    const float r1 = pick(steep, kHalfPi<float> - r, r);
-    return std::copysign(pick(x < 0.0f, kPi<float> - r1, r1), y);
+    const float hi = select(steep, ay, ax), lo = select(steep, ax, ay);
+    const float r = detail::atan_unit(lo / select(hi > 0.0f, hi, 1.0f));  // lo = 0 when hi = 0
+    const float r1 = select(steep, kHalfPi<float> - r, r);
+    return std::copysign(select(x < 0.0f, kPi<float> - r1, r1), y);
 #endif
 }
 
