@@ -303,9 +303,11 @@ run_step asan     "GCC ASan+UBSan (-O1 -g1, asserts on): build + ctest (build/te
 # on every core).
 fuzz_pid=""
 fuzz_start=0
+fuzz_in_background=0
 start_fuzz_in_background() {
     enabled fuzz && [[ "$JOBS" -ge 2 ]] || return 0
     section "[fuzz] started in the background beside fastmath, consumer and cuda (build/logs/fuzz.log)"
+    fuzz_in_background=1
     fuzz_start=$SECONDS
     step_fuzz >"$LOG_DIR/fuzz.log" 2>&1 &
     fuzz_pid=$!
@@ -328,10 +330,7 @@ start_fuzz_in_background
 run_step fastmath "-ffast-math: the #error, and the robustness tests under it (build/test-fastmath)" step_fastmath
 run_step consumer "Install + downstream consumer (find_package, add_subdirectory)" step_consumer
 run_step cuda     "CUDA compile check (nvcc -c tests/cuda/*.cu)"                   step_cuda
-if [[ -n "$fuzz_pid" ]]; then
-    finish_fuzz_in_background
-    run_step example  "Example and benchmarks build (-Werror); the example runs small" step_example
-else
-    run_step example  "Example and benchmarks build (-Werror); the example runs small" step_example
-    run_step fuzz     "libFuzzer targets, FUZZ_SECONDS (30) each (skipped without clang's libFuzzer)" step_fuzz
-fi
+finish_fuzz_in_background
+run_step example  "Example and benchmarks build (-Werror); the example runs small" step_example
+[[ $fuzz_in_background == 1 ]] ||
+    run_step fuzz "libFuzzer targets, FUZZ_SECONDS (30) each (skipped without clang's libFuzzer)" step_fuzz

@@ -116,7 +116,7 @@ template <typename T> struct FiberRefraction {
         const T inv_eta = T(1) / eta;
         // (floored: for η within an ulp of 1 at θo = ±90°, x rounds to 1 and cosθt to 0)
         const T cos_t = cos_from_sin(sin_o * inv_eta);
-        const T inv_cos_t = T(1) / pick(cos_t > kMinNormal<T>, cos_t, kMinNormal<T>);
+        const T inv_cos_t = T(1) / (cos_t > kMinNormal<T> ? cos_t : kMinNormal<T>);
         gamma_t_scale = cos_o * inv_eta * inv_cos_t;
         chord_scale = T(2) * inv_cos_t;
     }

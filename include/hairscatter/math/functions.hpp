@@ -63,10 +63,6 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE double select(bool c, double a, double b
     return detail::select_bits<double, std::uint64_t>(c, a, b);
 }
 
-// c ? a : b for scalar code, with both arms already computed: the compilers emit a blend
-// or a conditional move (no branch) and, unlike select, keep the value in a float register.
-template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T pick(bool c, T a, T b) { return c ? a : b; }
-
 // The cell of a table coordinate x ∈ [0, last + 1], in [0, last]: NaN and values below 0
 // give 0 and values past the end give last, so a bad coordinate never indexes outside.
 template <typename T> HAIRSCATTER_HD int table_cell(T x, int last) {
