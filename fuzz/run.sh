@@ -1,21 +1,29 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets of fuzz/ with clang (-fsanitize=fuzzer,address,undefined) and
-# runs each for FUZZ_SECONDS (default 60) from its committed corpus fuzz/corpus/<target>
-# (copied: new inputs go to the build tree, the committed corpus is not changed), from a
-# fixed seed (FUZZ_SEED, default 1) so that a CI run is repeatable. A crash
-# leaves its input in <build>/crashes/<target>/ and fails the run; turn it into a
-# regression test. Skipped, with a message, when clang or its libFuzzer is missing.
+# runs each from its committed corpus fuzz/corpus/<target> (copied: new inputs go to the
+# build tree, the committed corpus is not changed). Two modes:
+#   - exploring (the default): each target for FUZZ_SECONDS (default 60) from the seed
+#     FUZZ_SEED (default: a fresh one, printed), so that every run searches new ground;
+#   - --repeatable (what scripts/test.sh and CI run): a fixed number of inputs per target
+#     from seed 1 (FUZZ_SEED to change it), about 30 s each on a 2-core machine. libFuzzer
+#     is then deterministic: CI fails only on what the same command finds on any machine,
+#     never on a new input that one machine's speed happened to reach.
+# A crash leaves its input in <build>/crashes/<target>/ and fails the run: fix it and add the
+# input to fuzz/corpus/<target>/ as a regression. Skipped, with a message, when clang or its
+# libFuzzer is missing.
 #
-#   fuzz/run.sh [--build DIR] [-j N] [--seconds S] [target ...]
+#   fuzz/run.sh [--build DIR] [-j N] [--seconds S | --repeatable] [target ...]
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="$ROOT/build/fuzz"
 SECONDS_EACH="${FUZZ_SECONDS:-60}"
+repeatable=0
 targets=()
 while [[ $# -gt 0 ]]; do
     case "$1" in
         --build) BUILD="$2"; shift ;;
         --seconds) SECONDS_EACH="$2"; shift ;;
+        --repeatable) repeatable=1 ;;
         -j) shift ;;  # accepted for test.sh; the targets build one by one
         -j*) ;;
         *) targets+=("$1") ;;
@@ -43,6 +51,14 @@ FLAGS=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:${ASAN_OPTIONS:-}"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
 
+# --repeatable: inputs per target, about 30 s each here (exec/s 2,000–30,000 by target).
+declare -A RUNS=([hair_file_fuzz]=600000 [dual_tables_fuzz]=60000 [model_fuzz]=120000)
+if [[ $repeatable == 1 ]]; then
+    seed="${FUZZ_SEED:-1}"
+else
+    seed="${FUZZ_SEED:-$(( (RANDOM << 15 | RANDOM) + 1 ))}"
+fi
+
 failed=0
 for t in "${targets[@]}"; do
     src=("$ROOT/fuzz/$t.cpp")
@@ -54,8 +70,14 @@ for t in "${targets[@]}"; do
     rm -rf "$work" "$crashes"
     mkdir -p "$work" "$crashes"
     cp "$ROOT/fuzz/corpus/$t"/* "$work"/ 2>/dev/null || true
-    echo "+ $t for ${SECONDS_EACH}s (corpus: $(ls "$work" | wc -l) inputs)"
-    if ! "$BUILD/$t" -seed="${FUZZ_SEED:-1}" -max_total_time="$SECONDS_EACH" -timeout=20 -rss_limit_mb=2048 -max_len=4096 \
+    if [[ $repeatable == 1 ]]; then
+        budget=(-runs="${RUNS[$t]:-100000}")
+        echo "+ $t for ${RUNS[$t]:-100000} inputs from seed $seed (corpus: $(ls "$work" | wc -l) inputs)"
+    else
+        budget=(-max_total_time="$SECONDS_EACH")
+        echo "+ $t for ${SECONDS_EACH}s from seed $seed (corpus: $(ls "$work" | wc -l) inputs)"
+    fi
+    if ! "$BUILD/$t" -seed="$seed" "${budget[@]}" -timeout=20 -rss_limit_mb=2048 -max_len=4096 \
         -print_final_stats=1 -artifact_prefix="$crashes/" "$work" >"$BUILD/$t.log" 2>&1; then
         echo "fuzz: $t FAILED; input(s) in $crashes, log $BUILD/$t.log" >&2
         tail -n 40 "$BUILD/$t.log" >&2

@@ -20,8 +20,9 @@
 #   example   build examples/ and bench/ with -Werror, run the lobe explorer and the renderer
 #             small, and the origin study at a tiny size (scripts/study.sh --tiny)
 #   fuzz      libFuzzer targets of fuzz/ (clang -fsanitize=fuzzer,address,undefined), each
-#             run for FUZZ_SECONDS (default 30 here; fuzz/run.sh alone runs 60) from its
-#             committed corpus (skipped without a clang that links libFuzzer); with -j 2 or
+#             run repeatably (fuzz/run.sh --repeatable: a fixed input count from a fixed
+#             seed, about 30 s each) from its committed corpus (skipped without a clang
+#             that links libFuzzer); with -j 2 or
 #             more it runs in the background beside fastmath, consumer and cuda
 #
 # Options: -j N / JOBS=N parallelism (default: nproc); --no-deps (or
@@ -217,7 +218,9 @@ step_fastmath() {
     build/test-fastmath/tests/robustness_test
 }
 
-step_fuzz() { FUZZ_SECONDS="${FUZZ_SECONDS:-30}" bash "$ROOT/fuzz/run.sh" --build "$ROOT/build/fuzz" -j "$JOBS"; }
+# Repeatable: the same inputs on every machine, so the step fails only on what anyone can
+# reproduce with this command. Exploring for new inputs is fuzz/run.sh without --repeatable.
+step_fuzz() { bash "$ROOT/fuzz/run.sh" --repeatable --build "$ROOT/build/fuzz" -j "$JOBS"; }
 
 step_consumer() {
     local prefix="$ROOT/build/prefix"
@@ -333,4 +336,4 @@ run_step cuda     "CUDA compile check (nvcc -c tests/cuda/*.cu)"                
 finish_fuzz_in_background
 run_step example  "Example and benchmarks build (-Werror); the example runs small" step_example
 [[ $fuzz_in_background == 1 ]] ||
-    run_step fuzz "libFuzzer targets, FUZZ_SECONDS (30) each (skipped without clang's libFuzzer)" step_fuzz
+    run_step fuzz "libFuzzer targets, a fixed input count each (skipped without clang's libFuzzer)" step_fuzz

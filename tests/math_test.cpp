@@ -520,6 +520,15 @@ TEST(SampleDiscrete, NeverPicksAnEmptyEntry) {
         EXPECT_EQ(hs::sample_discrete(zero, 3, u).index, 0);
         EXPECT_EQ(hs::sample_discrete(zero, 3, u).rescaled, u);
     }
+    // A u outside [0, 1] (a caller's error) still leaves a leftover in [0, 1], whatever the
+    // weights: the model fuzzer found a huge leftover of all-zero weights reaching an asin.
+    for (double u : {-4.8e35, -1e-3, 1.5, 3e38}) {
+        for (const double* weights : {zero, w}) {
+            const hs::DiscreteChoice<double> c = hs::sample_discrete(weights, 3, u);
+            EXPECT_GE(c.rescaled, 0.0) << u;
+            EXPECT_LE(c.rescaled, 1.0) << u;
+        }
+    }
 }
 
 // The piecewise-linear CDF's inverse: C(x) = target to rounding, including flat (zero

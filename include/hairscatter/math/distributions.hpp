@@ -80,7 +80,8 @@ template <typename T> struct DiscreteChoice {
 // cumulative sum at u·total, u ∈ [0, 1]. total is Σw summed in index order (the overload
 // below) or 1 for weights the caller normalised (u is then compared as is). Entries of
 // weight 0 are never picked: u ≈ 1 past the rounded sum falls back to the last entry with
-// weight, leftover 1. All weights 0: entry 0, leftover u.
+// weight, leftover 1. All weights 0: entry 0, leftover u clamped to [0, 1]. The leftover is
+// always in [0, 1], so a u outside it (a caller's error) cannot carry further.
 template <typename T>
 HAIRSCATTER_HD DiscreteChoice<T> sample_discrete(const T* w, int n, T u, T total) {
     const T target = u * total;
@@ -93,7 +94,7 @@ HAIRSCATTER_HD DiscreteChoice<T> sample_discrete(const T* w, int n, T u, T total
         last_before = before;
         before += w[i];
     }
-    if (last < 0) return {0, u};
+    if (last < 0) return {0, clamp(u, T(0), T(1))};
     return {last, clamp((target - last_before) / w[last], T(0), T(1))};
 }
 
