@@ -36,31 +36,30 @@ TEST(ChiangChi2, NegativeControlsAreRejected) {
     const hs::ChiangMaterial<double> mat(specs::fiber_params<double>(0.3, 0.3, 2, glm::dvec3(0.5, 0.3, 0.15)));
     const hs::ChiangFiber<double> fiber(mat, 0.3);
     const glm::dvec3 wo = direction(30, 0.7);
-    auto pdf = [&](const glm::dvec3& wi) { return fiber.pdf(wo, wi); };
-    auto sample = [&](const glm::dvec4& u) { return fiber.sample(wo, u).wi; };
+    // One pdf table for the three samplers.
+    const chi2::Expected expected = chi2::expected_counts([&](const glm::dvec3& wi) { return fiber.pdf(wo, wi); }, options);
+    const auto test = [&](const std::function<glm::dvec3(const glm::dvec4&)>& sample) {
+        return chi2::compare(chi2::histogram(sample, options), expected, options);
+    };
 
-    const auto good = chi2::test(sample, pdf, options);
+    const chi2::Result good = test([&](const glm::dvec4& u) { return fiber.sample(wo, u).wi; });
     EXPECT_TRUE(good.passed) << good.report;
 
     auto rotate_phi = [](glm::dvec3 w, double d) {
         return glm::dvec3(w.x, w.y * std::cos(d) - w.z * std::sin(d), w.y * std::sin(d) + w.z * std::cos(d));
     };
-    const auto shifted_tt = chi2::test(
-        [&](const glm::dvec4& u) {
-            const auto s = fiber.sample(wo, u);
-            return s.lobe == hs::SampledLobe::kTT ? rotate_phi(s.wi, 0.05) : s.wi;
-        },
-        pdf, options);
+    const chi2::Result shifted_tt = test([&](const glm::dvec4& u) {
+        const auto s = fiber.sample(wo, u);
+        return s.lobe == hs::SampledLobe::kTT ? rotate_phi(s.wi, 0.05) : s.wi;
+    });
     EXPECT_FALSE(shifted_tt.passed) << "TT shifted by 0.05 rad was accepted (p = " << shifted_tt.p_value << ")";
 
-    const auto shifted_r = chi2::test(
-        [&](const glm::dvec4& u) {
-            const auto s = fiber.sample(wo, u);
-            if (s.lobe != hs::SampledLobe::kR) return s.wi;
-            const double t = std::asin(s.wi.x) + 0.02, cp = std::sqrt(1 - s.wi.x * s.wi.x);
-            return glm::dvec3(std::sin(t), std::cos(t) * s.wi.y / cp, std::cos(t) * s.wi.z / cp);
-        },
-        pdf, options);
+    const chi2::Result shifted_r = test([&](const glm::dvec4& u) {
+        const auto s = fiber.sample(wo, u);
+        if (s.lobe != hs::SampledLobe::kR) return s.wi;
+        const double t = std::asin(s.wi.x) + 0.02, cp = std::sqrt(1 - s.wi.x * s.wi.x);
+        return glm::dvec3(std::sin(t), std::cos(t) * s.wi.y / cp, std::cos(t) * s.wi.z / cp);
+    });
     EXPECT_FALSE(shifted_r.passed) << "R shifted by 0.02 rad was accepted (p = " << shifted_r.p_value << ")";
     std::printf("[ chi2     ] negative controls: p = %.3g (TT +0.05 rad φ), %.3g (R +0.02 rad θ);"
                 " the unmodified sampler p = %.3g\n",

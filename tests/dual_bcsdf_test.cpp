@@ -270,19 +270,22 @@ TEST(DualBcsdf, SampleMatchesPdfChi2) {
     chi2::Options opt;
     opt.num_tests = n_tests;
     opt.samples = 200000;
-        opt.max_depth = 5;
-    const auto scaled = chi2::test([&](const dvec4& u) { return at.sample(u).wi; },
-                                   [&](const dvec3& wi) { return 1.05 * at.pdf(wi); }, opt);
+    opt.max_depth = 5;
+    // Both controls share the pdf's table: one scales it, the other moves the samples.
+    const chi2::Expected expected = chi2::expected_counts([&](const dvec3& wi) { return at.pdf(wi); }, opt);
+    const chi2::Result scaled =
+        chi2::compare(chi2::histogram([&](const dvec4& u) { return at.sample(u).wi; }, opt), expected.scaled(1.05), opt);
     EXPECT_FALSE(scaled.passed) << "pdf × 1.05 accepted, p = " << scaled.p_value;
     const dvec3 wo = at.wo();
-    const auto moved = chi2::test(
+    const chi2::Histogram rotated = chi2::histogram(
         [&](const dvec4& u) {
             const auto r = at.sample(u);
             if (r.component != hs::DualComponent::kGlobal) return r.wi;
             const double phi = hs::relative_azimuth(wo, r.wi);
             return hs::direction_from_azimuth(wo, r.wi.x, hs::wrap_pi(phi + 0.5));
         },
-        [&](const dvec3& wi) { return at.pdf(wi); }, opt);
+        opt);
+    const chi2::Result moved = chi2::compare(rotated, expected, opt);
     EXPECT_FALSE(moved.passed) << "rotated global samples accepted, p = " << moved.p_value;
     std::printf("[ chi2     ] negative controls: p = %.3g (pdf × 1.05), %.3g (global lobe rotated 0.5 rad)\n",
                 scaled.p_value, moved.p_value);

@@ -252,17 +252,20 @@ TEST(HuangChi2, ShiftedLobeIsRejected) {
     const hs::HuangMaterial<double> mat(specs::huang_params<double>(0.3, 2, glm::dvec3(0.2), 0.6, 0.3), Spec::quadrature(6, 8, 2));
     const hs::HuangFiber<double> fiber(mat);
     const glm::dvec3 wo = direction(30, 0.7);
-    auto pdf = [&](const glm::dvec3& wi) { return fiber.pdf(wo, wi); };
-    const auto good = chi2::test([&](const glm::dvec4& u) { return fiber.sample(wo, u).wi; }, pdf, options);
+    // One pdf table for both samplers.
+    const chi2::Expected expected = chi2::expected_counts([&](const glm::dvec3& wi) { return fiber.pdf(wo, wi); }, options);
+    const chi2::Result good =
+        chi2::compare(chi2::histogram([&](const glm::dvec4& u) { return fiber.sample(wo, u).wi; }, options), expected, options);
     EXPECT_TRUE(good.passed) << good.report;
-    const auto shifted = chi2::test(
+    const chi2::Histogram turned = chi2::histogram(
         [&](const glm::dvec4& u) {
             const auto s = fiber.sample(wo, u);
             if (s.lobe != hs::SampledLobe::kTT) return s.wi;
             const double d = 0.05;
             return glm::dvec3(s.wi.x, s.wi.y * std::cos(d) - s.wi.z * std::sin(d), s.wi.y * std::sin(d) + s.wi.z * std::cos(d));
         },
-        pdf, options);
+        options);
+    const chi2::Result shifted = chi2::compare(turned, expected, options);
     EXPECT_FALSE(shifted.passed) << "TT turned by 0.05 rad was accepted (p = " << shifted.p_value << ")";
     std::printf("[ chi2     ] Huang: unmodified p = %.3g, TT +0.05 rad p = %.3g\n", good.p_value, shifted.p_value);
 }

@@ -250,16 +250,17 @@ TYPED_TEST_P(ModelContract, SampleMatchesPdfChi2) {
         const Chi2Case<Fiber>& c = cases[std::size_t(k)];
         const V3 wo(dir(c.theta_o_deg * kPi / 180, 0.7));
         const Fiber& fiber = c.instance.fiber;
-        const auto sample = [&](const glm::dvec4& u) { return glm::dvec3(fiber.sample(wo, glm::vec<4, T>(u)).wi); };
-        const auto r = chi2::test(sample, [&](const glm::dvec3& wi) { return double(fiber.pdf(wo, V3(wi))); },
-                                  TypeParam::chi2_options());
+        const chi2::Options opt = TypeParam::chi2_options();
+        const chi2::Histogram hist =
+            chi2::histogram([&](const glm::dvec4& u) { return glm::dvec3(fiber.sample(wo, glm::vec<4, T>(u)).wi); }, opt);
+        const chi2::Expected expected =
+            chi2::expected_counts([&](const glm::dvec3& wi) { return double(fiber.pdf(wo, V3(wi))); }, opt);
+        const chi2::Result r = chi2::compare(hist, expected, opt);
         min_p = std::min(min_p, r.p_value);
         EXPECT_TRUE(r.passed) << "case " << k << " (" << c.instance.label << ", θo " << c.theta_o_deg << "°)\n" << r.report;
         EXPECT_NEAR(r.expected_total, 1.0, TypeParam::kPdfTotalTolerance) << "case " << k << ": ∫ pdf dω";
         if (k == 0) {
-            const auto scaled = chi2::test(
-                sample, [&](const glm::dvec3& wi) { return 1.05 * double(fiber.pdf(wo, V3(wi))); },
-                TypeParam::chi2_options());
+            const chi2::Result scaled = chi2::compare(hist, expected.scaled(1.05), opt);
             EXPECT_FALSE(scaled.passed) << "pdf × 1.05 was accepted (p = " << scaled.p_value << ")";
         }
     }
