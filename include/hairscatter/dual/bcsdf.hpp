@@ -393,7 +393,8 @@ template <typename Fiber> class DualScatteringBcsdf {
             return pdf;
         }
 
-        HAIRSCATTER_HD V3 value(const V3& wi, T psi, const DualScatteringLight<T>& light, const V3& f_single) const {
+        // Not inlined (config.hpp): inlined, GCC de-vectorises its loops in the caller.
+        HAIRSCATTER_HD HAIRSCATTER_NOINLINE V3 value(const V3& wi, T psi, const DualScatteringLight<T>& light, const V3& f_single) const {
             const DualScatteringSettings<T>& s = t_.settings;
             const T kBack = improved() ? T(2) : T(1);
             const T sin_i = clamp(wi.x, T(-1), T(1)), cos_i = cos_from_sin(sin_i);

@@ -157,14 +157,16 @@ template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float atan2(float y, float x
     return ::atan2f(y, x);
 #else
     // Octant reduction to atan(min/max) ∈ [0, π/4], then the quadrant from the signs, with
-    // selects (math/functions.hpp), not branches: the octant of a random direction is
-    // unpredictable, and a mispredicted branch costs more than the whole polynomial.
+    // conditional expressions that GCC and Clang compile to blends, not branches: the octant
+    // of a random direction is unpredictable, and a mispredicted branch costs more than the
+    // whole polynomial. (The integer-mask select() of math/functions.hpp costs more here:
+    // 26 instructions per Chiang eval.)
     const float ax = std::fabs(x), ay = std::fabs(y);
     const bool steep = ay > ax;
-    const float hi = select(steep, ay, ax), lo = select(steep, ax, ay);
-    const float r = detail::atan_unit(lo / select(hi > 0.0f, hi, 1.0f));  // lo = 0 when hi = 0
-    const float r1 = select(steep, kHalfPi<float> - r, r);
-    return std::copysign(select(x < 0.0f, kPi<float> - r1, r1), y);
+    const float hi = steep ? ay : ax, lo = steep ? ax : ay;
+    const float r = detail::atan_unit(lo / (hi > 0.0f ? hi : 1.0f));  // lo = 0 when hi = 0
+    const float r1 = steep ? kHalfPi<float> - r : r;
+    return std::copysign(x < 0.0f ? kPi<float> - r1 : r1, y);
 #endif
 }
 
