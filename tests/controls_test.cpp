@@ -702,4 +702,5 @@ TEST(LobeControls, MarschnerRefusesResidualControls) {
 
 }  // namespace
 
-// The contract suite over every model with controls: tests/contract/with_controls_*.cpp.
+// The contract suite over every model with controls: tests/contract/*.cpp (the suites
+// named <Model>WithControls).

@@ -367,7 +367,7 @@ TEST(HuangControls, TiltOverridesAreRefused) {
     EXPECT_THROW(hs::HuangMaterial<double>(hs::HuangParams<double>(), bad), std::invalid_argument);
 }
 
-// The contract suite over Huang with controls: tests/contract/with_controls_huang.cpp
+// The contract suite over Huang with controls: tests/contract/huang.cpp
 // (HuangControlsSpec, tests/support/controls_specs.hpp).
 
 // ---- dual scattering from Huang -------------------------------------------------------------

@@ -3,7 +3,7 @@
 // d'Eon-style βm, βn, α, σa, its random and extreme parameters) over the model's own spec
 // (model_specs.hpp), and ControlsSpec<Adapter>, the contract suite's spec of the model with
 // random gains, tints and tilt overrides; HuangControlsSpec, Huang's with gains and tints.
-// tests/controls_test.cpp uses the adapters, tests/contract/with_controls_*.cpp instantiate
+// tests/controls_test.cpp uses the adapters, tests/contract/*.cpp instantiate
 // the suite with these specs.
 #pragma once
 
