@@ -71,12 +71,12 @@ for t in "${targets[@]}"; do
     mkdir -p "$work" "$crashes"
     cp "$ROOT/fuzz/corpus/$t"/* "$work"/ 2>/dev/null || true
     if [[ $repeatable == 1 ]]; then
-        budget=(-runs="${RUNS[$t]:-100000}")
-        echo "+ $t for ${RUNS[$t]:-100000} inputs from seed $seed (corpus: $(ls "$work" | wc -l) inputs)"
+        [[ -n "${RUNS[$t]:-}" ]] || { echo "fuzz: no input count for $t in RUNS (--repeatable)" >&2; exit 2; }
+        budget=(-runs="${RUNS[$t]}") what="${RUNS[$t]} inputs"
     else
-        budget=(-max_total_time="$SECONDS_EACH")
-        echo "+ $t for ${SECONDS_EACH}s from seed $seed (corpus: $(ls "$work" | wc -l) inputs)"
+        budget=(-max_total_time="$SECONDS_EACH") what="${SECONDS_EACH}s"
     fi
+    echo "+ $t for $what from seed $seed (corpus: $(ls "$work" | wc -l) inputs)"
     if ! "$BUILD/$t" -seed="$seed" "${budget[@]}" -timeout=20 -rss_limit_mb=2048 -max_len=4096 \
         -print_final_stats=1 -artifact_prefix="$crashes/" "$work" >"$BUILD/$t.log" 2>&1; then
         echo "fuzz: $t FAILED; input(s) in $crashes, log $BUILD/$t.log" >&2

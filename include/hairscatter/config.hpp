@@ -43,9 +43,9 @@
 #else
 #define HAIRSCATTER_FORCE_INLINE inline
 #endif
-// HAIRSCATTER_NOINLINE keeps a large, rarely-inlined-to-advantage function a call: the dual
-// BCSDF's value. Inlined into its caller, GCC stopped vectorising its layer stacks and lobe
-// loops there (7229 instead of 3038 instructions per dual eval at -O3; docs/performance.md).
+// HAIRSCATTER_NOINLINE keeps a function a call: the dual BCSDF's value, which GCC, once it
+// inlined it into its caller, no longer vectorised (7229 instead of 3038 instructions per
+// float dual eval at -O3; bench/results/icount_2026-12-02.txt).
 #if defined(__CUDACC__)
 #define HAIRSCATTER_NOINLINE __noinline__
 #elif defined(__GNUC__) || defined(__clang__)

@@ -94,8 +94,8 @@ struct Histogram {
 // The pdf's side: the expected count of every cell (opt.samples × the pdf's integral over it).
 struct Expected {
     std::vector<double> counts;
-    // The same table for pdf × s: exactly what integrating s·pdf gives (the cubature's
-    // refinement tests are relative), without integrating again.
+    // The same table for pdf × s, without integrating again: what integrating s·pdf gives
+    // to rounding (the cubature's refinement test is relative, so it splits the same cells).
     Expected scaled(double s) const {
         Expected e = *this;
         for (double& c : e.counts) c *= s;
