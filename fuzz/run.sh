@@ -5,9 +5,10 @@
 #   - exploring (the default): each target for FUZZ_SECONDS (default 60) from the seed
 #     FUZZ_SEED (default: a fresh one, printed), so that every run searches new ground;
 #   - --repeatable (what scripts/test.sh and CI run): a fixed number of inputs per target
-#     from seed 1 (FUZZ_SEED to change it), about 30 s each on a 2-core machine. libFuzzer
-#     is then deterministic: CI fails only on what the same command finds on any machine,
-#     never on a new input that one machine's speed happened to reach.
+#     from seed 1 (FUZZ_SEED to change it), 30–60 s each on a 2-core machine, without
+#     address randomisation (setarch -R, where the machine allows it). Two runs on one
+#     machine then try the same inputs; another machine can still part from them where its
+#     C library computes a maths function differently (docs/robustness.md).
 # A crash leaves its input in <build>/crashes/<target>/ and fails the run: fix it and add the
 # input to fuzz/corpus/<target>/ as a regression. Skipped, with a message, when clang or its
 # libFuzzer is missing.
@@ -30,7 +31,7 @@ while [[ $# -gt 0 ]]; do
     esac
     shift
 done
-[[ ${#targets[@]} -gt 0 ]] || targets=(hair_file_fuzz dual_tables_fuzz model_fuzz)
+[[ ${#targets[@]} -gt 0 ]] || targets=(hair_file_fuzz dual_tables_fuzz model_fuzz bcsdf_fuzz)
 
 CXX="${FUZZ_CXX:-clang++}"
 if ! command -v "$CXX" >/dev/null 2>&1; then
@@ -51,12 +52,27 @@ FLAGS=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:${ASAN_OPTIONS:-}"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
 
-# --repeatable: inputs per target, about 30 s each here (exec/s 2,000–30,000 by target).
-declare -A RUNS=([hair_file_fuzz]=600000 [dual_tables_fuzz]=60000 [model_fuzz]=120000)
+# --repeatable: inputs per target, 30–60 s each here (exec/s 70–30,000 by target).
+declare -A RUNS=([hair_file_fuzz]=600000 [dual_tables_fuzz]=60000 [model_fuzz]=120000 [bcsdf_fuzz]=4000)
 if [[ $repeatable == 1 ]]; then
     seed="${FUZZ_SEED:-1}"
 else
     seed="${FUZZ_SEED:-$(( (RANDOM << 15 | RANDOM) + 1 ))}"
+fi
+
+# Repeatable also means: no address randomisation (libFuzzer keeps inputs by the values they
+# make the code compare, pointers among them, so with it two runs from one seed part after
+# a few dozen inputs) and no periodic re-reading of the corpus directory.
+launch=()
+if [[ $repeatable == 1 ]]; then
+    budget_extra=(-reload=0)
+    if setarch "$(uname -m)" -R true 2>/dev/null; then
+        launch=(setarch "$(uname -m)" -R)
+    else
+        echo "fuzz: cannot turn address randomisation off here (setarch -R): runs from one seed may differ"
+    fi
+else
+    budget_extra=()
 fi
 
 failed=0
@@ -72,12 +88,12 @@ for t in "${targets[@]}"; do
     cp "$ROOT/fuzz/corpus/$t"/* "$work"/ 2>/dev/null || true
     if [[ $repeatable == 1 ]]; then
         [[ -n "${RUNS[$t]:-}" ]] || { echo "fuzz: no input count for $t in RUNS (--repeatable)" >&2; exit 2; }
-        budget=(-runs="${RUNS[$t]}") what="${RUNS[$t]} inputs"
+        budget=(-runs="${RUNS[$t]}" "${budget_extra[@]}") what="${RUNS[$t]} inputs"
     else
         budget=(-max_total_time="$SECONDS_EACH") what="${SECONDS_EACH}s"
     fi
     echo "+ $t for $what from seed $seed (corpus: $(ls "$work" | wc -l) inputs)"
-    if ! "$BUILD/$t" -seed="$seed" "${budget[@]}" -timeout=20 -rss_limit_mb=2048 -max_len=4096 \
+    if ! "${launch[@]}" "$BUILD/$t" -seed="$seed" "${budget[@]}" -timeout=20 -rss_limit_mb=2048 -max_len=4096 \
         -print_final_stats=1 -artifact_prefix="$crashes/" "$work" >"$BUILD/$t.log" 2>&1; then
         echo "fuzz: $t FAILED; input(s) in $crashes, log $BUILD/$t.log" >&2
         tail -n 40 "$BUILD/$t.log" >&2

@@ -21,7 +21,7 @@
 #             small, and the origin study at a tiny size (scripts/study.sh --tiny)
 #   fuzz      libFuzzer targets of fuzz/ (clang -fsanitize=fuzzer,address,undefined), each
 #             run repeatably (fuzz/run.sh --repeatable: a fixed input count from a fixed
-#             seed, about 30 s each) from its committed corpus (skipped without a clang
+#             seed without address randomisation, 30–60 s each) from its committed corpus (skipped without a clang
 #             that links libFuzzer); with -j 2 or
 #             more it runs in the background beside fastmath, consumer and cuda
 #
@@ -220,8 +220,9 @@ step_fastmath() {
     build/test-fastmath/tests/robustness_test
 }
 
-# Repeatable: the same inputs on every machine, so the step fails only on what anyone can
-# reproduce with this command. Exploring for new inputs is fuzz/run.sh without --repeatable.
+# Repeatable: a fixed input count (the step's length does not depend on the machine's speed)
+# and, on one machine, the same inputs every run (docs/robustness.md). Exploring for new
+# inputs is fuzz/run.sh without --repeatable.
 step_fuzz() { bash "$ROOT/fuzz/run.sh" --repeatable --build "$ROOT/build/fuzz" -j "$JOBS"; }
 
 step_consumer() {

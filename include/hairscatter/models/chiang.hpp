@@ -223,8 +223,9 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
             }
             // With R kept at a gain above 0, total ≥ gain F > 0. Otherwise every kept lobe can
             // vanish (an opaque fiber, zero gains): the weights stay 0 and so does the pdf.
-            const T inv_total = total > T(0) ? T(1) / total : T(0);
-            for (int k = 0; k < kLanes; ++k) o.w[k] *= inv_total;
+            // Each lane is divided (one vector division): 1 / total overflows when the gains
+            // make total subnormal, and the weights became Inf and NaN (a fuzzer's find).
+            for (int k = 0; k < kLanes; ++k) o.w[k] = total > T(0) ? o.w[k] / total : T(0);
         }
         return o;
     }
