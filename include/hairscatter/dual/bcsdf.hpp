@@ -361,8 +361,9 @@ template <typename Fiber> class DualScatteringBcsdf {
         // The global lobe p's density over ψ ∈ [-π, π]: the sampler's row of W̄_p, normalised.
         HAIRSCATTER_HD T window_pdf(int p, T abs_psi) const {
             if (!(total_[p] > T(0))) return T(0);
-            const T x = clamp(abs_psi * kInvPi<T>, T(0), T(1)) * T(t_.n_psi - 1);
-            const int j = table_cell(x, t_.n_psi - 2);  // NaN ψ: cell 0, no read outside
+            const T x = clamp_nan_to_lo(abs_psi * kInvPi<T>, T(0), T(1)) * T(t_.n_psi - 1);  // NaN ψ: 0
+            int j = int(x);
+            j = j > t_.n_psi - 2 ? t_.n_psi - 2 : j;
             const T s = x - T(j);
             const T a = mean(t_.window[t_.window_index(row_, p, j)]), b = mean(t_.window[t_.window_index(row_, p, j + 1)]);
             return T(0.5) * (a + s * (b - a)) / total_[p];

@@ -259,8 +259,10 @@ template <typename T> struct DualTablesView {
     // The same from θ ∈ [-π/2, π/2] itself, for a caller that has it (one asin fewer).
     HAIRSCATTER_HD Cell cell_of_angle(T theta) const {
         const T u = clamp(elem::asin(clamp(theta * (T(2) * kInvPi<T>), T(-1), T(1))) * (T(2) * kInvPi<T>), T(-1), T(1));
-        const T x = (u + T(1)) * T(0.5) * T(n_theta - 1);
-        const int i = table_cell(x, n_theta - 2);  // a NaN θ: cell 0, no read outside
+        // A NaN θ reads the first row, never outside the table.
+        const T x = clamp_nan_to_lo((u + T(1)) * T(0.5), T(0), T(1)) * T(n_theta - 1);
+        int i = int(x);
+        i = i > n_theta - 2 ? n_theta - 2 : i;
         return {i, clamp(x - T(i), T(0), T(1))};
     }
     HAIRSCATTER_HD Entry lookup(T sin_theta) const {
@@ -277,8 +279,10 @@ template <typename T> struct DualTablesView {
     }
     // W_p at the θ cell c and |ψ| (ψ ∈ [-π, π]), bilinear.
     HAIRSCATTER_HD V3 window_at(const Cell& c, int p, T abs_psi) const {
-        const T x = clamp(abs_psi * kInvPi<T>, T(0), T(1)) * T(n_psi - 1);
-        const int j = table_cell(x, n_psi - 2);  // NaN ψ (from non-unit directions): cell 0, no read outside
+        // A NaN ψ (from directions too long to square) reads ψ = 0, never outside the table.
+        const T x = clamp_nan_to_lo(abs_psi * kInvPi<T>, T(0), T(1)) * T(n_psi - 1);
+        int j = int(x);
+        j = j > n_psi - 2 ? n_psi - 2 : j;
         const T s = x - T(j);
         const V3 lo = window[window_index(c.i, p, j)] + s * (window[window_index(c.i, p, j + 1)] - window[window_index(c.i, p, j)]);
         const V3 hi = window[window_index(c.i + 1, p, j)] +

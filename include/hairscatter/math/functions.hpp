@@ -21,6 +21,13 @@ template <typename T> HAIRSCATTER_HD constexpr T clamp(T x, T lo, T hi) {
     return above > hi ? hi : above;
 }
 
+// clamp for a table coordinate: the same two selects, written so that a NaN x fails both
+// comparisons and gives lo (a cell index made from it stays inside the table).
+template <typename T> HAIRSCATTER_HD constexpr T clamp_nan_to_lo(T x, T lo, T hi) {
+    const T above = x > lo ? x : lo;
+    return above < hi ? above : hi;
+}
+
 // x is neither NaN nor ±Inf, read from the exponent bits: -ffast-math (-ffinite-math-only)
 // folds std::isfinite and x == x to true, this test it cannot fold.
 HAIRSCATTER_HD inline bool is_finite(float x) {

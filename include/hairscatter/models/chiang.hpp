@@ -223,9 +223,14 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
             }
             // With R kept at a gain above 0, total ≥ gain F > 0. Otherwise every kept lobe can
             // vanish (an opaque fiber, zero gains): the weights stay 0 and so does the pdf.
-            // Each lane is divided (one vector division): 1 / total overflows when the gains
-            // make total subnormal, and the weights became Inf and NaN (a fuzzer's find).
-            for (int k = 0; k < kLanes; ++k) o.w[k] = total > T(0) ? o.w[k] / total : T(0);
+            // A subnormal total (gains near 1e-39) has no finite reciprocal: its lanes are
+            // divided instead (a fuzzer found the Inf and NaN weights 1 / total gave).
+            if (total >= kMinNormal<T>) {
+                const T inv_total = T(1) / total;
+                for (int k = 0; k < kLanes; ++k) o.w[k] *= inv_total;
+            } else {
+                for (int k = 0; k < kLanes; ++k) o.w[k] = total > T(0) ? o.w[k] / total : T(0);
+            }
         }
         return o;
     }
