@@ -5,7 +5,8 @@
 //     contract's calls (fuzz_support.hpp). The material is built exactly when validate()
 //     returns "" for the parameters and the controls and no tilt override is set.
 //   - Dual: three fixed table sets built once (Chiang blond and improved, Chiang dark and
-//     Zinke 2008's formulation, Huang elliptical), the fiber's h, wo, wi, u, the sampler's
+//     Zinke 2008's formulation, Huang elliptical), or small tables built from a Chiang
+//     material and settings read from the bytes; the fiber's h, wo, wi, u, the sampler's
 //     spread hint and the light state (any float: NaN, Inf, negative counts, a broken T_f)
 //     from the bytes. Checked: eval, pdf, at(wo).eval/pdf/sample and sample are finite and
 //     non-negative for finite unit directions and any light; a non-finite wo or wi gives 0.
@@ -167,6 +168,44 @@ template <typename Fiber> void exercise_dual(const Fiber& fiber, const hs::DualS
     }
 }
 
+// Dual tables built from the bytes: a Chiang material (parameters raw or mapped into their
+// ranges, lobe controls) and the settings (formulation, d_f, d_b: raw or in [0, 1]). Built
+// exactly when the parameters, controls and settings are valid; then the BCSDF's calls.
+void run_dual_built(Reader& r, std::uint8_t mode) {
+    const bool mapped = (mode & 8u) != 0u;
+    auto value = [&](float lo, float hi) {
+        const float x = r.next();
+        return mapped ? lo + (hi - lo) * (hs::is_finite(x) ? x - std::floor(x) : 0.0f) : x;
+    };
+    hs::FiberParams<float> p;
+    p.eta = value(1.0f, 3.0f);
+    p.beta_m = value(hs::kMinRoughness<float>, 1.0f);
+    p.beta_n = value(hs::kMinRoughness<float>, 1.0f);
+    p.alpha = value(-hs::kMaxCuticleTilt<float>, hs::kMaxCuticleTilt<float>);
+    for (int c = 0; c < 3; ++c) p.sigma_a[c] = value(0.0f, 20.0f);
+    const hs::LobeControls<float> c = fuzz::read_controls<float>(r, mode);
+    hs::DualScatteringSettings<float> s;
+    const std::uint8_t f = r.byte();
+    s.formulation = hs::DualFormulation(mapped ? f % 2 : f);
+    s.d_f = value(0.0f, 1.0f);
+    s.d_b = value(0.0f, 1.0f);
+    const bool settings_ok = (s.formulation == hs::DualFormulation::kImproved ||
+                              s.formulation == hs::DualFormulation::kZinke2008) &&
+                             hs::is_finite(s.d_f) && s.d_f >= 0.0f && s.d_f <= 1.0f && hs::is_finite(s.d_b) &&
+                             s.d_b >= 0.0f && s.d_b <= 1.0f;
+    const bool valid = hs::validate(p).empty() && hs::validate(c).empty() && settings_ok;
+    try {
+        const hs::ChiangMaterial<float> m(p, c);
+        const auto tables = hs::DualScatteringTables<float>::build<hs::ChiangFiber<float>>(m, table_options(s));
+        check(valid);
+        float h = r.next();
+        h = hs::is_finite(h) ? h - 2.0f * std::floor(0.5f * h) - 1.0f : 0.0f;
+        exercise_dual(hs::ChiangFiber<float>(m, h), tables, r);
+    } catch (const std::invalid_argument&) {
+        check(!valid);
+    }
+}
+
 void run_dual(Reader& r, std::uint8_t which) {
     if (which % 3 == 2) {
         exercise_dual(hs::HuangFiber<float>(huang_set().material), huang_set().tables, r);
@@ -187,7 +226,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     switch (sel % 3) {
         case 0: run_huang<float>(r, mode); break;
         case 1: run_huang<double>(r, mode); break;
-        default: run_dual(r, mode); break;
+        default:
+            if ((sel / 3) % 4 == 3)
+                run_dual_built(r, mode);
+            else
+                run_dual(r, mode);
+            break;
     }
     return 0;
 }

@@ -93,7 +93,7 @@ for t in "${targets[@]}"; do
         budget=(-max_total_time="$SECONDS_EACH") what="${SECONDS_EACH}s"
     fi
     echo "+ $t for $what from seed $seed (corpus: $(ls "$work" | wc -l) inputs)"
-    if ! "${launch[@]}" "$BUILD/$t" -seed="$seed" "${budget[@]}" -timeout=20 -rss_limit_mb=2048 -max_len=4096 \
+    if ! "${launch[@]}" "$BUILD/$t" -seed="$seed" "${budget[@]}" -timeout=60 -rss_limit_mb=2048 -max_len=4096 \
         -print_final_stats=1 -artifact_prefix="$crashes/" "$work" >"$BUILD/$t.log" 2>&1; then
         echo "fuzz: $t FAILED; input(s) in $crashes, log $BUILD/$t.log" >&2
         tail -n 40 "$BUILD/$t.log" >&2
