@@ -51,10 +51,7 @@ template <typename T> const hs::HuangMaterial<T>& huang_material(const std::stri
 template <typename T> void run_huang(Reader& r, std::uint8_t mode) {
     const bool mapped = (mode & 8u) != 0u;
     const std::uint8_t* start = r.p;
-    auto value = [&](T lo, T hi) {
-        const T x = T(r.next());
-        return mapped ? lo + (hi - lo) * (hs::is_finite(x) ? x - std::floor(x) : T(0)) : x;
-    };
+    auto value = [&](T lo, T hi) { return r.parameter<T>(lo, hi, mapped); };
     hs::HuangParams<T> p;
     p.eta = value(T(1), T(3));
     p.roughness = value(hs::kMinHuangRoughness<T>, T(1));
@@ -173,10 +170,7 @@ template <typename Fiber> void exercise_dual(const Fiber& fiber, const hs::DualS
 // exactly when the parameters, controls and settings are valid; then the BCSDF's calls.
 void run_dual_built(Reader& r, std::uint8_t mode) {
     const bool mapped = (mode & 8u) != 0u;
-    auto value = [&](float lo, float hi) {
-        const float x = r.next();
-        return mapped ? lo + (hi - lo) * (hs::is_finite(x) ? x - std::floor(x) : 0.0f) : x;
-    };
+    auto value = [&](float lo, float hi) { return r.parameter<float>(lo, hi, mapped); };
     hs::FiberParams<float> p;
     p.eta = value(1.0f, 3.0f);
     p.beta_m = value(hs::kMinRoughness<float>, 1.0f);
@@ -198,9 +192,7 @@ void run_dual_built(Reader& r, std::uint8_t mode) {
         const hs::ChiangMaterial<float> m(p, c);
         const auto tables = hs::DualScatteringTables<float>::build<hs::ChiangFiber<float>>(m, table_options(s));
         check(valid);
-        float h = r.next();
-        h = hs::is_finite(h) ? h - 2.0f * std::floor(0.5f * h) - 1.0f : 0.0f;
-        exercise_dual(hs::ChiangFiber<float>(m, h), tables, r);
+        exercise_dual(hs::ChiangFiber<float>(m, r.offset<float>()), tables, r);
     } catch (const std::invalid_argument&) {
         check(!valid);
     }
@@ -211,8 +203,7 @@ void run_dual(Reader& r, std::uint8_t which) {
         exercise_dual(hs::HuangFiber<float>(huang_set().material), huang_set().tables, r);
         return;
     }
-    float h = r.next();
-    h = hs::is_finite(h) ? h - 2.0f * std::floor(0.5f * h) - 1.0f : 0.0f;  // into [-1, 1)
+    const float h = r.offset<float>();
     const ChiangSet& set = which % 3 == 0 ? blond_set() : dark_set();
     exercise_dual(hs::ChiangFiber<float>(set.material, h), set.tables, r);
 }

@@ -41,6 +41,13 @@ struct Reader {
         const T x = T(next());
         return hs::is_finite(x) ? x - std::floor(x) : T(0);
     }
+    // A parameter: the raw float (any value), or mapped into [lo, hi) by its fractional part.
+    template <typename T> T parameter(T lo, T hi, bool mapped) { return mapped ? lo + (hi - lo) * unit<T>() : T(next()); }
+    // A fiber offset h in [-1, 1) from a raw float (0 for a non-finite one).
+    template <typename T> T offset() {
+        const T h = T(next());
+        return hs::is_finite(h) ? h - T(2) * std::floor(T(0.5) * h) - T(1) : T(0);
+    }
 };
 
 inline void check(bool ok) {

@@ -38,9 +38,7 @@ template <typename T> void run(int model, Reader& r, std::uint8_t control_mode) 
             if (model == 0) {
                 const hs::ChiangMaterial<T> m(p, c);
                 check(valid);
-                T h = T(r.next());
-                h = hs::is_finite(h) ? h - T(2) * std::floor(T(0.5) * h) - T(1) : T(0);  // into [-1, 1)
-                exercise<T>(hs::ChiangFiber<T>(m, h), r);
+                exercise<T>(hs::ChiangFiber<T>(m, r.offset<T>()), r);
             } else if (model == 1) {
                 const hs::DeonFarFieldMaterial<T> m(p, 16, c);  // a fixed, small node count: speed
                 check(valid);

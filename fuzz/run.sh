@@ -65,14 +65,11 @@ fi
 # a few dozen inputs) and no periodic re-reading of the corpus directory.
 launch=()
 if [[ $repeatable == 1 ]]; then
-    budget_extra=(-reload=0)
     if setarch "$(uname -m)" -R true 2>/dev/null; then
         launch=(setarch "$(uname -m)" -R)
     else
         echo "fuzz: cannot turn address randomisation off here (setarch -R): runs from one seed may differ"
     fi
-else
-    budget_extra=()
 fi
 
 failed=0
@@ -88,7 +85,7 @@ for t in "${targets[@]}"; do
     cp "$ROOT/fuzz/corpus/$t"/* "$work"/ 2>/dev/null || true
     if [[ $repeatable == 1 ]]; then
         [[ -n "${RUNS[$t]:-}" ]] || { echo "fuzz: no input count for $t in RUNS (--repeatable)" >&2; exit 2; }
-        budget=(-runs="${RUNS[$t]}" "${budget_extra[@]}") what="${RUNS[$t]} inputs"
+        budget=(-runs="${RUNS[$t]}" -reload=0) what="${RUNS[$t]} inputs"
     else
         budget=(-max_total_time="$SECONDS_EACH") what="${SECONDS_EACH}s"
     fi
