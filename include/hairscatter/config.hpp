@@ -55,6 +55,16 @@
 #else
 #define HAIRSCATTER_NOINLINE
 #endif
+// HAIRSCATTER_UNROLL before a loop over a model's lanes (a compile-time trip count of 2
+// to 8) unrolls it completely: GCC at -O2 keeps such a loop, once its body is vectorised,
+// as a real loop with a counter and a branch per lane.
+#if defined(__CUDACC__) || defined(__clang__)
+#define HAIRSCATTER_UNROLL _Pragma("unroll")
+#elif defined(__GNUC__)
+#define HAIRSCATTER_UNROLL _Pragma("GCC unroll 8")
+#else
+#define HAIRSCATTER_UNROLL
+#endif
 // The earlier spelling, kept as an alias.
 #define HAIRSCATTER_INLINE HAIRSCATTER_FORCE_INLINE
 

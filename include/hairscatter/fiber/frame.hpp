@@ -40,7 +40,7 @@ template <typename T> struct FiberFrame {
 // in the fiber frame: rotates wo's azimuthal direction by φ (no atan2 round trip). A wo
 // along the fiber has no azimuth; φ is then measured from the y axis, as atan2(0, 0) = 0.
 template <typename T>
-HAIRSCATTER_HD glm::vec<3, T> direction_from_azimuth(const glm::vec<3, T>& wo, T sin_theta, T phi) {
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE glm::vec<3, T> direction_from_azimuth(const glm::vec<3, T>& wo, T sin_theta, T phi) {
     using std::sqrt;
     const T cos_theta = cos_from_sin(sin_theta);
     const T len = sqrt(wo.y * wo.y + wo.z * wo.z);

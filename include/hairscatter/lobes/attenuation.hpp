@@ -62,36 +62,50 @@ template <typename T> HAIRSCATTER_HD T fresnel_bravais(T cos_i, T eta_perp, T et
 
 // The attenuations of the lobes p = 0 … P (P the residual), Chiang et al. 2016 eqs. 3–4:
 //   A_0 = F,  A_1 = (1 - F)² T,  A_p = A_{p-1} T F,  A_P = A_{P-1} T F / (1 - T F),
-// with F at cos = cosθo cosγo and T the transmittance of one chord through the fiber.
+// with F at cos = cosθo cosγo and T the transmittance of one chord through the fiber,
+// per channel c of C, every step one loop over the channels (vectorised for C = 4).
+// f_internal is the reflectance at the inner surface; Chiang et al. use the entry
+// reflectance (equal for one index by reciprocity), Marschner et al. 2003 their
+// F(1/η', 1/η'', γt), which differs when η' ≠ η''.
+template <typename T, int P, int C>
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void attenuation_channels(T fresnel, T fresnel_internal, const T (&transmittance)[C],
+                                                                  T (&a)[P + 1][C]) {
+    static_assert(P >= 1, "at least the R lobe and the residual");
+    const T f = fresnel, fi = fresnel_internal, entry = sqr(T(1) - f);
+    for (int c = 0; c < C; ++c) a[0][c] = f;
+    if (P == 1) {
+        // Everything but R is one residual: (1 - F)² T / (1 - T F), summed geometric series.
+        for (int c = 0; c < C; ++c) {
+            const T denom = T(1) - transmittance[c] * fi;
+            a[1][c] = denom > T(0) ? entry * transmittance[c] / denom : T(0);
+        }
+        return;
+    }
+    for (int c = 0; c < C; ++c) a[1][c] = entry * transmittance[c];
+    for (int p = 2; p < P; ++p)
+        for (int c = 0; c < C; ++c) a[p][c] = a[p - 1][c] * transmittance[c] * fi;
+    // 1 - T F = 0 only when F = 1 (grazing h) and T = 1, where A_{P-1} carries (1 - F)² = 0:
+    // flooring the denominator at the smallest normal number (1 - T F is otherwise at least
+    // one ulp of 1) gives 0 there without a branch per channel.
+    for (int c = 0; c < C; ++c) {
+        const T tf = transmittance[c] * fi, denom = T(1) - tf;
+        a[P][c] = a[P - 1][c] * tf / (denom > kMinNormal<T> ? denom : kMinNormal<T>);
+    }
+}
+
+// The same as colours: A_p as RGB vectors.
 template <typename T, int P> struct Attenuation {
     static_assert(P >= 1, "at least the R lobe and the residual");
     glm::vec<3, T> a[P + 1];
 };
 
-// f_internal is the reflectance at the inner surface; Chiang et al. use the entry
-// reflectance (equal for one index by reciprocity), Marschner et al. 2003 their
-// F(1/η', 1/η'', γt), which differs when η' ≠ η''.
 template <typename T, int P>
 HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE Attenuation<T, P> attenuation(T fresnel, T fresnel_internal, const glm::vec<3, T>& transmittance) {
-    using V = glm::vec<3, T>;
+    const T t[3] = {transmittance.x, transmittance.y, transmittance.z};
+    T a[P + 1][3];
+    attenuation_channels<T, P, 3>(fresnel, fresnel_internal, t, a);
     Attenuation<T, P> r;
-    const T f = fresnel, fi = fresnel_internal;
-    r.a[0] = V(f);
-    if (P == 1) {
-        // Everything but R is one residual: (1 - F)² T / (1 - T F), summed geometric series.
-        const V tf = transmittance * fi;
-        const V denom = V(1) - tf;
-        for (int c = 0; c < 3; ++c)
-            r.a[1][c] = denom[c] > T(0) ? sqr(T(1) - f) * transmittance[c] / denom[c] : T(0);
-        return r;
-    }
-    r.a[1] = sqr(T(1) - f) * transmittance;
-    for (int p = 2; p < P; ++p) r.a[p] = r.a[p - 1] * transmittance * fi;
-    // 1 - T F = 0 only when F = 1 (grazing h) and T = 1, where A_{P-1} carries (1 - F)² = 0:
-    // flooring the denominator at the smallest normal number (1 - T F is otherwise at least
-    // one ulp of 1) gives 0 there without a branch per channel.
-    const V tf = transmittance * fi;
-    r.a[P] = r.a[P - 1] * tf / glm::max(V(1) - tf, V(kMinNormal<T>));
+    for (int p = 0; p <= P; ++p) r.a[p] = glm::vec<3, T>(a[p][0], a[p][1], a[p][2]);
     return r;
 }
 
@@ -130,6 +144,23 @@ template <typename T> struct FiberRefraction {
         const T chord = chord_scale * cos_from_sin(sin_gamma_t);
         return {elem::asin(sin_gamma_t), glm::vec<3, T>(elem::exp(-sigma_a.x * chord), elem::exp(-sigma_a.y * chord),
                                                          elem::exp(-sigma_a.z * chord))};
+    }
+
+    // The same per channel lane (kChannelLanes) from σa per lane (the padding lane's σa is
+    // 0, so its transmittance is 1): in float the three exps and the padding lane's are one
+    // vectorised batch (elem::exp_each), about the cost of one scalar exp.
+    struct AtOffsetChannels {
+        T gamma_t;
+        T transmittance[kChannelLanes<T>];
+    };
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE AtOffsetChannels at_channels(T h, const T (&sigma_a)[kChannelLanes<T>]) const {
+        const T sin_gamma_t = h * gamma_t_scale;
+        const T chord = chord_scale * cos_from_sin(sin_gamma_t);
+        AtOffsetChannels r;
+        r.gamma_t = elem::asin(sin_gamma_t);
+        for (int c = 0; c < kChannelLanes<T>; ++c) r.transmittance[c] = -sigma_a[c] * chord;
+        elem::exp_each(r.transmittance);
+        return r;
     }
 };
 

@@ -41,11 +41,12 @@ template <typename T, int N> struct DeonLanes {
     T sqrt_a_scale[N];     // its square root: 1/√a = 1/(√cosθi √a_scale), no sqrt per lane
     T half_inv_v[N], norm[N];
 
-    // sqrt_a_scale from a_scale, after the lanes are conditioned: a loop of its own, since
-    // the sqrt (which may set errno) keeps the compilers from vectorising a loop it is in.
+    // sqrt_a_scale from a_scale, after the lanes are conditioned: a step of its own, since
+    // a sqrt (which may set errno) keeps the compilers from vectorising a loop it is in
+    // (elem::sqrt_each: one vector square root on x86).
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void take_roots() {
-        using std::sqrt;
-        for (int k = 0; k < N; ++k) sqrt_a_scale[k] = sqrt(a_scale[k]);
+        for (int k = 0; k < N; ++k) sqrt_a_scale[k] = a_scale[k];
+        elem::sqrt_each(sqrt_a_scale);
     }
 
     // Lane k of M at (sinθi, cosθi), with sqrt_cos_i = √cosθi.

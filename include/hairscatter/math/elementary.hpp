@@ -11,6 +11,14 @@
 #include <type_traits>
 
 #include "../config.hpp"
+
+// x86 host code (SSE is part of x86-64): sqrt_each's SQRTPS. Not in CUDA device code.
+#if !defined(__CUDA_ARCH__) && (defined(__SSE__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 1))
+#include <xmmintrin.h>
+#define HAIRSCATTER_HAS_SSE_SQRT 1
+#else
+#define HAIRSCATTER_HAS_SSE_SQRT 0
+#endif
 #include "constants.hpp"
 #include "functions.hpp"
 
@@ -313,6 +321,24 @@ template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void pow_each(float (&x
     for (int k = 0; k < N; ++k) x[k] = y * detail::log_float<true>(x[k]);  // log 0 reads as -88: e^(-88 y) flushes to 0
     exp_each(x);
 #endif
+}
+
+// √x of every element (x ≥ 0, or NaN). A loop of std::sqrt stays scalar, with a compare
+// and a branch per element, because each sqrt may set errno (unless -fno-math-errno); x86
+// has a vector square root that never does, so there four lanes are one SQRTPS (the one
+// intrinsic of the library, with this loop as the portable form everywhere else).
+template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sqrt_each(T (&x)[N]) {
+    using std::sqrt;
+    for (int k = 0; k < N; ++k) x[k] = sqrt(x[k]);
+}
+template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sqrt_each(float (&x)[N]) {
+#if HAIRSCATTER_HAS_SSE_SQRT
+    if constexpr (N % 4 == 0) {
+        for (int k = 0; k < N; k += 4) _mm_storeu_ps(x + k, _mm_sqrt_ps(_mm_loadu_ps(x + k)));
+        return;
+    }
+#endif
+    for (int k = 0; k < N; ++k) x[k] = std::sqrt(x[k]);
 }
 
 }  // namespace elem

@@ -38,7 +38,9 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
 
     explicit ChiangMaterial(const FiberParams<T>& params, const LobeControls<T>& controls = LobeControls<T>())
         : DeonLobes<T>(validated(params).beta_m, validated(controls).cuticle_tilt(params.alpha)), params_(params),
-          controls_(controls), n_(logistic_scale(params.beta_n)), weights_(controls) {}
+          controls_(controls), n_(logistic_scale(params.beta_n)), weights_(controls) {
+        for (int c = 0; c < kChannelLanes<T>; ++c) sigma_a_lanes_[c] = c < 3 ? params.sigma_a[c < 3 ? c : 0] : T(0);
+    }
 
     HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
     HAIRSCATTER_HD const LobeControls<T>& controls() const { return controls_; }
@@ -47,12 +49,17 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
     // from 1 (without, the fiber skips the products: the default path costs one branch).
     HAIRSCATTER_HD const glm::vec<3, T>& lobe_weight(int p) const { return weights_[p]; }
     HAIRSCATTER_HD bool has_lobe_weights() const { return weights_.any(); }
+    // lobe_weight(p) per channel lane (math/constants.hpp: kChannelLanes; padding 1).
+    HAIRSCATTER_HD const T (&lobe_weight_lanes(int p) const)[kChannelLanes<T>] { return weights_.channel_lanes(p); }
+    // σa per channel lane (lobes/attenuation.hpp: kChannelLanes), the padding lane 0.
+    HAIRSCATTER_HD const T (&sigma_a_lanes() const)[kChannelLanes<T>] { return sigma_a_lanes_; }
 
   private:
     FiberParams<T> params_;
     LobeControls<T> controls_;
     TrimmedLogistic<T> n_;
     LobeWeights<T> weights_;
+    T sigma_a_lanes_[kChannelLanes<T>];
 };
 
 // One fiber hit: a material and the offset h ∈ [-1, 1] across the fiber. Directions are
@@ -116,7 +123,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         }
         for (int k = 0; k < kKeptLanes; ++k) {
             const int p = lane_lobe(kKept, k);
-            r.a[p] = o.a[k];
+            r.a[p] = V3(o.a[k][0], o.a[k][1], o.a[k][2]);
             r.backward[p] = k < kExplicit ? mat_->azimuthal().arc_mass(centre - kHalfPi<T> - o.phi_p[k], kPi<T>)
                                           : T(0.5);  // the residual is uniform in φ
         }
@@ -141,14 +148,16 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     static constexpr int kLanes = std::is_same<T, float>::value && kKeptLanes == 3 ? 4 : kKeptLanes;
     static constexpr int kExplicit = kKeptLanes - (keeps(kLobes) ? 1 : 0);
     // The N_p lanes computed per query: every lane in float, where the residual's is a
-    // discarded part of a whole vector; only the explicit ones in double (one libm exp each).
+    // part of a whole vector that a select replaces; only the explicit ones in double (one
+    // libm exp each).
     static constexpr int kAzimuthal = std::is_same<T, float>::value ? kLanes : kExplicit;
-    // The exps of one query: N_p of the kAzimuthal lanes, then M_p of every lane, padded.
-    static constexpr int kExps = elem::exp_batch<T>(kAzimuthal + kLanes);
+
+    // The colour channels of A_p per lane: RGB, padded to a whole vector in float.
+    static constexpr int kCh = kChannelLanes<T>;
 
     // The terms that depend on wo only, shared by eval, pdf and sample, per lane.
     struct Outgoing {
-        V3 a[kLanes];                  // A_p
+        T a[kLanes][kCh];              // A_p per channel (channel 3, where kept, is padding)
         T w[kLanes];                   // lobe selection probabilities (only when asked for)
         DeonLanes<T, kLanes> m;        // M_p conditioned on the tilted θo'
         T phi_p[kLanes];               // Φ(p, h), wrapped to [-π, π] (0 for the residual)
@@ -157,7 +166,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     // Σ_p A_p of the bound terms (albedo(wo); BoundFiber::albedo()).
     HAIRSCATTER_HD V3 albedo_from(const Outgoing& o) const {
         V3 a(T(0));
-        for (int k = 0; k < kKeptLanes; ++k) a += o.a[k];
+        for (int k = 0; k < kKeptLanes; ++k) a += V3(o.a[k][0], o.a[k][1], o.a[k][2]);
         return a;
     }
 
@@ -173,7 +182,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         return combine<kF, kPdf>(o, sin_i, cos_from_sin(sin_i), phi);
     }
 
-    HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
         // Finite wo and u: checked by the callers, as in query.
         // The lane ∝ w (normalised). All-zero weights (an opaque fiber without R) pick
         // lane 0, a kept lobe.
@@ -199,12 +208,18 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         const T fresnel = fresnel_dielectric(cos_o * cos_gamma_o_, prm.eta);
         T gamma_t = T(0);
         if constexpr (kRefracts) {
-            const auto path = FiberRefraction<T>(sin_o, cos_o, prm.eta).at(h_, prm.sigma_a);
+            const auto path = FiberRefraction<T>(sin_o, cos_o, prm.eta).at_channels(h_, mat_->sigma_a_lanes());
             gamma_t = path.gamma_t;
-            const Attenuation<T, kLobes> att = attenuation<T, kLobes>(fresnel, path.transmittance);
-            for (int k = 0; k < kLanes; ++k) o.a[k] = k < kKeptLanes ? att.a[lane_lobe(kKept, k)] : V3(T(0));
+            if constexpr (kKept == LobeSet::kAll) {  // lane k is lobe k: straight into the lanes
+                attenuation_channels<T, kLobes, kCh>(fresnel, fresnel, path.transmittance, o.a);
+            } else {
+                T att[kLobes + 1][kCh];
+                attenuation_channels<T, kLobes, kCh>(fresnel, fresnel, path.transmittance, att);
+                for (int k = 0; k < kLanes; ++k)
+                    for (int c = 0; c < kCh; ++c) o.a[k][c] = k < kKeptLanes ? att[lane_lobe(kKept, k)][c] : T(0);
+            }
         } else {
-            o.a[0] = V3(fresnel);  // R alone: one lane
+            for (int c = 0; c < kCh; ++c) o.a[0][c] = fresnel;  // R alone: one lane
         }
         mat_->template condition<kKept>(o.m, sin_o, cos_o);
         // Φ(p, h) of every lane in one loop the compilers vectorise (select, not a branch).
@@ -214,22 +229,24 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         // lobe_split all read the scaled A_p, so sampling stays proportional to eval (the
         // per-lobe tilts are in the material's DeonLobes, which condition() rotates by).
         if (mat_->has_lobe_weights())
-            for (int k = 0; k < kKeptLanes; ++k) o.a[k] *= mat_->lobe_weight(lane_lobe(kKept, k));
+            for (int k = 0; k < kKeptLanes; ++k)
+                for (int c = 0; c < kCh; ++c) o.a[k][c] *= mat_->lobe_weight_lanes(lane_lobe(kKept, k))[c];
         if constexpr (kW) {
-            T total = T(0);
-            for (int k = 0; k < kLanes; ++k) {
-                o.w[k] = (o.a[k].x + o.a[k].y + o.a[k].z) * T(1.0 / 3.0);
-                total += o.w[k];
-            }
+            // (The means go to a local array and o.w is written whole, once: writing it lane
+            // by lane and then rescaling it made GCC reload it as a vector from narrower
+            // stores, a store-forwarding stall on the sampling path.)
+            T mean[kLanes], total = T(0);
+            for (int k = 0; k < kLanes; ++k) mean[k] = (o.a[k][0] + o.a[k][1] + o.a[k][2]) * T(1.0 / 3.0);
+            for (int k = 0; k < kLanes; ++k) total += mean[k];
             // With R kept at a gain above 0, total ≥ gain F > 0. Otherwise every kept lobe can
             // vanish (an opaque fiber, zero gains): the weights stay 0 and so does the pdf.
             // A subnormal total (gains near 1e-39) has no finite reciprocal: its lanes are
             // divided instead (a fuzzer found the Inf and NaN weights 1 / total gave).
             if (total >= kMinNormal<T>) {
                 const T inv_total = T(1) / total;
-                for (int k = 0; k < kLanes; ++k) o.w[k] *= inv_total;
+                for (int k = 0; k < kLanes; ++k) o.w[k] = mean[k] * inv_total;
             } else {
-                for (int k = 0; k < kLanes; ++k) o.w[k] = total > T(0) ? o.w[k] / total : T(0);
+                for (int k = 0; k < kLanes; ++k) o.w[k] = total > T(0) ? mean[k] / total : T(0);
             }
         }
         return o;
@@ -242,22 +259,30 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
         using std::sqrt;
         const TrimmedLogistic<T>& n = mat_->azimuthal();
-        constexpr int kM = kAzimuthal;  // where the M_p exponents start in e
-        T e[kExps] = {};
-        T m_factor[kLanes];
-        for (int k = 0; k < kAzimuthal; ++k) e[k] = n.exponent(wrap_pi_once(phi - o.phi_p[k]));
+        T en[kAzimuthal > 0 ? kAzimuthal : 1], em[kLanes], m_factor[kLanes];  // (N exponents, M exponents)
+        for (int k = 0; k < kAzimuthal; ++k) en[k] = n.exponent(wrap_pi_once(phi - o.phi_p[k]));
         const T sqrt_cos_i = sqrt(cos_i);
-        for (int k = 0; k < kLanes; ++k) o.m.terms(k, sin_i, cos_i, sqrt_cos_i, e[kM + k], m_factor[k]);
-        elem::exp_each(e);
+        for (int k = 0; k < kLanes; ++k) o.m.terms(k, sin_i, cos_i, sqrt_cos_i, em[k], m_factor[k]);
+        // Two batches, not one of both: the two halves of one array, each written as a
+        // vector, then read as one wider vector, stall the load on store forwarding.
+        if constexpr (kAzimuthal > 0) elem::exp_each(en);
+        elem::exp_each(em);
         T mn[kLanes];
-        for (int k = 0; k < kAzimuthal; ++k) mn[k] = m_factor[k] * e[kM + k] * n.density(e[k]);
-        // The residual lumps all orders: uniform in φ.
-        for (int k = kExplicit; k < kKeptLanes; ++k) mn[k] = m_factor[k] * e[kM + k] * kInvTwoPi<T>;
+        // The residual lumps all orders: uniform in φ. Where its lane's N was computed with
+        // the others (float), a select, so that mn is written as one whole vector.
+        for (int k = 0; k < kAzimuthal; ++k)
+            mn[k] = m_factor[k] * em[k] * select(k < kExplicit, n.density(en[k]), kInvTwoPi<T>);
+        for (int k = kAzimuthal; k < kKeptLanes; ++k) mn[k] = m_factor[k] * em[k] * kInvTwoPi<T>;
         HairEvalPdf<T> r;
-        for (int k = 0; k < kLanes; ++k) {
-            if constexpr (kF) r.f += mn[k] * o.a[k];
-            if constexpr (kPdf) r.pdf += mn[k] * o.w[k];
+        if constexpr (kF) {
+            T f[kCh] = {};  // each lane's channels one vector FMA
+            HAIRSCATTER_UNROLL
+            for (int k = 0; k < kLanes; ++k)
+                for (int c = 0; c < kCh; ++c) f[c] += mn[k] * o.a[k][c];
+            r.f = V3(f[0], f[1], f[2]);
         }
+        if constexpr (kPdf)
+            for (int k = 0; k < kLanes; ++k) r.pdf += mn[k] * o.w[k];
         return r;
     }
 
