@@ -4,6 +4,7 @@
 # and against the working tree's, with g++ at -O2 and at -O3 (-march=native -DNDEBUG).
 # Each count is the difference between 6000 and 2000 calls, over 4000: one call without the
 # setup. Writes bench/results/icount_<date>.txt (--out FILE to change it). Not run by CI.
+# CXX=clang++ counts Clang's code instead of GCC's (the compiler is named in the file).
 #
 #   scripts/icount.sh REV [--out FILE]
 set -euo pipefail
@@ -14,6 +15,8 @@ rev="${1:?usage: scripts/icount.sh REV [--out FILE]}"
 shift
 out="$ROOT/bench/results/icount_$(date +%Y-%m-%d).txt"
 [[ "${1:-}" == --out ]] && out="${2:?--out needs a file}"
+cxx="${CXX:-g++}"
+command -v "$cxx" >/dev/null || { echo "icount: compiler $cxx not found" >&2; exit 1; }
 command -v valgrind >/dev/null || { echo "icount: valgrind not found (apt-get install valgrind)" >&2; exit 1; }
 
 work="$(mktemp -d)"
@@ -37,7 +40,7 @@ declare -A kinds=([chiang_icount]="0:eval 1:sample 2:at(wo)+pdf"
     echo
     echo "date:      $(date -u '+%Y-%m-%d %H:%M:%S') UTC"
     echo "commit:    $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- include bench || echo ' (with uncommitted changes in include/ or bench/)')"
-    echo "compiler:  $(g++ --version | head -n 1); flags -std=c++17 -march=native -DNDEBUG, -O2 and -O3"
+    echo "compiler:  $("$cxx" --version | head -n 1); flags -std=c++17 -march=native -DNDEBUG, -O2 and -O3"
     echo "method:    valgrind --tool=callgrind, (calls 6000 - calls 2000) / 4000; float"
     echo
     printf '  %-14s %-14s %-5s %8s %8s\n' program call opt "$short" new
@@ -46,7 +49,7 @@ declare -A kinds=([chiang_icount]="0:eval 1:sample 2:at(wo)+pdf"
             for side in old new; do
                 inc="$ROOT/include"
                 [[ $side == old ]] && inc="$work/old/include"
-                g++ -std=c++17 "$opt" -march=native -DNDEBUG -I"$inc" "bench/$prog.cpp" -o "$work/${prog}_$side"
+                "$cxx" -std=c++17 "$opt" -march=native -DNDEBUG -I"$inc" "bench/$prog.cpp" -o "$work/${prog}_$side"
             done
             for k in ${kinds[$prog]}; do
                 printf '  %-14s %-14s %-5s %8d %8d\n' "$prog" "${k#*:}" "$opt" \

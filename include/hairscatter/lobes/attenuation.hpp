@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include <glm/glm.hpp>
 
@@ -148,7 +149,8 @@ template <typename T> struct FiberRefraction {
 
     // The same per channel lane (kChannelLanes) from σa per lane (the padding lane's σa is
     // 0, so its transmittance is 1): in float the three exps and the padding lane's are one
-    // vectorised batch (elem::exp_each), about the cost of one scalar exp.
+    // vectorised batch (elem::exp_each), about the cost of one scalar exp; in double three
+    // of the standard library's.
     struct AtOffsetChannels {
         T gamma_t;
         T transmittance[kChannelLanes<T>];
@@ -159,7 +161,12 @@ template <typename T> struct FiberRefraction {
         AtOffsetChannels r;
         r.gamma_t = elem::asin(sin_gamma_t);
         for (int c = 0; c < kChannelLanes<T>; ++c) r.transmittance[c] = -sigma_a[c] * chord;
-        elem::exp_each(r.transmittance);
+        if constexpr (std::is_same<T, float>::value) {
+            elem::exp_each(r.transmittance);
+        } else {  // one libm exp per colour channel; the padding's e^0 is 1
+            for (int c = 0; c < 3; ++c) r.transmittance[c] = elem::exp(r.transmittance[c]);
+            for (int c = 3; c < kChannelLanes<T>; ++c) r.transmittance[c] = T(1);
+        }
         return r;
     }
 };

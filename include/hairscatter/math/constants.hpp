@@ -21,12 +21,11 @@ template <typename T> inline constexpr T kMinNormal = T(0);
 template <> inline constexpr float kMinNormal<float> = 1.17549435082228750797e-38f;
 template <> inline constexpr double kMinNormal<double> = 2.2250738585072013830902e-308;
 
-// The colour channels a model keeps per lobe in its hot path: RGB, padded in float to
-// four so that each lobe's channels are one whole vector (a loop over three is left
-// scalar); the fourth channel is padding (σa = 0, gain 1) and never read as colour. In
-// double (no such vectors pay) the three channels only.
-template <typename T> inline constexpr int kChannelLanes = 3;
-template <> inline constexpr int kChannelLanes<float> = 4;
+// The colour channels a model keeps per lobe in its hot path: RGB, padded to four so
+// that each lobe's channels are one whole vector (a loop over three is left scalar, or
+// split into a vector and a remainder); the fourth channel is padding (σa = 0, gain 1)
+// and never read as colour.
+template <typename T> inline constexpr int kChannelLanes = 4;
 
 // Degrees to radians, for parameters given in degrees (cuticle tilt is usually 2°).
 template <typename T> constexpr T radians(T degrees) { return degrees * (kPi<T> / T(180)); }

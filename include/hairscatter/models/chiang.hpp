@@ -259,20 +259,18 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
         using std::sqrt;
         const TrimmedLogistic<T>& n = mat_->azimuthal();
-        T en[kAzimuthal > 0 ? kAzimuthal : 1], em[kLanes], m_factor[kLanes];  // (N exponents, M exponents)
-        for (int k = 0; k < kAzimuthal; ++k) en[k] = n.exponent(wrap_pi_once(phi - o.phi_p[k]));
+        constexpr int kM = kAzimuthal;  // where the M_p exponents start in e
+        T e[kAzimuthal + kLanes], m_factor[kLanes];
+        for (int k = 0; k < kAzimuthal; ++k) e[k] = n.exponent(wrap_pi_once(phi - o.phi_p[k]));
         const T sqrt_cos_i = sqrt(cos_i);
-        for (int k = 0; k < kLanes; ++k) o.m.terms(k, sin_i, cos_i, sqrt_cos_i, em[k], m_factor[k]);
-        // Two batches, not one of both: the two halves of one array, each written as a
-        // vector, then read as one wider vector, stall the load on store forwarding.
-        if constexpr (kAzimuthal > 0) elem::exp_each(en);
-        elem::exp_each(em);
+        for (int k = 0; k < kLanes; ++k) o.m.terms(k, sin_i, cos_i, sqrt_cos_i, e[kM + k], m_factor[k]);
+        elem::exp_each(e);  // in float whole vectors of four (math/elementary.hpp)
         T mn[kLanes];
         // The residual lumps all orders: uniform in φ. Where its lane's N was computed with
         // the others (float), a select, so that mn is written as one whole vector.
         for (int k = 0; k < kAzimuthal; ++k)
-            mn[k] = m_factor[k] * em[k] * select(k < kExplicit, n.density(en[k]), kInvTwoPi<T>);
-        for (int k = kAzimuthal; k < kKeptLanes; ++k) mn[k] = m_factor[k] * em[k] * kInvTwoPi<T>;
+            mn[k] = m_factor[k] * e[kM + k] * select(k < kExplicit, n.density(e[k]), kInvTwoPi<T>);
+        for (int k = kAzimuthal; k < kKeptLanes; ++k) mn[k] = m_factor[k] * e[kM + k] * kInvTwoPi<T>;
         HairEvalPdf<T> r;
         if constexpr (kF) {
             T f[kCh] = {};  // each lane's channels one vector FMA
