@@ -58,8 +58,12 @@
 // HAIRSCATTER_UNROLL before a loop over a model's lanes (a compile-time trip count of 2
 // to 8) unrolls it completely: GCC at -O2 keeps such a loop, once its body is vectorised,
 // as a real loop with a counter and a branch per lane.
-#if defined(__CUDACC__) || defined(__clang__)
+// (nvcc's host pass takes neither spelling: its front end rejects GCC's, the host
+// compiler CUDA's; the loop is left as it is there.)
+#if defined(__CUDA_ARCH__) || defined(__clang__)
 #define HAIRSCATTER_UNROLL _Pragma("unroll")
+#elif defined(__CUDACC__)
+#define HAIRSCATTER_UNROLL
 #elif defined(__GNUC__)
 #define HAIRSCATTER_UNROLL _Pragma("GCC unroll 8")
 #else

@@ -83,7 +83,7 @@ template <typename T> struct DiscreteChoice {
 // weight, leftover 1. All weights 0: entry 0, leftover u clamped to [0, 1]. The leftover is
 // always in [0, 1], so a u outside it (a caller's error) cannot carry further.
 template <typename T>
-HAIRSCATTER_HD DiscreteChoice<T> sample_discrete(const T* w, int n, T u, T total) {
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DiscreteChoice<T> sample_discrete(const T* w, int n, T u, T total) {
     const T target = u * total;
     T before = T(0), last_before = T(0);
     int last = -1;
