@@ -51,7 +51,7 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
     HAIRSCATTER_HD bool has_lobe_weights() const { return weights_.any(); }
     // lobe_weight(p) per channel lane (math/constants.hpp: kChannelLanes; padding 1).
     HAIRSCATTER_HD const T (&lobe_weight_lanes(int p) const)[kChannelLanes<T>] { return weights_.channel_lanes(p); }
-    // σa per channel lane (lobes/attenuation.hpp: kChannelLanes), the padding lane 0.
+    // σa per channel lane (math/constants.hpp: kChannelLanes), the padding lane 0.
     HAIRSCATTER_HD const T (&sigma_a_lanes() const)[kChannelLanes<T>] { return sigma_a_lanes_; }
 
   private:
@@ -152,12 +152,12 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     // libm exp each).
     static constexpr int kAzimuthal = std::is_same<T, float>::value ? kLanes : kExplicit;
 
-    // The colour channels of A_p per lane: RGB, padded to a whole vector in float.
+    // The colour channels of A_p per lane: RGB and a padding channel (math/constants.hpp).
     static constexpr int kCh = kChannelLanes<T>;
 
     // The terms that depend on wo only, shared by eval, pdf and sample, per lane.
     struct Outgoing {
-        T a[kLanes][kCh];              // A_p per channel (channel 3, where kept, is padding)
+        T a[kLanes][kCh];              // A_p per channel (channel 3 is padding)
         T w[kLanes];                   // lobe selection probabilities (only when asked for)
         DeonLanes<T, kLanes> m;        // M_p conditioned on the tilted θo'
         T phi_p[kLanes];               // Φ(p, h), wrapped to [-π, π] (0 for the residual)
