@@ -140,11 +140,18 @@ template <typename T> struct FiberRefraction {
         T gamma_t;
         glm::vec<3, T> transmittance;
     };
-    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE AtOffset at(T h, const glm::vec<3, T>& sigma_a) const {
+    // sinγt at offset h and the chord length 2 cosγt / cosθt.
+    struct Path {
+        T sin_gamma_t, chord;
+    };
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE Path path(T h) const {
         const T sin_gamma_t = h * gamma_t_scale;
-        const T chord = chord_scale * cos_from_sin(sin_gamma_t);
-        return {elem::asin(sin_gamma_t), glm::vec<3, T>(elem::exp(-sigma_a.x * chord), elem::exp(-sigma_a.y * chord),
-                                                         elem::exp(-sigma_a.z * chord))};
+        return {sin_gamma_t, chord_scale * cos_from_sin(sin_gamma_t)};
+    }
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE AtOffset at(T h, const glm::vec<3, T>& sigma_a) const {
+        const Path q = path(h);
+        return {elem::asin(q.sin_gamma_t), glm::vec<3, T>(elem::exp(-sigma_a.x * q.chord), elem::exp(-sigma_a.y * q.chord),
+                                                           elem::exp(-sigma_a.z * q.chord))};
     }
 
     // The same per channel lane (kChannelLanes) from σa per lane (the padding lane's σa is
@@ -153,19 +160,18 @@ template <typename T> struct FiberRefraction {
     // of the standard library's.
     struct AtOffsetChannels {
         T gamma_t;
-        T transmittance[kChannelLanes<T>];
+        T transmittance[kChannelLanes];
     };
-    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE AtOffsetChannels at_channels(T h, const T (&sigma_a)[kChannelLanes<T>]) const {
-        const T sin_gamma_t = h * gamma_t_scale;
-        const T chord = chord_scale * cos_from_sin(sin_gamma_t);
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE AtOffsetChannels at_channels(T h, const T (&sigma_a)[kChannelLanes]) const {
+        const Path q = path(h);
         AtOffsetChannels r;
-        r.gamma_t = elem::asin(sin_gamma_t);
-        for (int c = 0; c < kChannelLanes<T>; ++c) r.transmittance[c] = -sigma_a[c] * chord;
+        r.gamma_t = elem::asin(q.sin_gamma_t);
+        for (int c = 0; c < kChannelLanes; ++c) r.transmittance[c] = -sigma_a[c] * q.chord;
         if constexpr (std::is_same<T, float>::value) {
             elem::exp_each(r.transmittance);
         } else {  // one libm exp per colour channel; the padding's e^0 is 1
             for (int c = 0; c < 3; ++c) r.transmittance[c] = elem::exp(r.transmittance[c]);
-            for (int c = 3; c < kChannelLanes<T>; ++c) r.transmittance[c] = T(1);
+            for (int c = 3; c < kChannelLanes; ++c) r.transmittance[c] = T(1);
         }
         return r;
     }

@@ -69,24 +69,21 @@ template <typename T> class LobeWeights {
     using V3 = glm::vec<3, T>;
     static constexpr int kLobes = LobeControls<T>::kLobes;
 
-    HAIRSCATTER_HD LobeWeights() {
-        for (int p = 0; p < kLobes; ++p)
-            for (int ch = 0; ch < kChannelLanes<T>; ++ch) lanes_[p][ch] = T(1);
-    }
+    HAIRSCATTER_HD LobeWeights() : LobeWeights(LobeControls<T>()) {}
     HAIRSCATTER_HD explicit LobeWeights(const LobeControls<T>& c) : any_(c.has_weights()) {
         for (int p = 0; p < kLobes; ++p) {
-            w_[p] = c.weight(p);
-            for (int ch = 0; ch < kChannelLanes<T>; ++ch) lanes_[p][ch] = ch < 3 ? w_[p][ch < 3 ? ch : 0] : T(1);
+            const V3 w = c.weight(p);
+            for (int ch = 0; ch < kChannelLanes; ++ch) w_[p][ch] = T(1);  // the padding: 1
+            for (int ch = 0; ch < 3; ++ch) w_[p][ch] = w[ch];
         }
     }
     HAIRSCATTER_HD bool any() const { return any_; }
-    HAIRSCATTER_HD const V3& operator[](int p) const { return w_[p]; }
+    HAIRSCATTER_HD V3 operator[](int p) const { return V3(w_[p][0], w_[p][1], w_[p][2]); }
     // Lobe p's weight per channel lane (math/constants.hpp: kChannelLanes; padding 1).
-    HAIRSCATTER_HD const T (&channel_lanes(int p) const)[kChannelLanes<T>] { return lanes_[p]; }
+    HAIRSCATTER_HD const T (&channel_lanes(int p) const)[kChannelLanes] { return w_[p]; }
 
   private:
-    V3 w_[kLobes] = {V3(T(1)), V3(T(1)), V3(T(1)), V3(T(1))};
-    T lanes_[kLobes][kChannelLanes<T>];
+    T w_[kLobes][kChannelLanes];
     bool any_ = false;
 };
 

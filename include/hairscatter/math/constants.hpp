@@ -25,7 +25,8 @@ template <> inline constexpr double kMinNormal<double> = 2.225073858507201383090
 // that each lobe's channels are one whole vector (a loop over three is left scalar, or
 // split into a vector and a remainder); the fourth channel is padding (σa = 0, gain 1)
 // and never read as colour.
-template <typename T> inline constexpr int kChannelLanes = 4;
+inline constexpr int kChannelLanes = 4;
+static_assert(kChannelLanes >= 3, "RGB at least");
 
 // Degrees to radians, for parameters given in degrees (cuticle tilt is usually 2°).
 template <typename T> constexpr T radians(T degrees) { return degrees * (kPi<T> / T(180)); }

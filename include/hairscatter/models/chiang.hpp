@@ -39,7 +39,8 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
     explicit ChiangMaterial(const FiberParams<T>& params, const LobeControls<T>& controls = LobeControls<T>())
         : DeonLobes<T>(validated(params).beta_m, validated(controls).cuticle_tilt(params.alpha)), params_(params),
           controls_(controls), n_(logistic_scale(params.beta_n)), weights_(controls) {
-        for (int c = 0; c < kChannelLanes<T>; ++c) sigma_a_lanes_[c] = c < 3 ? params.sigma_a[c < 3 ? c : 0] : T(0);
+        for (int c = 0; c < kChannelLanes; ++c) sigma_a_lanes_[c] = T(0);  // the padding: 0
+        for (int c = 0; c < 3; ++c) sigma_a_lanes_[c] = params.sigma_a[c];
     }
 
     HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
@@ -47,19 +48,19 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
     HAIRSCATTER_HD const TrimmedLogistic<T>& azimuthal() const { return n_; }
     // Lobe p's factor on A_p, gain_p × tint_p (1 without controls), and whether any differs
     // from 1 (without, the fiber skips the products: the default path costs one branch).
-    HAIRSCATTER_HD const glm::vec<3, T>& lobe_weight(int p) const { return weights_[p]; }
+    HAIRSCATTER_HD glm::vec<3, T> lobe_weight(int p) const { return weights_[p]; }
     HAIRSCATTER_HD bool has_lobe_weights() const { return weights_.any(); }
     // lobe_weight(p) per channel lane (math/constants.hpp: kChannelLanes; padding 1).
-    HAIRSCATTER_HD const T (&lobe_weight_lanes(int p) const)[kChannelLanes<T>] { return weights_.channel_lanes(p); }
+    HAIRSCATTER_HD const T (&lobe_weight_lanes(int p) const)[kChannelLanes] { return weights_.channel_lanes(p); }
     // σa per channel lane (math/constants.hpp: kChannelLanes), the padding lane 0.
-    HAIRSCATTER_HD const T (&sigma_a_lanes() const)[kChannelLanes<T>] { return sigma_a_lanes_; }
+    HAIRSCATTER_HD const T (&sigma_a_lanes() const)[kChannelLanes] { return sigma_a_lanes_; }
 
   private:
     FiberParams<T> params_;
     LobeControls<T> controls_;
     TrimmedLogistic<T> n_;
     LobeWeights<T> weights_;
-    T sigma_a_lanes_[kChannelLanes<T>];
+    T sigma_a_lanes_[kChannelLanes];
 };
 
 // One fiber hit: a material and the offset h ∈ [-1, 1] across the fiber. Directions are
@@ -123,7 +124,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         }
         for (int k = 0; k < kKeptLanes; ++k) {
             const int p = lane_lobe(kKept, k);
-            r.a[p] = V3(o.a[k][0], o.a[k][1], o.a[k][2]);
+            r.a[p] = rgb(o.a[k]);
             r.backward[p] = k < kExplicit ? mat_->azimuthal().arc_mass(centre - kHalfPi<T> - o.phi_p[k], kPi<T>)
                                           : T(0.5);  // the residual is uniform in φ
         }
@@ -153,7 +154,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     static constexpr int kAzimuthal = std::is_same<T, float>::value ? kLanes : kExplicit;
 
     // The colour channels of A_p per lane: RGB and a padding channel (math/constants.hpp).
-    static constexpr int kCh = kChannelLanes<T>;
+    static constexpr int kCh = kChannelLanes;
 
     // The terms that depend on wo only, shared by eval, pdf and sample, per lane.
     struct Outgoing {
@@ -163,10 +164,13 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         T phi_p[kLanes];               // Φ(p, h), wrapped to [-π, π] (0 for the residual)
     };
 
+    // The colour of one lane's channels (the padding channel dropped).
+    HAIRSCATTER_HD static V3 rgb(const T (&channels)[kCh]) { return V3(channels[0], channels[1], channels[2]); }
+
     // Σ_p A_p of the bound terms (albedo(wo); BoundFiber::albedo()).
     HAIRSCATTER_HD V3 albedo_from(const Outgoing& o) const {
         V3 a(T(0));
-        for (int k = 0; k < kKeptLanes; ++k) a += V3(o.a[k][0], o.a[k][1], o.a[k][2]);
+        for (int k = 0; k < kKeptLanes; ++k) a += rgb(o.a[k]);
         return a;
     }
 
@@ -277,7 +281,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
             HAIRSCATTER_UNROLL
             for (int k = 0; k < kLanes; ++k)
                 for (int c = 0; c < kCh; ++c) f[c] += mn[k] * o.a[k][c];
-            r.f = V3(f[0], f[1], f[2]);
+            r.f = rgb(f);
         }
         if constexpr (kPdf)
             for (int k = 0; k < kLanes; ++k) r.pdf += mn[k] * o.w[k];

@@ -60,7 +60,7 @@ template <typename T> class DeonFarFieldMaterial : public DeonLobes<T>, public F
     HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
     HAIRSCATTER_HD const LobeControls<T>& controls() const { return controls_; }
     // Lobe p's factor on A_p, gain_p × tint_p (1 without controls), and whether any differs from 1.
-    HAIRSCATTER_HD const glm::vec<3, T>& lobe_weight(int p) const { return weights_[p]; }
+    HAIRSCATTER_HD glm::vec<3, T> lobe_weight(int p) const { return weights_[p]; }
     HAIRSCATTER_HD bool has_lobe_weights() const { return weights_.any(); }
     HAIRSCATTER_HD const WrappedGaussian<T>& azimuthal() const { return n_; }
     HAIRSCATTER_HD const Quadrature& quadrature() const { return *this; }

@@ -167,7 +167,7 @@ template <typename T> class MarschnerMaterial {
     HAIRSCATTER_HD const MarschnerParams<T>& params() const { return params_; }
     HAIRSCATTER_HD const LobeControls<T>& controls() const { return controls_; }
     // Lobe p's factor on A_p, gain_p × tint_p (1 without controls), and whether any differs from 1.
-    HAIRSCATTER_HD const glm::vec<3, T>& lobe_weight(int p) const { return weights_[p]; }
+    HAIRSCATTER_HD glm::vec<3, T> lobe_weight(int p) const { return weights_[p]; }
     HAIRSCATTER_HD bool has_lobe_weights() const { return weights_.any(); }
     HAIRSCATTER_HD const MarschnerLongitudinal<T>& longitudinal(int p) const { return m_[p]; }
     HAIRSCATTER_HD const DeonLongitudinal<T>& proposal(int p) const { return proposal_[p]; }
