@@ -70,11 +70,8 @@ template <typename T> struct DualLayers {
 };
 template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DualLayers<T> dual_layers(const DualScatteringEntry<T>& e) {
     DualLayers<T> l;
-    for (int c = 0; c < 3; ++c) {
-        l.c.a_f[c] = e.a_f[c];
-        l.c.a_b[c] = e.a_b[c];
-    }
-    l.c.a_f[3] = l.c.a_b[3] = T(0);
+    elem::store4(l.c.a_f, e.a_f.x, e.a_f.y, e.a_f.z, T(0));  // whole (elem::store4)
+    elem::store4(l.c.a_b, e.a_b.x, e.a_b.y, e.a_b.z, T(0));
     layer_lanes(l.c);
     return l;
 }
@@ -119,7 +116,8 @@ dual_forward(const DualScatteringLight<T>& light, const DualScatteringEntry<T>& 
     if (below_R.x < T(0)) below_R = dual_below_reflectance(l, light.beyond);
     glm::vec<3, T> above_R, above_T;
     l.stacks(n, above_R, above_T);
-    T a_f[4] = {e.a_f.x, e.a_f.y, e.a_f.z, T(1)};
+    T a_f[4];
+    elem::store4(a_f, e.a_f.x, e.a_f.y, e.a_f.z, T(1));
     elem::pow_each(a_f, n);  // n ≥ 1
     for (int c = 0; c < 3; ++c) {
         const T den = T(1) - above_R[c] * below_R[c];
@@ -298,24 +296,24 @@ template <typename Fiber> class DualScatteringBcsdf {
 
             // The backscattering lobe's shape at the specular cone θi = -θo, where the light
             // that returns toward wo is concentrated.
-            const Entry es = t_.lookup(-sin_o_);
+            const typename View::Cell ce = t_.cell_of_angle(-theta_o_);  // θ = -θo
             T sb, cb;
-            elem::sincos(theta_o_ - mean(es.delta_b), sb, cb);
+            elem::sincos(theta_o_ - mean(t_.lookup_field(ce, Entry::kFieldDelta_b)), sb, cb);
             sin_back_ = sb;
             cos_back_ = cb < T(0) ? -cb : cb;
-            const T s2b = mean(es.sigma2_b);
+            const T s2b = mean(t_.lookup_field(ce, Entry::kFieldSigma2_b));
             s2_back_ = s2b > T(1e-6) ? s2b : T(1e-6);
             s2_spread_ = spread > T(0) ? (spread < kMaxForwardSpread<T> ? spread : kMaxForwardSpread<T>) : T(0);
             // A deep volume's A_b (the finite-depth factor is 1): the table value.
-            const T ab = (improved() ? T(2) : T(1)) * mean(es.A_b);
+            const T ab = (improved() ? T(2) : T(1)) * mean(t_.lookup_field(ce, Entry::kFieldA_b));
 
             T gsum = T(0);
+            const std::size_t last = t_.window_index(row_, 0, t_.n_psi - 1);  // lobe p's: last + p n_psi
             for (int p = 0; p < kMaxLobes; ++p) {
-                total_[p] = p < t_.lobes ? t_.window_cdf[t_.window_index(row_, p, t_.n_psi - 1)] : T(0);
+                const std::size_t at_pi = last + std::size_t(p) * std::size_t(t_.n_psi);
+                total_[p] = p < t_.lobes ? t_.window_cdf[at_pi] : T(0);
                 // improved: the lobe's mass over every ψ; Zinke: the forward half at W_p(π).
-                g_[p] = p >= t_.lobes ? T(0)
-                        : improved()  ? total_[p]
-                                      : kHalfPi<T> * mean(t_.window[t_.window_index(row_, p, t_.n_psi - 1)]);
+                g_[p] = p >= t_.lobes ? T(0) : improved() ? total_[p] : kHalfPi<T> * mean(t_.window[at_pi]);
                 gsum += g_[p];
             }
             for (int p = 0; p < kMaxLobes; ++p) g_[p] = gsum > T(0) ? g_[p] / gsum : T(p == 0);
@@ -339,22 +337,30 @@ template <typename Fiber> class DualScatteringBcsdf {
         // kBackLane f_back's (σ_b², at θo - Δ_b), kGlobalBackLane f_back^G's (σ_b² + spread,
         // there); the lanes of absent lobes and the padding hold a unit lobe nothing reads.
         HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void lobe_lanes(Lanes& m, T spread, T s2b, T sb, T cb) const {
+            static_assert(kMaxLobes == 4 && kBackLane == 4 && kGlobalBackLane == 5 && (kLanes == 6 || kLanes == 8),
+                          "the lane layout below");
+            // Each array written whole (elem::store4, store8): set() reads them as vectors.
             T v[kLanes], s[kLanes], c[kLanes];
-            for (int k = 0; k < kLanes; ++k) {
-                v[k] = T(1);
-                s[k] = T(0);
-                c[k] = T(1);
+            const auto lobe = [&](int p, T value, T unit) { return p < t_.lobes ? value : unit; };
+            const T v0 = lobe(0, t_.lobe_variance[0] + spread, T(1)), v1 = lobe(1, t_.lobe_variance[1] + spread, T(1)),
+                    v2 = lobe(2, t_.lobe_variance[2] + spread, T(1)), v3 = lobe(3, t_.lobe_variance[3] + spread, T(1));
+            const T s0 = lobe(0, sin_l_[0], T(0)), s1 = lobe(1, sin_l_[1], T(0)), s2 = lobe(2, sin_l_[2], T(0)),
+                    s3 = lobe(3, sin_l_[3], T(0));
+            const T c0 = lobe(0, cos_l_[0], T(1)), c1 = lobe(1, cos_l_[1], T(1)), c2 = lobe(2, cos_l_[2], T(1)),
+                    c3 = lobe(3, cos_l_[3], T(1));
+            if constexpr (kLanes == 8) {
+                elem::store8(v, v0, v1, v2, v3, s2b, s2b + spread, T(1), T(1));
+                elem::store8(s, s0, s1, s2, s3, sb, sb, T(0), T(0));
+                elem::store8(c, c0, c1, c2, c3, cb, cb, T(1), T(1));
+            } else {
+                elem::store4(v, v0, v1, v2, v3);
+                elem::store4(s, s0, s1, s2, s3);
+                elem::store4(c, c0, c1, c2, c3);
+                v[kBackLane] = s2b;
+                v[kGlobalBackLane] = s2b + spread;
+                s[kBackLane] = s[kGlobalBackLane] = sb;
+                c[kBackLane] = c[kGlobalBackLane] = cb;
             }
-            for (int p = 0; p < kMaxLobes; ++p) {
-                if (p >= t_.lobes) break;
-                v[p] = t_.lobe_variance[p] + spread;
-                s[p] = sin_l_[p];
-                c[p] = cos_l_[p];
-            }
-            v[kBackLane] = s2b;
-            v[kGlobalBackLane] = s2b + spread;
-            s[kBackLane] = s[kGlobalBackLane] = sb;
-            c[kBackLane] = c[kGlobalBackLane] = cb;
             m.set(v, s, c);
         }
 
@@ -471,7 +477,9 @@ template <typename Fiber> class DualScatteringBcsdf {
         T total_[kMaxLobes] = {};  // each lobe's row total ∫_0^π W̄_p
         T s2_back_ = T(1e-6), s2_spread_ = T(0);
         T sin_back_ = T(0), cos_back_ = T(1);  // θo - Δ_b at the specular cone
-        Lanes pdf_lanes_{};                     // the sampler's lobes (lobe_lanes), for density()
+        // The sampler's lobes (lobe_lanes), for density(): set by mixture(), left unset (not
+        // zeroed, 192 bytes in float) in the At that eval() makes, which never reads them.
+        Lanes pdf_lanes_;
     };
 
     HAIRSCATTER_HD At at(const V3& wo, T spread = T(0)) const { return At(*this, wo, spread); }

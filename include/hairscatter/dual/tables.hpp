@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -43,11 +44,16 @@ template <typename T> struct DualScatteringEntry {
     V3 A_b{T(0)}, delta_b{T(0)}, sigma2_b{T(0)};  // A_1 + A_3, Δ_b, σ_b²
 
     static constexpr int kFields = 9;  // V3 fields, in the order of fields()
+    static constexpr int kFieldA_b = 6, kFieldDelta_b = 7, kFieldSigma2_b = 8;  // their indices there
     HAIRSCATTER_HD V3* fields() { return &a_f; }
     HAIRSCATTER_HD const V3* fields() const { return &a_f; }
 };
 // fields() walks the entry as an array of vec3 (of whatever size GLM gives vec3: aligned
 // vec3 under GLM_FORCE_DEFAULT_ALIGNED_GENTYPES is 16 bytes, and the walk still holds).
+static_assert(offsetof(DualScatteringEntry<float>, A_b) == DualScatteringEntry<float>::kFieldA_b * sizeof(glm::vec3) &&
+                  offsetof(DualScatteringEntry<float>, delta_b) == DualScatteringEntry<float>::kFieldDelta_b * sizeof(glm::vec3) &&
+                  offsetof(DualScatteringEntry<float>, sigma2_b) == DualScatteringEntry<float>::kFieldSigma2_b * sizeof(glm::vec3),
+              "DualScatteringEntry's field indices");
 static_assert(sizeof(DualScatteringEntry<float>) == DualScatteringEntry<float>::kFields * sizeof(glm::vec3) &&
                   sizeof(DualScatteringEntry<double>) == DualScatteringEntry<double>::kFields * sizeof(glm::dvec3),
               "DualScatteringEntry must be a flat array of vec3 for fields()");
@@ -110,7 +116,6 @@ template <typename T, int N> struct LayerLanes {
 // κ, e^{-κ} and q from the lanes' a_f and a_b. An opaque layer (a_f = 0) keeps κ = 0,
 // e^{-κ} = 1, q = 0: layered_stacks treats it apart.
 template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void layer_lanes(LayerLanes<T, N>& c) {
-    using std::sqrt;
     T delta[N], x[N];
     for (int k = 0; k < N; ++k) {
         // cosh κ = 1 + δ, δ = ((1 - a_f)² - a_b²) / 2a_f without cancellation.
@@ -118,8 +123,11 @@ template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void layer_
         const T gap = T(1) - af - c.a_b[k];
         delta[k] = select(gap > T(0), gap, T(0)) * (T(1) - af + c.a_b[k]) / (T(2) * af);
     }
-    // The roots in a loop of their own (a sqrt, which may set errno, keeps a loop scalar).
-    for (int k = 0; k < N; ++k) x[k] = delta[k] + sqrt(delta[k] * (delta[k] + T(2)));  // e^κ - 1
+    // The roots as one batch (elem::sqrt_each: a loop of std::sqrt, which may set errno,
+    // stays scalar with a branch per lane).
+    for (int k = 0; k < N; ++k) x[k] = delta[k] * (delta[k] + T(2));
+    elem::sqrt_each(x);
+    for (int k = 0; k < N; ++k) x[k] += delta[k];  // e^κ - 1
     for (int k = 0; k < N; ++k) c.kappa[k] = x[k];
     elem::log1p_each(c.kappa);
     for (int k = 0; k < N; ++k) {
@@ -265,14 +273,27 @@ template <typename T> struct DualTablesView {
         i = i > n_theta - 2 ? n_theta - 2 : i;
         return {i, clamp(x - T(i), T(0), T(1))};
     }
-    HAIRSCATTER_HD Entry lookup(T sin_theta) const {
-        const Cell c = cell(sin_theta);
+    HAIRSCATTER_HD Entry lookup(T sin_theta) const { return lookup(cell(sin_theta)); }
+    // The entry at cell c: every field's lerp, as flat loops over the entry's reals (which the
+    // compilers vectorise; a loop over the vec3 fields stayed scalar).
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE Entry lookup(const Cell& c) const {
+        constexpr int kReals = int(sizeof(Entry) / sizeof(T));
+        T a[kReals], b[kReals], o[kReals];
+        std::memcpy(a, &entries[c.i], sizeof a);
+        std::memcpy(b, &entries[c.i + 1], sizeof b);
+        // GCC -O2 vectorises only loops whose trip count the vector divides: a body of a
+        // multiple of 8, then the rest.
+        constexpr int kBody = kReals / 8 * 8;
+        for (int k = 0; k < kBody; ++k) o[k] = a[k] + c.t * (b[k] - a[k]);
+        for (int k = kBody; k < kReals; ++k) o[k] = a[k] + c.t * (b[k] - a[k]);
         Entry r;
-        const V3* a = entries[c.i].fields();
-        const V3* b = entries[c.i + 1].fields();
-        V3* o = r.fields();
-        for (int k = 0; k < Entry::kFields; ++k) o[k] = a[k] + c.t * (b[k] - a[k]);
+        std::memcpy(static_cast<void*>(&r), o, sizeof o);
         return r;
+    }
+    // Field k of the entry at cell c alone (k: its index in fields()).
+    HAIRSCATTER_HD V3 lookup_field(const Cell& c, int k) const {
+        const V3 a = entries[c.i].fields()[k], b = entries[c.i + 1].fields()[k];
+        return a + c.t * (b - a);
     }
     HAIRSCATTER_HD std::size_t window_index(int i, int p, int j) const {
         return (std::size_t(i) * std::size_t(lobes) + std::size_t(p)) * std::size_t(n_psi) + std::size_t(j);
@@ -335,10 +356,8 @@ template <typename T> class DualScatteringTables {
         t.lobes_ = L;
         t.h_nodes_ = opt.h_nodes;
         t.settings_ = opt.settings;
-        for (int p = 0; p < kMaxLobes; ++p) {
-            t.lobe_angle_[p] = p < L ? -material.lobe_shift(p) : T(0);
-            t.lobe_variance_[p] = p < L ? material.lobe_variance(p) : T(0);
-        }
+        for (int p = 0; p < kMaxLobes; ++p)
+            t.set_lobe(p, p < L ? -material.lobe_shift(p) : T(0), p < L ? material.lobe_variance(p) : T(0));
         t.entries_.resize(std::size_t(opt.theta_samples));
         t.window_.assign(std::size_t(opt.theta_samples) * std::size_t(L) * std::size_t(opt.psi_samples), V3(T(0)));
         const View v = t.shape_view();
@@ -480,8 +499,8 @@ template <typename T> class DualScatteringTables {
         t.settings_.d_f = value(0, 1, "d_f");
         t.settings_.d_b = value(0, 1, "d_b");
         for (int p = 0; p < kMaxLobes; ++p) {
-            t.lobe_angle_[p] = value(-kHalfPi<double>, kHalfPi<double>, "a lobe's tilt");
-            t.lobe_variance_[p] = value(p < t.lobes_ ? 1e-12 : 0, 1e6, "a lobe's variance");
+            const T angle = value(-kHalfPi<double>, kHalfPi<double>, "a lobe's tilt");
+            t.set_lobe(p, angle, value(p < t.lobes_ ? 1e-12 : 0, 1e6, "a lobe's variance"));
         }
         // Albedos are ≤ 1 up to the build's rounding; the derived A_b of Zinke's series may
         // exceed 1 for a nearly lossless fiber, so only finiteness and sign are required.
@@ -531,10 +550,18 @@ template <typename T> class DualScatteringTables {
         for (int p = 0; p < kMaxLobes; ++p) {
             v.lobe_angle[p] = lobe_angle_[p];
             v.lobe_variance[p] = lobe_variance_[p];
-            v.lobe_sin[p] = std::sin(lobe_angle_[p]);
-            v.lobe_cos[p] = std::cos(lobe_angle_[p]);
+            v.lobe_sin[p] = lobe_sin_[p];
+            v.lobe_cos[p] = lobe_cos_[p];
         }
         return v;
+    }
+    // A lobe's tilt and variance, and the tilt's sine and cosine (computed here once, not at
+    // every view(): a renderer may take a view per hit).
+    void set_lobe(int p, T angle, T variance) {
+        lobe_angle_[p] = angle;
+        lobe_variance_[p] = variance;
+        lobe_sin_[p] = std::sin(angle);
+        lobe_cos_[p] = std::cos(angle);
     }
 
     // The sampler's per-row, per-lobe CDF over ψ ∈ [0, π] of the channel mean of W_p
@@ -582,6 +609,7 @@ template <typename T> class DualScatteringTables {
     std::vector<T> cdf_;
     int n_theta_ = 0, n_psi_ = 0, lobes_ = 0, h_nodes_ = 0;
     T lobe_angle_[kMaxLobes] = {}, lobe_variance_[kMaxLobes] = {};
+    T lobe_sin_[kMaxLobes] = {}, lobe_cos_[kMaxLobes] = {T(1), T(1), T(1), T(1)};
     DualScatteringSettings<T> settings_{};
 };
 

@@ -65,39 +65,43 @@ template <bool kLanes> HAIRSCATTER_FORCE_INLINE float exp_float(float x) {
 }
 
 #if HAIRSCATTER_HAS_VECTOR_EXT
-// exp_float<true> of four lanes as one vector of GCC's and Clang's vector extensions: the
-// same operations in the same order. A loop of four exp_float<true> is left to the
-// compilers' vectorisers, and Clang's leaves a batch of four scalar (its loop vectoriser
-// skips loops that short; what the SLP vectoriser makes of the unrolled copies depends on
-// the code around them: it left the Chiang batches scalar when the N and M exps became two
-// batches of four). exp_each uses it for whole groups of four lanes.
+// exp_float<true> of four (or, with AVX, eight) lanes as one vector of GCC's and Clang's
+// vector extensions: the same operations in the same order. A loop of exp_float<true> is
+// left to the compilers' vectorisers, and Clang's leaves a batch of four scalar (its loop
+// vectoriser skips loops that short; what the SLP vectoriser makes of the unrolled copies
+// depends on the code around them: it left the Chiang batches scalar when the N and M exps
+// became two batches of four). exp_each uses it for whole groups of lanes.
 typedef float F32x4 __attribute__((vector_size(16)));
 typedef std::int32_t I32x4 __attribute__((vector_size(16)));
-HAIRSCATTER_FORCE_INLINE F32x4 splat4(float v) { return F32x4{v, v, v, v}; }
-HAIRSCATTER_FORCE_INLINE I32x4 splat4(std::int32_t v) { return I32x4{v, v, v, v}; }
+typedef float F32x8 __attribute__((vector_size(32)));
+typedef std::int32_t I32x8 __attribute__((vector_size(32)));
+template <typename V, typename S> HAIRSCATTER_FORCE_INLINE V splat(S v) {
+    return V{} + v;  // a scalar operand is broadcast to every lane
+}
 // m ? a : b per lane, m a comparison's all-ones / zero mask.
-HAIRSCATTER_FORCE_INLINE F32x4 select4(I32x4 m, F32x4 a, F32x4 b) {
-    return reinterpret_cast<F32x4>((m & reinterpret_cast<I32x4>(a)) | (~m & reinterpret_cast<I32x4>(b)));
+template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F select_lanes(I m, F a, F b) {
+    return reinterpret_cast<F>((m & reinterpret_cast<I>(a)) | (~m & reinterpret_cast<I>(b)));
 }
-HAIRSCATTER_FORCE_INLINE F32x4 exp_float4(F32x4 x) {
-    const F32x4 lo = splat4(-87.3f);
-    const I32x4 in_range = x > lo;
-    const F32x4 xc = select4(in_range, select4(x < splat4(88.0f), x, splat4(88.0f)), lo);
+template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F exp_float_lanes(F x) {
+    const F lo = splat<F>(-87.3f);
+    const I in_range = x > lo;
+    const F xc = select_lanes<F, I>(in_range, select_lanes<F, I>(x < splat<F>(88.0f), x, splat<F>(88.0f)), lo);
     // round_to_int: y + copysign(0.5, y), truncated
-    const F32x4 y = xc * splat4(1.44269504088896341f);
-    const I32x4 sign = reinterpret_cast<I32x4>(y) & splat4(std::int32_t(0x80000000u));
-    const I32x4 ni = __builtin_convertvector(y + reinterpret_cast<F32x4>(sign | reinterpret_cast<I32x4>(splat4(0.5f))), I32x4);
-    const F32x4 n = __builtin_convertvector(ni, F32x4);
-    const F32x4 r = (xc - n * splat4(0.693145751953125f)) - n * splat4(1.42860682030941723212e-6f);
+    const F y = xc * splat<F>(1.44269504088896341f);
+    const I sign = reinterpret_cast<I>(y) & splat<I>(std::int32_t(0x80000000u));
+    const I ni = __builtin_convertvector(y + reinterpret_cast<F>(sign | reinterpret_cast<I>(splat<F>(0.5f))), I);
+    const F n = __builtin_convertvector(ni, F);
+    const F r = (xc - n * splat<F>(0.693145751953125f)) - n * splat<F>(1.42860682030941723212e-6f);
     // estrin(r, 1/2, 1/6, 1/24, 1/120, 1/720, 1/5040), as hairscatter::detail::estrin groups it
-    const F32x4 r2 = r * r;
-    const F32x4 q = ((splat4(0.5f) + r * splat4(1.0f / 6)) + r2 * (splat4(1.0f / 24) + r * splat4(1.0f / 120))) +
-                    (r2 * r2) * (splat4(1.0f / 720) + r * splat4(1.0f / 5040));
-    const F32x4 p = splat4(1.0f) + r * (splat4(1.0f) + r * q);
-    const F32x4 scale = reinterpret_cast<F32x4>((ni + splat4(std::int32_t(127))) * splat4(std::int32_t(1 << 23)));
-    const I32x4 below = x <= lo;  // (NaN: neither, and stays NaN)
-    return select4(in_range, p * scale, select4(below, splat4(0.0f), x));
+    const F r2 = r * r;
+    const F q = ((splat<F>(0.5f) + r * splat<F>(1.0f / 6)) + r2 * (splat<F>(1.0f / 24) + r * splat<F>(1.0f / 120))) +
+                (r2 * r2) * (splat<F>(1.0f / 720) + r * splat<F>(1.0f / 5040));
+    const F p = splat<F>(1.0f) + r * (splat<F>(1.0f) + r * q);
+    const F scale = reinterpret_cast<F>((ni + splat<I>(std::int32_t(127))) * splat<I>(std::int32_t(1 << 23)));
+    const I below = x <= lo;  // (NaN: neither, and stays NaN)
+    return select_lanes<F, I>(in_range, p * scale, select_lanes<F, I>(below, splat<F>(0.0f), x));
 }
+HAIRSCATTER_FORCE_INLINE F32x4 exp_float4(F32x4 x) { return exp_float_lanes<F32x4, I32x4>(x); }
 #endif
 
 // atan(a) for a ∈ [0, 1] as a·P(a²), P fitted for this library (Chebyshev interpolation
@@ -221,8 +225,8 @@ template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float atan2(float y, float x
 #endif
 }
 
-// e^x of every element: in float with GCC and Clang each group of four is one vector
-// (detail::exp_float4), elsewhere one branch-free loop that compilers may vectorise, so a
+// e^x of every element: in float with GCC and Clang each group of four (eight with AVX) is
+// one vector (detail::exp_float_lanes), elsewhere one branch-free loop that compilers may vectorise, so a
 // batch of lobe terms costs about one exp. exp_batch<T>(n) is the size
 // to pad a batch of n exps to (with zeros): a whole vector for float, n itself for double,
 // whose exp is libm's, one call per element.
@@ -240,6 +244,27 @@ template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void exp_each(float (&x
     for (int k = 0; k < N; ++k) x[k] = ::expf(x[k]);
 #else
 #if HAIRSCATTER_HAS_VECTOR_EXT
+#if defined(__AVX__)
+    // One 8-lane vector per group of eight where AVX gives 8-lane registers. Each group is
+    // read as two halves of four: callers write their lanes in groups of four (the Chiang
+    // N and M exponents), and one 32-byte load of two 16-byte stores cannot take its data
+    // from the store buffer (it waits for the stores to reach the cache: measured, it ate
+    // the whole saving of the wider exp).
+    if constexpr (N % 8 == 0) {
+        for (int k = 0; k < N; k += 8) {
+            detail::F32x4 lo, hi;
+            std::memcpy(&lo, x + k, sizeof lo);
+            std::memcpy(&hi, x + k + 4, sizeof hi);
+#if defined(__clang__)
+            __asm__("" : "+x"(hi));  // else Clang merges the two loads into the one that stalls
+#endif
+            detail::F32x8 v = __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
+            v = detail::exp_float_lanes<detail::F32x8, detail::I32x8>(v);
+            std::memcpy(x + k, &v, sizeof v);
+        }
+        return;
+    }
+#endif
     if constexpr (N % 4 == 0) {
         for (int k = 0; k < N; k += 4) {
             detail::F32x4 v;
@@ -253,6 +278,35 @@ template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void exp_each(float (&x
     for (int k = 0; k < N; ++k) x[k] = detail::exp_float<true>(x[k]);
 #endif
 }
+
+// Writes {a, b, c, d} to out[0..3] as one store where it can (float with GCC and Clang: the
+// vector is built in a register). Four lanes stored one by one and then read as one vector
+// stall the load until the stores reach the cache.
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void store4(T* out, T a, T b, T c, T d) {
+    out[0] = a;
+    out[1] = b;
+    out[2] = c;
+    out[3] = d;
+}
+// The same for eight lanes.
+template <typename T>
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void store8(T* out, T a, T b, T c, T d, T e, T f, T g, T h) {
+    store4(out, a, b, c, d);
+    store4(out + 4, e, f, g, h);
+}
+#if HAIRSCATTER_HAS_VECTOR_EXT
+template <> HAIRSCATTER_FORCE_INLINE void store4(float* out, float a, float b, float c, float d) {
+    const detail::F32x4 v = {a, b, c, d};
+    std::memcpy(out, &v, sizeof v);
+}
+#if defined(__AVX__)
+template <>
+HAIRSCATTER_FORCE_INLINE void store8(float* out, float a, float b, float c, float d, float e, float f, float g, float h) {
+    const detail::F32x8 v = {a, b, c, d, e, f, g, h};
+    std::memcpy(out, &v, sizeof v);
+}
+#endif
+#endif
 
 // Natural logarithm of a positive normal number (callers floor their arguments).
 template <typename T> HAIRSCATTER_HD T log(T x) {
