@@ -242,6 +242,32 @@ TEST(WrapPi, WrapsIntoRange) {
     }
 }
 
+// all_finite(a, b) (the stateless calls' input test) is is_finite of every component: one
+// non-finite value in any position of either vector makes it false, and the extreme finite
+// values (largest, smallest subnormal, -0) keep it true.
+template <typename T> void check_all_finite() {
+    using L = std::numeric_limits<T>;
+    const T bad[] = {L::quiet_NaN(), -L::quiet_NaN(), L::infinity(), -L::infinity()};
+    const T good[] = {T(0), -T(0), L::max(), -L::max(), L::denorm_min(), -L::denorm_min(), L::min(), T(1)};
+    for (const T g : good) {
+        EXPECT_TRUE(hs::all_finite(glm::vec<3, T>(g), glm::vec<4, T>(g)));
+        for (const T x : bad) {
+            for (int i = 0; i < 7; ++i) {
+                glm::vec<3, T> a(g);
+                glm::vec<4, T> b(g);
+                if (i < 3) a[i] = x;
+                else b[i - 3] = x;
+                EXPECT_FALSE(hs::all_finite(a, b)) << "position " << i << " value " << double(x);
+                EXPECT_EQ(hs::all_finite(a, b), hs::is_finite(a) && hs::is_finite(b));
+            }
+        }
+    }
+}
+TEST(Functions, AllFiniteFindsEveryNonFiniteComponent) {
+    check_all_finite<float>();
+    check_all_finite<double>();
+}
+
 // The device-safe machine constants are the standard library's.
 static_assert(hs::kEpsilon<float> == std::numeric_limits<float>::epsilon());
 static_assert(hs::kEpsilon<double> == std::numeric_limits<double>::epsilon());

@@ -40,10 +40,40 @@ HAIRSCATTER_HD inline bool is_finite(double x) {
     std::memcpy(&b, &x, sizeof b);
     return (b & 0x7ff0000000000000ull) != 0x7ff0000000000000ull;
 }
+namespace detail {
+template <typename T> struct FiniteBits;
+template <> struct FiniteBits<float> {
+    using U = std::uint32_t;
+    static constexpr U kAbs = 0x7fffffffu, kInf = 0x7f800000u;
+};
+template <> struct FiniteBits<double> {
+    using U = std::uint64_t;
+    static constexpr U kAbs = 0x7fffffffffffffffull, kInf = 0x7ff0000000000000ull;
+};
+template <int N, typename T>
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE typename FiniteBits<T>::U max_magnitude_bits(const glm::vec<N, T>& v,
+                                                                                     typename FiniteBits<T>::U m) {
+    using B = FiniteBits<T>;
+    for (int i = 0; i < N; ++i) {
+        typename B::U b;
+        std::memcpy(&b, &v[i], sizeof b);
+        b &= B::kAbs;
+        m = b > m ? b : m;
+    }
+    return m;
+}
+}  // namespace detail
 template <int N, typename T> HAIRSCATTER_HD bool is_finite(const glm::vec<N, T>& v) {
     bool ok = true;
     for (int i = 0; i < N; ++i) ok &= is_finite(v[i]);  // & not &&: no branch per component
     return ok;
+}
+// Both vectors finite: the largest magnitude's bits below those of +Inf (NaN's are above),
+// one comparison and one branch for the six or seven components the stateless calls test.
+template <int N, int M, typename T>
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE bool all_finite(const glm::vec<N, T>& a, const glm::vec<M, T>& b) {
+    using U = typename detail::FiniteBits<T>::U;
+    return detail::max_magnitude_bits(b, detail::max_magnitude_bits(a, U(0))) < detail::FiniteBits<T>::kInf;
 }
 
 // c ? a : b without a branch, for the loops over lobes that the compilers vectorise: GCC

@@ -93,19 +93,19 @@ template <typename Model, typename T> class FiberModel {
 
     // Non-finite input gives 0 / no sample before anything reads a table (see HairSample).
     HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi) const {
-        if (!(is_finite(wo) && is_finite(wi))) return V3(T(0));
+        if (!all_finite(wo, wi)) return V3(T(0));
         return self().template query<true, false>(self().template outgoing<false>(wo), wo, wi).f;
     }
     HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const {
-        if (!(is_finite(wo) && is_finite(wi))) return T(0);
+        if (!all_finite(wo, wi)) return T(0);
         return self().template query<false, true>(self().template outgoing<true>(wo), wo, wi).pdf;
     }
     HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const {
-        if (!(is_finite(wo) && is_finite(wi))) return HairEvalPdf<T>{};
+        if (!all_finite(wo, wi)) return HairEvalPdf<T>{};
         return self().template query<true, true>(self().template outgoing<true>(wo), wo, wi);
     }
     HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const {
-        if (!(is_finite(wo) && is_finite(u))) return HairSample<T>{};
+        if (!all_finite(wo, u)) return HairSample<T>{};
         return self().sample_from(self().template outgoing<true>(wo), wo, u);
     }
 

@@ -198,7 +198,7 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
 
     HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
         using std::sqrt;
-        if (!(is_finite(wo) && is_finite(u))) return HairSample<T>{};  // non-finite input: pdf 0, weight 0
+        if (!all_finite(wo, u)) return HairSample<T>{};  // non-finite input: pdf 0, weight 0
         // Lobe ∝ s_p; the leftover of u.x picks the row below.
         const DiscreteChoice<T> lobe = sample_discrete(o.s, kLobes + 1, u.x, o.total);
         const int p = lobe.index;
