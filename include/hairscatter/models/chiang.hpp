@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -278,9 +279,25 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         HairEvalPdf<T> r;
         if constexpr (kF) {
             T f[kCh] = {};  // each lane's channels one vector FMA
-            HAIRSCATTER_UNROLL
-            for (int k = 0; k < kLanes; ++k)
-                for (int c = 0; c < kCh; ++c) f[c] += mn[k] * o.a[k][c];
+#if HAIRSCATTER_HAS_VECTOR_EXT
+            if constexpr (std::is_same<T, float>::value && kCh == 4) {
+                // Spelled as vectors: at -O3 GCC split the loop below into pairs and singles.
+                using V = elem::detail::F32x4;
+                V acc = elem::detail::splat<V>(0.0f);
+                HAIRSCATTER_UNROLL
+                for (int k = 0; k < kLanes; ++k) {
+                    V a;
+                    std::memcpy(&a, o.a[k], sizeof a);
+                    acc += mn[k] * a;
+                }
+                std::memcpy(f, &acc, sizeof acc);
+            } else
+#endif
+            {
+                HAIRSCATTER_UNROLL
+                for (int k = 0; k < kLanes; ++k)
+                    for (int c = 0; c < kCh; ++c) f[c] += mn[k] * o.a[k][c];
+            }
             r.f = rgb(f);
         }
         if constexpr (kPdf)
