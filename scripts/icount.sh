@@ -21,7 +21,8 @@ cxx="${CXX:-g++}"
 command -v "$cxx" >/dev/null || { echo "icount: compiler $cxx not found" >&2; exit 1; }
 command -v valgrind >/dev/null || { echo "icount: valgrind not found (apt-get install valgrind)" >&2; exit 1; }
 march="${MARCH:-native}"
-if [[ -z "${MARCH:-}" ]] && "$cxx" -march=native -dM -E -x c++ /dev/null | grep -q __AVX512F__; then
+defs="$("$cxx" -march=native -dM -E -x c++ /dev/null)"  # (not piped into grep -q: pipefail and SIGPIPE)
+if [[ -z "${MARCH:-}" && $defs == *__AVX512F__* ]]; then
     march=x86-64-v3  # valgrind (3.19 to 3.22) has no AVX-512
     echo "icount: this CPU has AVX-512, which valgrind cannot run: counting -march=$march" >&2
 fi
@@ -51,7 +52,7 @@ declare -A kinds=([chiang_icount]="0:eval 1:sample 2:at(wo)+pdf"
     echo "hairscatter instruction counts: scripts/icount.sh $rev"
     echo
     echo "date:      $(date -u '+%Y-%m-%d %H:%M:%S') UTC"
-    echo "commit:    $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- include bench || echo ' (with uncommitted changes in include/ or bench/)')"
+    echo "commit:    $(git rev-parse --short HEAD)$(git diff --quiet HEAD -- include bench ':!bench/results' || echo ' (with uncommitted changes in include/ or bench/)')"
     echo "compiler:  $("$cxx" --version | head -n 1); flags -std=c++17 -march=$march -DNDEBUG, -O2 and -O3"
     echo "method:    valgrind --tool=callgrind, (calls 6000 - calls 2000) / 4000; float"
     echo
