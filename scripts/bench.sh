@@ -135,15 +135,13 @@ cxx="$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$BUILD/CMakeCache.txt")"
 # the tabulated fiber (build, eval/pdf/sample, the cost split of eval) ---------------------
 # Instructions per call of bench/dual_icount under callgrind (load-independent): the
 # difference between 6000 and 2000 calls, over 4000.
-# valgrind (3.19 to 3.22) cannot run AVX-512 code: where -march=native has it, the counts
-# come from a build for x86-64-v3 instead (named in the output).
+# Where -march=native has AVX-512, which valgrind cannot run, the counts come from a build
+# for x86-64-v3 instead (named in the output; lib.sh: hs_native_has_avx512).
 dual_icounts() {
     command -v valgrind >/dev/null || { echo "(valgrind not found: no instruction counts)"; return; }
     local names=("single eval" "dual eval" "single sample" "dual sample") counts=() bin="$BUILD/bench/dual_icount"
     local march="-march=native (the bench build)"
-    local defs
-    defs="$("$cxx" -march=native -dM -E -x c++ /dev/null)"  # (not piped into grep -q: pipefail and SIGPIPE)
-    if [[ $defs == *__AVX512F__* ]]; then
+    if hs_native_has_avx512 "$cxx"; then
         bin="$BUILD/dual_icount_x86-64-v3"
         march="-march=x86-64-v3 (this CPU has AVX-512, which valgrind cannot run)"
         "$cxx" -std=c++17 -O2 -march=x86-64-v3 -DNDEBUG -I"$ROOT/include" "$ROOT/bench/dual_icount.cpp" -o "$bin" ||

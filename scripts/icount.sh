@@ -13,6 +13,8 @@ set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
+# shellcheck source=SCRIPTDIR/lib.sh
+source "$ROOT/scripts/lib.sh"
 rev="${1:?usage: scripts/icount.sh REV [--out FILE]}"
 shift
 out="$ROOT/bench/results/icount_$(date +%Y-%m-%d).txt"
@@ -21,9 +23,8 @@ cxx="${CXX:-g++}"
 command -v "$cxx" >/dev/null || { echo "icount: compiler $cxx not found" >&2; exit 1; }
 command -v valgrind >/dev/null || { echo "icount: valgrind not found (apt-get install valgrind)" >&2; exit 1; }
 march="${MARCH:-native}"
-defs="$("$cxx" -march=native -dM -E -x c++ /dev/null)"  # (not piped into grep -q: pipefail and SIGPIPE)
-if [[ -z "${MARCH:-}" && $defs == *__AVX512F__* ]]; then
-    march=x86-64-v3  # valgrind (3.19 to 3.22) has no AVX-512
+if [[ -z "${MARCH:-}" ]] && hs_native_has_avx512 "$cxx"; then
+    march=x86-64-v3
     echo "icount: this CPU has AVX-512, which valgrind cannot run: counting -march=$march" >&2
 fi
 

@@ -33,3 +33,13 @@ hs_no_args() {
             ;;
     esac
 }
+
+# hs_native_has_avx512 CXX: whether CXX's -march=native targets AVX-512, which valgrind
+# (3.19 to 3.22) cannot run: the instruction counts (icount.sh, bench.sh) build for
+# x86-64-v3 there. (The macros are read into a variable, not piped into grep -q: under
+# pipefail the compiler's SIGPIPE would make the test fail at random.)
+hs_native_has_avx512() {
+    local defs
+    defs="$("$1" -march=native -dM -E -x c++ /dev/null)" || return 1
+    [[ $defs == *__AVX512F__* ]]
+}

@@ -305,8 +305,9 @@ TEST(Elementary, FloatVersionsAreAccurate) {
     EXPECT_EQ(hs::elem::asin(-1.5f), -hs::kHalfPi<float>);
 }
 
-// The float exp of lanes (every model's batches of lobe terms): groups of four go through
-// detail::exp_float4 (GCC/Clang vector extensions), the rest through the scalar lane exp.
+// The float exp of lanes (every model's batches of lobe terms): groups of four (eight with
+// AVX) go through detail::exp_float_lanes (GCC/Clang vector extensions), the rest through
+// the scalar lane exp.
 // Both against the standard library in double (2e-7 relative, as the scalar exp above) and
 // bit for bit against each other, with the range ends, zeros, ±Inf and NaN; and sqrt_each
 // (SQRTPS on x86) bit for bit against std::sqrt.

@@ -39,6 +39,29 @@ namespace detail {
 // -ffast-math (-fassociative-math); a conversion cannot be.
 HAIRSCATTER_FORCE_INLINE std::int32_t round_to_int(float y) { return std::int32_t(y + std::copysign(0.5f, y)); }
 
+// The polynomials below take a float or a lane vector F (GCC's and Clang's vector
+// extensions, exp_each and friends), so that the scalar and the lane forms share one set of
+// coefficients and the same operations in the same order (bit-identical results).
+// Horner's scheme with float coefficients, lowest order first (hairscatter::detail::horner's
+// nesting; a coefficient is broadcast to the lanes).
+template <typename F> HAIRSCATTER_FORCE_INLINE F horner_f(F x, float c0, float c1) { return c0 + x * c1; }
+template <typename F, typename... Cs> HAIRSCATTER_FORCE_INLINE F horner_f(F x, float c0, float c1, Cs... cs) {
+    return c0 + x * horner_f(x, c1, cs...);
+}
+// expm1 near 0 (|x| < 1/2): its Taylor series to x¹⁰, truncation 5e-10 relative.
+template <typename F> HAIRSCATTER_FORCE_INLINE F expm1_series(F x) {
+    return x * horner_f(x, 1.0f, 0.5f, 1.0f / 6, 1.0f / 24, 1.0f / 120, 1.0f / 720, 1.0f / 5040, 1.0f / 40320,
+                        1.0f / 362880);
+}
+// 2 atanh s = ln((1 + s) / (1 - s)) by its series to s⁹ (|s| ≤ 0.172: truncation 1e-9
+// relative): the logarithms' common tail.
+template <typename F> HAIRSCATTER_FORCE_INLINE F atanh2_series(F s) {
+    const F z = s * s;
+    return s * horner_f(z, 2.0f, 2.0f / 3, 2.0f / 5, 2.0f / 7, 2.0f / 9);
+}
+// log1p near 0 (x ∈ [-0.29, 0.41]): 2 atanh(x / (2 + x)), truncation 2e-9 relative.
+template <typename F> HAIRSCATTER_FORCE_INLINE F log1p_series(F x) { return atanh2_series(x / (2.0f + x)); }
+
 // e^x for x ≤ 88 (callers pass x ≤ 0): Cody–Waite reduction x = n ln2 + r, |r| ≤ ln2/2,
 // the degree-7 Taylor polynomial of e^r (truncation 5e-9 relative), and 2^n written into
 // the exponent bits. Below -87.3 (where e^x is subnormal) it returns 0; NaN returns NaN
@@ -101,7 +124,6 @@ template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F exp_float_lanes(F x
     const I below = x <= lo;  // (NaN: neither, and stays NaN)
     return select_lanes<F, I>(in_range, p * scale, select_lanes<F, I>(below, splat<F>(0.0f), x));
 }
-HAIRSCATTER_FORCE_INLINE F32x4 exp_float4(F32x4 x) { return exp_float_lanes<F32x4, I32x4>(x); }
 
 // The other lane functions the same way: each the scalar lane form's operations in the same
 // order on a vector F (F32x4 or F32x8) with its integer vector I (LaneInt), so that the
@@ -116,19 +138,12 @@ template <> struct LaneInt<F32x4> {
 template <> struct LaneInt<F32x8> {
     using type = I32x8;
 };
-// hairscatter::detail::horner's nesting with scalar coefficients.
-template <typename F> HAIRSCATTER_FORCE_INLINE F horner_lanes(F, float c0) { return splat<F>(c0); }
-template <typename F, typename... Cs> HAIRSCATTER_FORCE_INLINE F horner_lanes(F x, float c0, Cs... cs) {
-    return c0 + x * horner_lanes(x, cs...);
-}
 template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F abs_lanes(F x) {
     return reinterpret_cast<F>(reinterpret_cast<I>(x) & splat<I>(std::int32_t(0x7fffffff)));
 }
 // expm1_each's lane form: the series below |x| = 1/2, exp - 1 beyond.
 template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F expm1_lanes(F x) {
-    const F series = x * horner_lanes(x, 1.0f, 0.5f, 1.0f / 6, 1.0f / 24, 1.0f / 120, 1.0f / 720, 1.0f / 5040,
-                                      1.0f / 40320, 1.0f / 362880);
-    return select_lanes<F, I>(abs_lanes<F, I>(x) < splat<F>(0.5f), series, exp_float_lanes<F, I>(x) - 1.0f);
+    return select_lanes<F, I>(abs_lanes<F, I>(x) < splat<F>(0.5f), expm1_series(x), exp_float_lanes<F, I>(x) - 1.0f);
 }
 // log_float<true> (positive normal x).
 template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F log_lanes(F x) {
@@ -140,19 +155,14 @@ template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F log_lanes(F x) {
     m = select_lanes<F, I>(high, 0.5f * m, m);
     e -= high;  // (a true comparison is -1)
     const F f = m - 1.0f;  // exact (Sterbenz)
-    const F sv = f / (2.0f + f);
-    const F z = sv * sv;
-    const F log_m = sv * horner_lanes(z, 2.0f, 2.0f / 3, 2.0f / 5, 2.0f / 7, 2.0f / 9);
+    const F log_m = atanh2_series(f / (2.0f + f));
     const F ef = __builtin_convertvector(e, F);
     return (ef * 1.42860682030941723212e-6f + log_m) + ef * 0.693145751953125f;
 }
 // log1p_each's lane form (x ≥ 0, +Inf or NaN).
 template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F log1p_lanes(F x) {
     const I near0 = (x > splat<F>(-0.29f)) & (x < splat<F>(0.41f));
-    const F sv = x / (2.0f + x);
-    const F z = sv * sv;
-    const F series = sv * horner_lanes(z, 2.0f, 2.0f / 3, 2.0f / 5, 2.0f / 7, 2.0f / 9);
-    const F r = select_lanes<F, I>(near0, series, log_lanes<F, I>(1.0f + x));
+    const F r = select_lanes<F, I>(near0, log1p_series(x), log_lanes<F, I>(1.0f + x));
     return select_lanes<F, I>(x <= splat<F>(3.0e38f), r, x);  // +Inf stays +Inf, NaN NaN
 }
 
@@ -249,9 +259,7 @@ template <bool kLanes = false> HAIRSCATTER_FORCE_INLINE float log_float(float x)
         e += 1;
     }
     const float f = m - 1.0f;  // exact (Sterbenz)
-    const float sv = f / (2.0f + f);
-    const float z = sv * sv;
-    const float log_m = sv * hairscatter::detail::horner(z, 2.0f, 2.0f / 3, 2.0f / 5, 2.0f / 7, 2.0f / 9);
+    const float log_m = atanh2_series(f / (2.0f + f));
     const float ef = float(e);
     return (ef * 1.42860682030941723212e-6f + log_m) + ef * 0.693145751953125f;
 }
@@ -278,19 +286,6 @@ HAIRSCATTER_FORCE_INLINE void sincos_float(float x, float& s, float& c) {
         case 2: s = -sr, c = -cr; break;
         default: s = -cr, c = sr; break;
     }
-}
-
-// The series of expm1 near 0 (|x| < 1/2: to x¹⁰, truncation 5e-10 relative) and of log1p
-// near 0 (x ∈ [-0.29, 0.41]: 2 atanh(x / (2 + x)) to s⁹, truncation 2e-9 relative), shared
-// by the scalar forms and the lane forms below.
-HAIRSCATTER_FORCE_INLINE float expm1_series(float x) {
-    return x * hairscatter::detail::horner(x, 1.0f, 0.5f, 1.0f / 6, 1.0f / 24, 1.0f / 120, 1.0f / 720, 1.0f / 5040,
-                                           1.0f / 40320, 1.0f / 362880);
-}
-HAIRSCATTER_FORCE_INLINE float log1p_series(float x) {
-    const float s = x / (2.0f + x);
-    const float z = s * s;
-    return s * hairscatter::detail::horner(z, 2.0f, 2.0f / 3, 2.0f / 5, 2.0f / 7, 2.0f / 9);
 }
 
 }  // namespace detail
