@@ -67,6 +67,23 @@ template <typename T> struct DualLayers {
         R = glm::vec<3, T>(r[0], r[1], r[2]);
         T_ = glm::vec<3, T>(t[0], t[1], t[2]);
     }
+    // The same at two depths a and b as one batch of eight lanes (one vector in float with
+    // AVX): the lanes do what two calls of stacks() would, so the results are the same.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void stacks(T a, T b, glm::vec<3, T>& R_a, glm::vec<3, T>& T_a,
+                                                        glm::vec<3, T>& R_b) const {
+        LayerLanes<T, 2 * kLanes> c2;
+        repeat_lanes(c, c2);
+        T depth[2 * kLanes], r[2 * kLanes], t[2 * kLanes];
+        elem::store8(depth, a, a, a, a, b, b, b, b);
+        layered_stacks(c2, depth, r, t);
+        R_a = glm::vec<3, T>(r[0], r[1], r[2]);
+        T_a = glm::vec<3, T>(t[0], t[1], t[2]);
+        R_b = glm::vec<3, T>(r[4], r[5], r[6]);
+    }
+};
+// R and T of the layers above a shadowed point (dual_forward's, when its caller made them).
+template <typename T> struct DualAbove {
+    glm::vec<3, T> R, T_;
 };
 template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DualLayers<T> dual_layers(const DualScatteringEntry<T>& e) {
     DualLayers<T> l;
@@ -75,23 +92,39 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DualLayers<T> dual
     layer_lanes(l.c);
     return l;
 }
+// The depth of the stack below a point, m + 1, from the fibers beyond it (NaN → m = 0).
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T dual_below_depth(T beyond) {
+    const T m = is_finite(beyond) ? (beyond > T(0) ? beyond : T(0)) : (beyond > T(0) ? T(1e12) : T(0));
+    return m + T(1);
+}
 template <typename T>
 HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE glm::vec<3, T> dual_below_reflectance(const DualLayers<T>& l, T beyond) {
-    const T m = is_finite(beyond) ? (beyond > T(0) ? beyond : T(0)) : (beyond > T(0) ? T(1e12) : T(0));  // NaN → 0
     glm::vec<3, T> R, T_;
-    l.stacks(m + T(1), R, T_);
+    l.stacks(dual_below_depth(beyond), R, T_);
     return R;
+}
+// The light's fiber count n, clamped: NaN → 0; beyond a million fibers nothing gets
+// through, and the spread stays finite.
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T dual_count(const DualScatteringLight<T>& light) {
+    return !is_finite(light.n) ? (light.n > T(0) ? T(1e6) : T(0)) : clamp(light.n, T(0), T(1e6));
+}
+// E[N | N ≥ 1] = n / (1 - e^{-n}) of a Poisson count of mean n ≥ 0 (1 as n → 0).
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T dual_count_given_hit(T n) {
+    const T q = -elem::expm1(-n);  // P(N ≥ 1)
+    return q > T(1e-6) ? n / q : T(1);
 }
 template <typename T>
 HAIRSCATTER_HD glm::vec<3, T> dual_below_reflectance(const DualScatteringEntry<T>& e, T beyond) {
     return dual_below_reflectance(dual_layers(e), beyond);
 }
 // below_R: R_{m+1} of dual_below_reflectance (improved only; computed here if negative);
-// layers: the entry's dual_layers (computed here if null).
+// layers: the entry's dual_layers (computed here if null); above: the stack of depth
+// dual_count_given_hit(dual_count(light)) of those layers (computed here if null).
 template <typename T>
 HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DualForward<T>
 dual_forward(const DualScatteringLight<T>& light, const DualScatteringEntry<T>& e, DualFormulation formulation,
-             glm::vec<3, T> below_R = glm::vec<3, T>(T(-1)), const DualLayers<T>* layers = nullptr) {
+             glm::vec<3, T> below_R = glm::vec<3, T>(T(-1)), const DualLayers<T>* layers = nullptr,
+             const DualAbove<T>* above = nullptr) {
     using std::pow;
     DualForward<T> r;
     const T beta2 = (e.beta2_f.x + e.beta2_f.y + e.beta2_f.z) * T(1.0 / 3.0);
@@ -103,19 +136,22 @@ dual_forward(const DualScatteringLight<T>& light, const DualScatteringEntry<T>& 
                                          : T(0);
         return r;
     }
-    // NaN → 0; beyond a million fibers nothing gets through, and the spread stays finite.
-    const T n0 = !is_finite(light.n) ? (light.n > T(0) ? T(1e6) : T(0)) : clamp(light.n, T(0), T(1e6));
+    const T n0 = dual_count(light);
     if (formulation == DualFormulation::kZinke2008) {
         for (int c = 0; c < 3; ++c) r.transmittance[c] = pow(e.a_f[c], n0);
         r.spread = n0 * beta2;
         return r;
     }
-    const T q = -elem::expm1(-n0);  // P(N ≥ 1)
-    const T n = q > T(1e-6) ? n0 / q : T(1);
-    const DualLayers<T> l = layers ? *layers : dual_layers(e);
-    if (below_R.x < T(0)) below_R = dual_below_reflectance(l, light.beyond);
+    const T n = dual_count_given_hit(n0);
     glm::vec<3, T> above_R, above_T;
-    l.stacks(n, above_R, above_T);
+    if (above && below_R.x >= T(0)) {
+        above_R = above->R;
+        above_T = above->T_;
+    } else {
+        const DualLayers<T> l = layers ? *layers : dual_layers(e);
+        if (below_R.x < T(0)) below_R = dual_below_reflectance(l, light.beyond);
+        l.stacks(n, above_R, above_T);
+    }
     T a_f[4];
     elem::store4(a_f, e.a_f.x, e.a_f.y, e.a_f.z, T(1));
     elem::pow_each(a_f, n);  // n ≥ 1
@@ -285,7 +321,8 @@ template <typename Fiber> class DualScatteringBcsdf {
             sin_o_ = is_finite(so) ? so : T(0);
             cos_o_ = cos_from_sin(sin_o_);
             theta_o_ = elem::asin(sin_o_);
-            cell_o_ = t_.cell_of_angle(theta_o_);
+            node_o_ = t_.node_of_angle(theta_o_);
+            cell_o_ = t_.cell_of_node(node_o_);
             row_ = cell_o_.t < T(0.5) ? cell_o_.i : cell_o_.i + 1;
             for (int p = 0; p < kMaxLobes; ++p) t_.rotate(p, sin_o_, cos_o_, sin_l_[p], cos_l_[p]);
             if (with_mixture) mixture(single_.albedo(), spread);  // from the bound terms
@@ -296,7 +333,7 @@ template <typename Fiber> class DualScatteringBcsdf {
 
             // The backscattering lobe's shape at the specular cone θi = -θo, where the light
             // that returns toward wo is concentrated.
-            const typename View::Cell ce = t_.cell_of_angle(-theta_o_);  // θ = -θo
+            const typename View::Cell ce = t_.cell_of_node(-node_o_);  // θ = -θo
             T sb, cb;
             elem::sincos(theta_o_ - mean(t_.lookup_field(ce, Entry::kFieldDelta_b)), sb, cb);
             sin_back_ = sb;
@@ -364,15 +401,19 @@ template <typename Fiber> class DualScatteringBcsdf {
             m.set(v, s, c);
         }
 
-        // The global lobe p's density over ψ ∈ [-π, π]: the sampler's row of W̄_p, normalised.
-        HAIRSCATTER_HD T window_pdf(int p, T abs_psi) const {
-            if (!(total_[p] > T(0))) return T(0);
-            const T x = clamp_nan_to_lo(abs_psi * kInvPi<T>, T(0), T(1)) * T(t_.n_psi - 1);  // NaN ψ: 0
-            int j = int(x);
-            j = j > t_.n_psi - 2 ? t_.n_psi - 2 : j;
-            const T s = x - T(j);
-            const T a = mean(t_.window[t_.window_index(row_, p, j)]), b = mean(t_.window[t_.window_index(row_, p, j + 1)]);
-            return T(0.5) * (a + s * (b - a)) / total_[p];
+        // Σ_p g_p m[p] × the global lobe p's density over ψ ∈ [-π, π] (the sampler's row of
+        // W̄_p, normalised), with the ψ cell and the row found once for every lobe.
+        HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T window_pdf_sum(T abs_psi, const T* m) const {
+            const typename View::Cell q = t_.psi_cell(abs_psi);
+            const V3* w = t_.window + t_.window_index(row_, 0, q.i);
+            T g = T(0);
+            for (int p = 0; p < t_.lobes; ++p, w += t_.n_psi) {
+                if (!(g_[p] > T(0) && total_[p] > T(0))) continue;
+                const T a = mean(w[0]), b = mean(w[1]);
+                const T az = T(0.5) * (a + q.t * (b - a)) / total_[p];
+                if (az > T(0)) g += g_[p] * az * m[p];
+            }
+            return g;
         }
 
         HAIRSCATTER_HD T density(const V3& wi, T psi, T pdf_single) const {
@@ -385,10 +426,11 @@ template <typename Fiber> class DualScatteringBcsdf {
             if (w_[1] > T(0) && backward) pdf += w_[1] * m[kBackLane] * kInvPi<T>;
             if (w_[2] > T(0)) {
                 T g = T(0);
-                for (int p = 0; p < t_.lobes; ++p) {
-                    if (!(g_[p] > T(0))) continue;
-                    const T az = improved() ? window_pdf(p, a) : (backward ? T(0) : kInvPi<T>);
-                    if (az > T(0)) g += g_[p] * az * m[p];
+                if (improved()) {
+                    g = window_pdf_sum(a, m);
+                } else if (!backward) {  // Zinke: uniform over the forward half
+                    for (int p = 0; p < t_.lobes; ++p)
+                        if (g_[p] > T(0)) g += g_[p] * kInvPi<T> * m[p];
                 }
                 pdf += w_[2] * g;
             }
@@ -418,9 +460,18 @@ template <typename Fiber> class DualScatteringBcsdf {
             // A_b: Zinke's table value, scaled by the depth of hair beyond (R_{m+1} shared with D).
             V3 below_R(T(-1)), ab = ei.A_b;
             DualLayers<T> layers;
+            DualAbove<T> above;
+            bool have_above = false;
             if (improved()) {
                 layers = dual_layers(ei);
-                below_R = dual_below_reflectance(layers, light.beyond);
+                if (shadowed && !light.use_transmittance) {
+                    // The stacks above (dual_forward's) and below as one batch.
+                    layers.stacks(dual_count_given_hit(dual_count(light)), dual_below_depth(light.beyond), above.R,
+                                  above.T_, below_R);
+                    have_above = true;
+                } else {
+                    below_R = dual_below_reflectance(layers, light.beyond);
+                }
                 ab = dual_backscatter_scaled(ei, layers, below_R);
             }
 
@@ -428,7 +479,8 @@ template <typename Fiber> class DualScatteringBcsdf {
             DualForward<T> fw;
             V3 scale(T(0)), scale_back(T(0));
             if (shadowed) {
-                fw = dual_forward(light, ei, s.formulation, below_R, improved() ? &layers : nullptr);
+                fw = dual_forward(light, ei, s.formulation, below_R, improved() ? &layers : nullptr,
+                                  have_above ? &above : nullptr);
                 if (improved()) {
                     scale = (T(1) - df) * s.d_f * fw.transmittance;
                     scale_back = (T(1) - df) * s.d_f * fw.flux;
@@ -455,8 +507,7 @@ template <typename Fiber> class DualScatteringBcsdf {
             if (lit_back) f += kBack * df * s.d_b * ab * (m[kBackLane] * kInvPi<T>);
 
             V3 g(T(0));
-            if (improved() || !backward)
-                for (int p = 0; p < t_.lobes; ++p) g += t_.window_at(cell_o_, p, improved() ? a : kPi<T>) * m[p];
+            if (improved() || !backward) g = t_.window_sum(cell_o_, improved() ? a : kPi<T>, m);
             const T az = improved() ? (kPi<T> - a) * kInvPi<T> * kInvPi<T> : (backward ? T(1) : T(0));
             V3 gb(T(0));
             if (az > T(0)) gb = kBack * s.d_b * az * ab * m[kGlobalBackLane];
@@ -467,7 +518,7 @@ template <typename Fiber> class DualScatteringBcsdf {
         FiberAt single_;
         V3 wo_;
         bool valid_ = true;
-        T sin_o_ = T(0), cos_o_ = T(1), theta_o_ = T(0);
+        T sin_o_ = T(0), cos_o_ = T(1), theta_o_ = T(0), node_o_ = T(0);
         typename View::Cell cell_o_{0, T(0)};
         int row_ = 0;  // the θ row the sampler's window CDFs are read from (nearest to θo)
         T sin_l_[kMaxLobes] = {}, cos_l_[kMaxLobes] = {};

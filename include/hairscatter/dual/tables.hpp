@@ -138,6 +138,16 @@ template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void layer_
         c.q[k] = select(lit, x[k] * e_k * (T(1) + e_k), T(0));  // (1 - e^{-κ})(1 + e^{-κ})
     }
 }
+// Four lanes' coefficients twice over, lanes k and k + 4 alike: two depths of the same
+// layers as one batch of eight (each array written whole, elem::repeat4).
+template <typename T>
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void repeat_lanes(const LayerLanes<T, 4>& c, LayerLanes<T, 8>& out) {
+    elem::repeat4(c.a_f, out.a_f);
+    elem::repeat4(c.a_b, out.a_b);
+    elem::repeat4(c.kappa, out.kappa);
+    elem::repeat4(c.e_k, out.e_k);
+    elem::repeat4(c.q, out.q);
+}
 template <typename T> HAIRSCATTER_HD LayerCoefficients<T> layer_coefficients(T a_f, T a_b) {
     LayerLanes<T, 1> l;
     l.a_f[0] = a_f;
@@ -265,8 +275,13 @@ template <typename T> struct DualTablesView {
         return cell_of_angle(elem::asin(is_finite(s) ? s : T(-1)));
     }
     // The same from θ ∈ [-π/2, π/2] itself, for a caller that has it (one asin fewer).
-    HAIRSCATTER_HD Cell cell_of_angle(T theta) const {
-        const T u = clamp(elem::asin(clamp(theta * (T(2) * kInvPi<T>), T(-1), T(1))) * (T(2) * kInvPi<T>), T(-1), T(1));
+    HAIRSCATTER_HD Cell cell_of_angle(T theta) const { return cell_of_node(node_of_angle(theta)); }
+    // The node coordinate x ∈ [-1, 1] of θ (node_theta's inverse), and the cell of x: -x is
+    // the cell of -θ exactly (asin is odd), with no second asin.
+    HAIRSCATTER_HD T node_of_angle(T theta) const {
+        return clamp(elem::asin(clamp(theta * (T(2) * kInvPi<T>), T(-1), T(1))) * (T(2) * kInvPi<T>), T(-1), T(1));
+    }
+    HAIRSCATTER_HD Cell cell_of_node(T u) const {
         // A NaN θ reads the first row, never outside the table.
         const T x = clamp_nan_to_lo((u + T(1)) * T(0.5), T(0), T(1)) * T(n_theta - 1);
         int i = int(x);
@@ -298,13 +313,34 @@ template <typename T> struct DualTablesView {
     HAIRSCATTER_HD std::size_t window_index(int i, int p, int j) const {
         return (std::size_t(i) * std::size_t(lobes) + std::size_t(p)) * std::size_t(n_psi) + std::size_t(j);
     }
-    // W_p at the θ cell c and |ψ| (ψ ∈ [-π, π]), bilinear.
-    HAIRSCATTER_HD V3 window_at(const Cell& c, int p, T abs_psi) const {
-        // A NaN ψ (from directions too long to square) reads ψ = 0, never outside the table.
+    // The ψ cell of |ψ| (ψ ∈ [-π, π]): nodes j and j + 1, weight s of the second. A NaN ψ
+    // (from directions too long to square) reads ψ = 0, never outside the table.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE Cell psi_cell(T abs_psi) const {
         const T x = clamp_nan_to_lo(abs_psi * kInvPi<T>, T(0), T(1)) * T(n_psi - 1);
         int j = int(x);
         j = j > n_psi - 2 ? n_psi - 2 : j;
-        const T s = x - T(j);
+        return {j, x - T(j)};
+    }
+    // Σ_p m[p] W_p(c, |ψ|) over the lobes: window_at's lerps, with the ψ cell and the two
+    // rows found once for every lobe.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE V3 window_sum(const Cell& c, T abs_psi, const T* m) const {
+        const Cell q = psi_cell(abs_psi);
+        const T s = q.t;
+        const V3* lo = window + window_index(c.i, 0, q.i);
+        const V3* hi = window + window_index(c.i + 1, 0, q.i);
+        V3 g(T(0));
+        for (int p = 0; p < lobes; ++p, lo += n_psi, hi += n_psi) {
+            const V3 a = lo[0] + s * (lo[1] - lo[0]);
+            const V3 b = hi[0] + s * (hi[1] - hi[0]);
+            g += (a + c.t * (b - a)) * m[p];
+        }
+        return g;
+    }
+    // W_p at the θ cell c and |ψ| (ψ ∈ [-π, π]), bilinear.
+    HAIRSCATTER_HD V3 window_at(const Cell& c, int p, T abs_psi) const {
+        const Cell q = psi_cell(abs_psi);
+        const int j = q.i;
+        const T s = q.t;
         const V3 lo = window[window_index(c.i, p, j)] + s * (window[window_index(c.i, p, j + 1)] - window[window_index(c.i, p, j)]);
         const V3 hi = window[window_index(c.i + 1, p, j)] +
                       s * (window[window_index(c.i + 1, p, j + 1)] - window[window_index(c.i + 1, p, j)]);

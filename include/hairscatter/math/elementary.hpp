@@ -380,6 +380,19 @@ HAIRSCATTER_FORCE_INLINE void store8(float* out, float a, float b, float c, floa
 }
 #endif
 #endif
+// out[0..7] = in[0..3] twice, for a batch of eight lanes built from one of four: in float
+// with AVX one 16-byte load and one 32-byte store (the eight lanes are then read whole).
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void repeat4(const T* in, T* out) {
+    for (int k = 0; k < 8; ++k) out[k] = in[k & 3];
+}
+#if HAIRSCATTER_HAS_VECTOR_EXT && defined(__AVX__)
+template <> HAIRSCATTER_FORCE_INLINE void repeat4(const float* in, float* out) {
+    detail::F32x4 v;
+    std::memcpy(&v, in, sizeof v);
+    const detail::F32x8 w = __builtin_shufflevector(v, v, 0, 1, 2, 3, 0, 1, 2, 3);
+    std::memcpy(out, &w, sizeof w);
+}
+#endif
 
 // Natural logarithm of a positive normal number (callers floor their arguments).
 template <typename T> HAIRSCATTER_HD T log(T x) {
