@@ -15,6 +15,8 @@
 #include <hairscatter/dual.hpp>
 #include <hairscatter/hairscatter.hpp>
 
+#include "../support/dual_layer_checks.hpp"
+
 namespace hs = hairscatter;
 
 namespace {
@@ -102,4 +104,13 @@ TEST(LanesNative, FloatChiangAndDualAgreeWithDouble) {
     std::printf("[ native   ] float vs double relative L1: Chiang %.3g, dual %.3g\n", err[0] / ref[0], err[1] / ref[1]);
     EXPECT_LT(err[0] / ref[0], 1e-5);
     EXPECT_LT(err[1] / ref[1], 1e-5);
+}
+
+// The dual BCSDF's stacks above and below a point as one batch of eight float lanes (one
+// AVX vector): each lane bit for bit what the stack of its own depth gives alone.
+TEST(LanesNative, TwoDepthLayerBatchMatchesTwoStacks) {
+#if defined(__AVX__)
+    EXPECT_TRUE(hs::DualLayers<float>::kTwoDepthBatch);
+#endif
+    dual_checks::two_depth_stacks<float>();
 }

@@ -67,10 +67,22 @@ template <typename T> struct DualLayers {
         R = glm::vec<3, T>(r[0], r[1], r[2]);
         T_ = glm::vec<3, T>(t[0], t[1], t[2]);
     }
-    // The same at two depths a and b as one batch of eight lanes (one vector in float with
-    // AVX): the lanes do what two calls of stacks() would, so the results are the same.
+    // The same at two depths a and b as one batch of eight lanes where that is one vector
+    // (float with AVX; elsewhere, where eight lanes cost twice four, two batches of four):
+    // the lanes do what two calls of stacks() would, so the results are the same.
+#if defined(__AVX__) && !defined(__CUDA_ARCH__)
+    static constexpr bool kTwoDepthBatch = std::is_same<T, float>::value;
+#else
+    static constexpr bool kTwoDepthBatch = false;
+#endif
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void stacks(T a, T b, glm::vec<3, T>& R_a, glm::vec<3, T>& T_a,
                                                         glm::vec<3, T>& R_b) const {
+        if constexpr (!kTwoDepthBatch) {
+            glm::vec<3, T> T_b;
+            stacks(a, R_a, T_a);
+            stacks(b, R_b, T_b);
+            return;
+        }
         LayerLanes<T, 2 * kLanes> c2;
         repeat_lanes(c, c2);
         T depth[2 * kLanes], r[2 * kLanes], t[2 * kLanes];
