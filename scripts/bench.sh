@@ -21,6 +21,13 @@
 #   scripts/bench.sh --tables             only that last step, from the committed vs_pbrt.md
 #   scripts/bench.sh --programs           only the dual and tabulated programs (no Chiang run):
 #                                         bench/results/{dual,tabulated}_<date>.txt
+#   scripts/bench.sh --ab REV             dual_bench built against REV's include/ (A) and the
+#                                         working tree's (B), run in alternation for --rounds N
+#                                         rounds (default 10; scripts/bench_ab.py), only the
+#                                         benchmarks of --filter (default: the BCSDF calls, not
+#                                         the table builds): bench/results/dual_ab_<date>_<REV>.txt.
+#                                         Two runs minutes apart on a shared machine can differ
+#                                         by more than a change; rounds seconds apart do not.
 #
 # Build tree: build/bench (Release; the bench targets add -O2 -march=native themselves,
 # bench/CMakeLists.txt). Timings are the medians of the repetitions' CPU times: on a
@@ -43,6 +50,7 @@ quick=0
 install_deps=1
 mode=chiang
 vs_reps=15
+ab_rounds=10
 [[ "${HAIRSCATTER_SKIP_DEPS:-0}" == 1 ]] && install_deps=0
 
 while [[ $# -gt 0 ]]; do
@@ -56,6 +64,8 @@ while [[ $# -gt 0 ]]; do
         --vs-pbrt) mode=vs_pbrt ;;
         --tables) mode=tables ;;
         --programs) mode=programs ;;
+        --ab) mode=ab; headers_rev="${2:?--ab needs a revision}"; shift ;;
+        --rounds) ab_rounds="$2"; shift ;;
         --reps) vs_reps="$2"; shift ;;
         -h | --help) hs_usage; exit 0 ;;
         *) hs_usage_error "unknown option '$1'" ;;
@@ -123,7 +133,7 @@ if [[ -n "$headers_rev" ]]; then
 fi
 cmake -S "$SRC" -B "$BUILD" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF -DHAIRSCATTER_DOCS=OFF \
     -DCMAKE_BUILD_TYPE=Release >/dev/null
-if [[ $mode == programs ]]; then
+if [[ $mode == programs || $mode == ab ]]; then
     cmake --build "$BUILD" --target dual_bench dual_icount tabulated_bench -j "$(nproc 2>/dev/null || echo 2)"
 else
     cmake --build "$BUILD" --target chiang_bench bench_crosscheck dual_bench dual_icount tabulated_bench \
@@ -144,7 +154,7 @@ dual_icounts() {
     if hs_native_has_avx512 "$cxx"; then
         bin="$BUILD/dual_icount_x86-64-v3"
         march="-march=x86-64-v3 (this CPU has AVX-512, which valgrind cannot run)"
-        "$cxx" -std=c++17 -O2 -march=x86-64-v3 -DNDEBUG -I"$ROOT/include" "$ROOT/bench/dual_icount.cpp" -o "$bin" ||
+        "$cxx" -std=c++17 -O2 -march=x86-64-v3 -DNDEBUG -I"$SRC/include" "$ROOT/bench/dual_icount.cpp" -o "$bin" ||
             { echo "(could not build dual_icount for x86-64-v3: no instruction counts)"; return; }
     fi
     for kind in 0 1 2 3; do
@@ -197,6 +207,34 @@ run_programs() {
 }
 if [[ $mode == programs ]]; then
     run_programs
+    exit 0
+fi
+if [[ $mode == ab ]]; then
+    # B: the working tree's dual_bench (A, REV's, was built above).
+    cmake -S "$ROOT" -B "$ROOT/build/bench" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF \
+        -DHAIRSCATTER_DOCS=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
+    cmake --build "$ROOT/build/bench" --target dual_bench -j "$(nproc 2>/dev/null || echo 2)"
+    ab_out="${out:-$ROOT/bench/results/dual_ab_$(date +%Y-%m-%d)_$rev_name.txt}"
+    ab_filter="${filter:-BM_(Single|Dual)(At)?(Eval|Sample)}"
+    echo "bench.sh: dual_bench, $rev_name against the working tree, $ab_rounds rounds (filter $ab_filter)"
+    ab_load_before="$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
+    ab_table="$(python3 "$ROOT/scripts/bench_ab.py" "$BUILD/bench/dual_bench" "$ROOT/build/bench/bench/dual_bench" \
+        --filter "$ab_filter" --rounds "$ab_rounds" --min-time "$min_time")"
+    {
+        echo "hairscatter benchmark: bench/dual_bench.cpp, two header revisions in alternation (scripts/bench.sh --ab)"
+        echo
+        echo "date:      $(date -u '+%Y-%m-%d %H:%M:%S UTC')"
+        dirty="$(git -C "$ROOT" status --porcelain -- include bench ':!bench/results' 2>/dev/null | head -1 || true)"
+        echo "A:         include/ of commit $rev_name (--ab $headers_rev)"
+        echo "B:         the working tree, commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')${dirty:+ (with uncommitted changes in include/ or bench/)}"
+        echo "cpu:       $(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -1), $(nproc) cores"
+        echo "compiler:  $("$cxx" --version | head -1); flags -O2 -march=native -DNDEBUG (bench/CMakeLists.txt)"
+        echo "load:      average before ${ab_load_before}, after $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
+        echo
+        echo "$ab_table"
+    } >"$ab_out"
+    cat "$ab_out"
+    echo "bench.sh: wrote ${ab_out#"$ROOT"/}"
     exit 0
 fi
 
