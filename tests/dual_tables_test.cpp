@@ -196,6 +196,24 @@ TEST(DualTables, LookupInterpolatesAndClamps) {
 template <typename T> void check_view_shortcuts() {
     const auto t = hs::DualScatteringTables<T>::template build<hs::ChiangFiber<T>>(hs::ChiangMaterial<T>(hs::FiberParams<T>{}));
     const auto v = t.view();
+    // view() copies the shape kept at build (and load): a copy of the tables views its own
+    // arrays with the same shape.
+    const auto copy = t;
+    const auto cv = copy.view();
+    EXPECT_EQ(cv.entries, copy.entries().data());
+    EXPECT_EQ(cv.window, copy.window_data().data());
+    EXPECT_EQ(cv.window_cdf, copy.window_cdf_data().data());
+    EXPECT_NE(cv.entries, v.entries);
+    EXPECT_EQ(cv.n_theta, v.n_theta);
+    EXPECT_EQ(cv.n_psi, v.n_psi);
+    EXPECT_EQ(cv.lobes, v.lobes);
+    EXPECT_EQ(v.n_theta, t.size());
+    EXPECT_EQ(v.lobes, t.lobes());
+    for (int p = 0; p < v.kMaxLobes; ++p) {
+        EXPECT_EQ(cv.lobe_variance[p], v.lobe_variance[p]);
+        EXPECT_EQ(cv.lobe_sin[p], v.lobe_sin[p]);
+        EXPECT_EQ(v.lobe_sin[p], T(std::sin(v.lobe_angle[p])));
+    }
     const T nan = std::numeric_limits<T>::quiet_NaN();
     std::mt19937 rng(11);
     std::uniform_real_distribution<T> uni(-1, 1);

@@ -453,7 +453,7 @@ template <typename T> class DualScatteringTables {
     // The host view; on a GPU, copy entries(), window_data() and window_cdf_data() to device
     // memory and pass with_arrays(…) of the result.
     View view() const {
-        View v = shape_view();
+        View v = shape_;
         v.entries = entries_.data();
         v.window = window_.data();
         v.window_cdf = cdf_.data();
@@ -601,9 +601,12 @@ template <typename T> class DualScatteringTables {
     }
 
     // The sampler's per-row, per-lobe CDF over ψ ∈ [0, π] of the channel mean of W_p
-    // (trapezoids: the exact integral of the piecewise-linear interpolant).
+    // (trapezoids: the exact integral of the piecewise-linear interpolant); and the view's
+    // shape, kept whole so that view() is one copy (a renderer may take a view per hit).
+    // Build and load end here, once every field of the shape is set.
     void finish() {
         const View v = shape_view();
+        shape_ = v;
         cdf_.assign(window_.size(), T(0));
         const T h = kPi<T> / T(n_psi_ - 1);
         for (int i = 0; i < n_theta_; ++i)
@@ -643,6 +646,7 @@ template <typename T> class DualScatteringTables {
     std::vector<Entry> entries_;
     std::vector<V3> window_;
     std::vector<T> cdf_;
+    View shape_;  // shape_view() as of finish(), without the arrays
     int n_theta_ = 0, n_psi_ = 0, lobes_ = 0, h_nodes_ = 0;
     T lobe_angle_[kMaxLobes] = {}, lobe_variance_[kMaxLobes] = {};
     T lobe_sin_[kMaxLobes] = {}, lobe_cos_[kMaxLobes] = {T(1), T(1), T(1), T(1)};
