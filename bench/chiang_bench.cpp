@@ -104,7 +104,7 @@ template <typename T> void BM_At(benchmark::State& state) {
 }
 
 // eval / sample of a bound fiber: what each further call at the same hit costs. 64 bound
-// fibers (different wo, h) are cycled against the 4096 wi / u inputs.
+// fibers (different wo, h) are cycled against the 65536 wi / u inputs.
 template <typename T> std::vector<typename hairscatter::ChiangFiber<T>::At> bound(const Args<T>& a) {
     std::vector<typename hairscatter::ChiangFiber<T>::At> at;
     for (std::size_t k = 0; k < 64; ++k) at.push_back(a.in.fibers[a.b][k].at(a.in.wo[k]));
@@ -331,6 +331,39 @@ BENCHMARK_TEMPLATE(BM_RefSample, float)->Apply(beta_args);
 BENCHMARK_TEMPLATE(BM_RefSample, double)->Apply(beta_args);
 BENCHMARK_TEMPLATE(BM_RefCtor, float)->Apply(beta_args);
 BENCHMARK_TEMPLATE(BM_RefCtor, double)->Apply(beta_args);
+
+// Why the inputs are many (bench/reference/inputs.hpp): the float atan2 of relative_azimuth
+// in two forms, over the first `cycle` wo / wi pairs of the inputs, cycled. "branches" is the
+// form the library had before: the octant and the quadrant chosen by conditional
+// expressions, which GCC compiles to branches; "selects" is elem::atan2 (the same results,
+// bit for bit, but -0 for x, where it is std::atan2's ±π). Over a short cycle the branch
+// predictor learns the branches' outcomes; over a long one they go wrong as on a renderer's
+// random directions.
+HAIRSCATTER_NOINLINE float atan2_branches(float y, float x) {
+    const float ax = std::fabs(x), ay = std::fabs(y);
+    const bool steep = ay > ax;
+    const float hi = steep ? ay : ax, lo = steep ? ax : ay;
+    const float r = hairscatter::elem::detail::atan_unit(lo / (hi > 0.0f ? hi : 1.0f));
+    const float r1 = steep ? hairscatter::kHalfPi<float> - r : r;
+    return std::copysign(x < 0.0f ? hairscatter::kPi<float> - r1 : r1, y);
+}
+HAIRSCATTER_NOINLINE float atan2_selects(float y, float x) { return hairscatter::elem::atan2(y, x); }
+
+template <bool kSelects> void BM_Atan2Cycle(benchmark::State& state) {
+    const auto& in = inputs<float>();
+    const std::size_t mask = std::size_t(state.range(0)) - 1;
+    std::size_t i = 0;
+    for (auto _ : state) {
+        const glm::vec3& wo = in.wo[i];
+        const glm::vec3& wi = in.wi[0][1][i];
+        float r = (kSelects ? atan2_selects : atan2_branches)(wo.y * wi.z - wo.z * wi.y, wo.y * wi.y + wo.z * wi.z);
+        benchmark::DoNotOptimize(r);
+        i = (i + 1) & mask;
+    }
+    state.SetLabel(kSelects ? "selects" : "branches");
+}
+BENCHMARK_TEMPLATE(BM_Atan2Cycle, false)->ArgName("cycle")->Arg(4096)->Arg(65536);
+BENCHMARK_TEMPLATE(BM_Atan2Cycle, true)->ArgName("cycle")->Arg(4096)->Arg(65536);
 
 #ifndef HAIRSCATTER_BENCH_FLAGS_STRING
 #define HAIRSCATTER_BENCH_FLAGS_STRING "(unknown)"

@@ -1,6 +1,6 @@
 // bench_crosscheck: does bench_ref (the pbrt-v4-style reference of the benchmarks)
 // implement the same model as hairscatter::ChiangFiber, and how accurate are the float
-// versions of both? Over the benchmark's input set (4096 tuples, wi uniform and wi from
+// versions of both? Over the benchmark's input set (65536 tuples, wi uniform and wi from
 // the sampler, each β_m), it prints maximum and 99th-percentile relative differences:
 //   1. double: bench_ref's un-divided sum "fsum" (pbrt's f · |wi.z|) and PDF against our
 //      eval and pdf — as pbrt computes them (10-term I0 series, its log I0 asymptotic),

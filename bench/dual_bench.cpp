@@ -34,6 +34,10 @@ void BM_DualTablesBuild(benchmark::State& state) {
 }
 BENCHMARK(BM_DualTablesBuild)->ArgNames({"theta", "h"})->Args({64, 32})->Args({256, 32})->Args({64, 8})->Unit(benchmark::kMicrosecond);
 
+// Cycled inputs: as many as bench/reference/inputs.hpp's tuples, and for the same reason
+// (a branch predictor learns a short cycle of inputs, a renderer's rays never repeat).
+constexpr std::size_t kScene = 65536;
+
 struct Scene {
     std::vector<V3> wo, wi, x, to_light;
     std::vector<glm::dvec4> u;
@@ -45,7 +49,7 @@ struct Scene {
             const double z = 2 * uni(rng) - 1, p = 6.283185307179586 * uni(rng), r = std::sqrt(1 - z * z);
             return V3(z, r * std::cos(p), r * std::sin(p));
         };
-        for (int i = 0; i < 1024; ++i) {
+        for (std::size_t i = 0; i < kScene; ++i) {
             wo.push_back(dir());
             wi.push_back(dir());
             to_light.push_back(dir());
@@ -72,7 +76,7 @@ void BM_DensityMarch(benchmark::State& state) {
     for (auto _ : state) {
         auto n = grid.fibers_crossed(s.x[i], s.to_light[i], hs::kUnbounded<double>);
         benchmark::DoNotOptimize(n);
-        i = (i + 1) & 1023;
+        i = (i + 1) & (kScene - 1);
     }
 }
 BENCHMARK(BM_DensityMarch);
@@ -129,7 +133,7 @@ template <typename T, bool kSample, bool kDual> void BM_Shade(benchmark::State& 
             auto r = fiber.eval(wo, wi);
             benchmark::DoNotOptimize(r);
         }
-        i = (i + 1) & 1023;
+        i = (i + 1) & (kScene - 1);
     }
 }
 // The per-light-sample cost once a hit is bound: 64 hits bound with at(wo) (the single fiber's
@@ -158,7 +162,7 @@ template <typename T, bool kDual> void BM_AtEval(benchmark::State& state) {
             auto r = single[i & 63].eval(wi);
             benchmark::DoNotOptimize(r);
         }
-        i = (i + 1) & 1023;
+        i = (i + 1) & (kScene - 1);
     }
 }
 

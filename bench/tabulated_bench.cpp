@@ -147,7 +147,7 @@ template <typename T> void BM_At(benchmark::State& state) {
     cycle(state, false, [&](std::size_t i) { return a.fiber.at(a.in.wo[i]); });
 }
 
-// eval / sample of a bound fiber: 64 bound fibers (different wo) cycled against the 4096
+// eval / sample of a bound fiber: 64 bound fibers (different wo) cycled against the 65536
 // wi / u inputs.
 template <typename T> std::vector<typename hs::TabulatedFiber<T>::At> bound(const Args<T>& a) {
     std::vector<typename hs::TabulatedFiber<T>::At> at;

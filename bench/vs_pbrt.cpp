@@ -11,7 +11,8 @@
 //   sample       ChiangFiber::sample(wo, u)                / HairBxDF::Sample_f(wo, u)
 //   path vertex  fiber(h) + at(wo) + eval(wi) + sample(u)  / HairBxDF(h) + f + Sample_f
 //   at(wo).eval  a bound fiber's eval(wi)                  / HairBxDF::f (pbrt has no bound form)
-// wi is uniform on the sphere; the inputs are reference/inputs.hpp's 4096 cycled tuples.
+// wi is uniform on the sphere; the inputs are reference/inputs.hpp's 65536 cycled tuples
+// (fewer would let the branch predictor learn the cycle: see there).
 // The calibration loop (reference/calibration.hpp, float) gives the unit u of
 // docs/tradeoff.md, so that at(wo).eval can also be read in units.
 //
@@ -109,7 +110,7 @@ template <typename T> void BM_RefVertex(benchmark::State& state) {
     });
 }
 
-// 64 fibers bound to their wo, cycled against the 4096 wi.
+// 64 fibers bound to their wo, cycled against the 65536 wi.
 template <typename T> void BM_OursAtEval(benchmark::State& state) {
     const auto& in = inputs<T>();
     std::vector<typename hairscatter::ChiangFiber<T>::At> at;

@@ -430,7 +430,7 @@ template <typename Fiber> class DualScatteringBcsdf {
 
         HAIRSCATTER_HD T density(const V3& wi, T psi, T pdf_single) const {
             const T sin_i = clamp(wi.x, T(-1), T(1)), cos_i = cos_from_sin(sin_i);
-            const T a = psi < T(0) ? -psi : psi;
+            const T a = abs_value(psi);
             const bool backward = a < kHalfPi<T>;
             T m[kLanes];
             pdf_lanes_.eval_all(sin_i, cos_i, m);
@@ -458,7 +458,7 @@ template <typename Fiber> class DualScatteringBcsdf {
             const DualScatteringSettings<T>& s = t_.settings;
             const T kBack = improved() ? T(2) : T(1);
             const T sin_i = clamp(wi.x, T(-1), T(1)), cos_i = cos_from_sin(sin_i);
-            const T a = psi < T(0) ? -psi : psi;
+            const T a = abs_value(psi);
             const bool backward = a < kHalfPi<T>;
             const T df = is_finite(light.direct_fraction) ? clamp(light.direct_fraction, T(0), T(1)) : T(0);
             const Entry ei = t_.lookup(sin_i);

@@ -6,6 +6,7 @@ namespace hairscatter {
 template <typename T> inline constexpr T kPi = T(3.14159265358979323846264338327950288);
 template <typename T> inline constexpr T kTwoPi = T(6.28318530717958647692528676655900577);
 template <typename T> inline constexpr T kHalfPi = T(1.57079632679489661923132169163975144);
+template <typename T> inline constexpr T kQuarterPi = T(0.785398163397448309615660845819875721);
 template <typename T> inline constexpr T kInvPi = T(0.318309886183790671537767526745028724);
 template <typename T> inline constexpr T kInvTwoPi = T(0.159154943091895335768883763372514362);
 template <typename T> inline constexpr T kSqrtPiOver8 = T(0.626657068657750125603941321203029170);

@@ -36,7 +36,7 @@ template <typename T> class TrimmedLogistic {
     // e^(-|x|/s) / (s (1 + e^(-|x|/s))²): the |x| form never overflows. Split in two,
     // pdf(x) = density(exp(exponent(x))), so that a model can batch the exps of its lobes.
     HAIRSCATTER_HD T pdf(T x) const { return density(elem::exp(exponent(x))); }
-    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T exponent(T x) const { return -(x < T(0) ? -x : x) * inv_s_; }
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T exponent(T x) const { return -abs_value(x) * inv_s_; }
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T density(T e) const { return pdf_scale_ * e / sqr(T(1) + e); }
 
     HAIRSCATTER_HD T cdf(T x) const {

@@ -145,7 +145,7 @@ template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F abs_lanes(F x) {
 template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F expm1_lanes(F x) {
     return select_lanes<F, I>(abs_lanes<F, I>(x) < splat<F>(0.5f), expm1_series(x), exp_float_lanes<F, I>(x) - 1.0f);
 }
-// log_float<true> (positive normal x).
+// log_float (positive normal x).
 template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F log_lanes(F x) {
     I bits = reinterpret_cast<I>(x);
     I e = ((bits >> 23) & splat<I>(std::int32_t(0xff))) - splat<I>(std::int32_t(127));
@@ -241,23 +241,19 @@ HAIRSCATTER_FORCE_INLINE float asin_half(float x) {
 
 // log x for positive normal x: x = m·2^e with m ∈ [√½, √2), log m = 2 atanh(s),
 // s = (m - 1)/(m + 1), |s| ≤ 0.172, by its series to s⁹ (truncation 1e-9 relative).
-// kLanes: the mantissa's halving as selects (the form a loop of logs vectorises in), as in
-// exp_float; the results are the same.
-template <bool kLanes = false> HAIRSCATTER_FORCE_INLINE float log_float(float x) {
+// The mantissa's halving is a select (bit masks), not a branch: whether m > √2 is a coin
+// toss for the random numbers a sampler passes (a mispredicted branch per log), and it is
+// also the form in which a loop of logs vectorises (log1p_each, pow_each).
+HAIRSCATTER_FORCE_INLINE float log_float(float x) {
     std::int32_t bits;
     std::memcpy(&bits, &x, sizeof bits);
     std::int32_t e = ((bits >> 23) & 0xff) - 127;
     bits = (bits & 0x007fffff) | 0x3f800000;
     float m;
     std::memcpy(&m, &bits, sizeof m);
-    if (kLanes) {
-        const bool high = m > 1.41421356f;
-        m = select(high, 0.5f * m, m);
-        e += std::int32_t(high);
-    } else if (m > 1.41421356f) {
-        m *= 0.5f;
-        e += 1;
-    }
+    const bool high = m > 1.41421356f;
+    m = select(high, 0.5f * m, m);
+    e += std::int32_t(high);
     const float f = m - 1.0f;  // exact (Sterbenz)
     const float log_m = atanh2_series(f / (2.0f + f));
     const float ef = float(e);
@@ -280,12 +276,19 @@ HAIRSCATTER_FORCE_INLINE void sincos_float(float x, float& s, float& c) {
     const float sr = r + r * z * hairscatter::detail::horner(z, -1.0f / 6, 1.0f / 120, -1.0f / 5040, 1.0f / 362880);
     const float cr = 1.0f + z * hairscatter::detail::horner(z, -0.5f, 1.0f / 24, -1.0f / 720, 1.0f / 40320,
                                                             -1.0f / 3628800);
-    switch (qi & 3) {
-        case 0: s = sr, c = cr; break;
-        case 1: s = cr, c = -sr; break;
-        case 2: s = -sr, c = -cr; break;
-        default: s = -cr, c = sr; break;
-    }
+    // Rotated by the quadrant q mod 4 without a branch (a switch on it mispredicts about
+    // half the time for the angles of a sampler): odd q swaps sr and cr, and the sign bit
+    // of s flips where bit 1 of q is set, that of c where bit 1 of q + 1 is.
+    //   q = 0: (sr, cr)   1: (cr, -sr)   2: (-sr, -cr)   3: (-cr, sr)
+    const bool odd = (qi & 1) != 0;
+    const float s0 = select(odd, cr, sr), c0 = select(odd, sr, cr);
+    std::uint32_t bs, bc;
+    std::memcpy(&bs, &s0, sizeof bs);
+    std::memcpy(&bc, &c0, sizeof bc);
+    bs ^= std::uint32_t(qi & 2) << 30;
+    bc ^= std::uint32_t((qi + 1) & 2) << 30;
+    std::memcpy(&s, &bs, sizeof s);
+    std::memcpy(&c, &bc, sizeof c);
 }
 
 }  // namespace detail
@@ -312,17 +315,25 @@ template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float atan2(float y, float x
 #if defined(__CUDA_ARCH__)
     return ::atan2f(y, x);
 #else
-    // Octant reduction to atan(min/max) ∈ [0, π/4], then the quadrant from the signs, with
-    // conditional expressions that GCC and Clang compile to blends, not branches: the octant
-    // of a random direction is unpredictable, and a mispredicted branch costs more than the
-    // whole polynomial. (The integer-mask select() of math/functions.hpp costs more here:
-    // 26 instructions per Chiang eval.)
+    // Octant reduction to atan(min/max) ∈ [0, π/4], then the octant and quadrant from the
+    // signs, all without a conditional: the octant of a random direction is unpredictable,
+    // and GCC compiles conditional expressions here to branches (one mispredicted branch
+    // per call cost more than the whole polynomial). min and max are single instructions,
+    // and the two reflections are copysign (bit operations):
+    //   steep (ay > ax ⇔ ax - ay < 0):  π/2 - r = (π/4 - copysign(π/4, d)) + copysign(r, d),
+    //   x < 0:                          π - r1  = (π/2 - copysign(π/2, x)) + copysign(r1, x),
+    // each exactly r (r1) on the other side (0 + r), and the same roundings as the
+    // conditional form on this one (π/4 + π/4 = π/2 and π/2 + π/2 = π in float). d = 0 only
+    // when ax = ay (gradual underflow). x = -0 counts as negative, as in std::atan2:
+    // atan2(±0, -0) = ±π.
     const float ax = std::fabs(x), ay = std::fabs(y);
-    const bool steep = ay > ax;
-    const float hi = steep ? ay : ax, lo = steep ? ax : ay;
-    const float r = detail::atan_unit(lo / (hi > 0.0f ? hi : 1.0f));  // lo = 0 when hi = 0
-    const float r1 = steep ? kHalfPi<float> - r : r;
-    return std::copysign(x < 0.0f ? kPi<float> - r1 : r1, y);
+    const float hi = ay > ax ? ay : ax;  // MAXSS
+    const float lo = select(ay > ax, ax, ay);  // bit masks: GCC made a branch of ?: here
+    const float r = detail::atan_unit(lo / (hi <= 0.0f ? 1.0f : hi));  // lo = 0 when hi = 0; NaN stays
+    const float d = ax - ay;
+    const float r1 = (kQuarterPi<float> - std::copysign(kQuarterPi<float>, d)) + std::copysign(r, d);
+    const float r2 = (kHalfPi<float> - std::copysign(kHalfPi<float>, x)) + std::copysign(r1, x);
+    return std::copysign(r2, y);
 #endif
 }
 
@@ -502,7 +513,7 @@ template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void log1p_each(float (
 #endif
     for (int k = 0; k < N; ++k) {
         const bool near0 = (x[k] > -0.29f) & (x[k] < 0.41f);  // & not &&: no branch
-        const float r = select(near0, detail::log1p_series(x[k]), detail::log_float<true>(1.0f + x[k]));
+        const float r = select(near0, detail::log1p_series(x[k]), detail::log_float(1.0f + x[k]));
         x[k] = select(x[k] <= 3.0e38f, r, x[k]);  // +Inf stays +Inf, NaN NaN
     }
 #endif
@@ -522,7 +533,7 @@ template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void pow_each(float (&x
 #if HAIRSCATTER_HAS_VECTOR_EXT
     if (detail::each_group(x, detail::PowLanes{y})) return;
 #endif
-    for (int k = 0; k < N; ++k) x[k] = y * detail::log_float<true>(x[k]);  // log 0 reads as -88: e^(-88 y) flushes to 0
+    for (int k = 0; k < N; ++k) x[k] = y * detail::log_float(x[k]);  // log 0 reads as -88: e^(-88 y) flushes to 0
     exp_each(x);
 #endif
 }

@@ -176,7 +176,7 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
             o.m.eval_all(sin_i, cos_i, m);
         int i;
         T u;
-        v_->phi_cell(phi < T(0) ? -phi : phi, i, u);
+        v_->phi_cell(abs_value(phi), i, u);
         const T* a = o.n0 + i * View::kNodeStride;
         const T* b = o.n1 + i * View::kNodeStride;
         const T w00 = (T(1) - o.t) * (T(1) - u), w01 = (T(1) - o.t) * u, w10 = o.t * (T(1) - u), w11 = o.t * u;

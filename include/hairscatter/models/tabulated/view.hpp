@@ -97,7 +97,7 @@ template <typename T> class TabulatedView : public DeonLobes<T> {
                 const T* nk = node + k * kNodeStride;
                 return nk[0] + nk[1] + nk[2];
             },
-            n_phi_, phi_step_, phi_scale_, (w < T(0) ? -w : w) * c[n_phi_ - 1]);
+            n_phi_, phi_step_, phi_scale_, abs_value(w) * c[n_phi_ - 1]);
         return sign * clamp(T(x.cell) * phi_step_ + x.offset, T(0), kPi<T>);
     }
 
