@@ -26,6 +26,9 @@
 #                                         rounds (default 10; scripts/bench_ab.py), only the
 #                                         benchmarks of --filter (default: the BCSDF calls, not
 #                                         the table builds): bench/results/dual_ab_<date>_<REV>.txt.
+#                                         --ab-program chiang|tabulated: that program instead
+#                                         (default filter: the float calls at β_m = 0.3);
+#                                         bench/results/<program>_ab_<date>_<REV>.txt.
 #                                         Two runs minutes apart on a shared machine can differ
 #                                         by more than a change; rounds seconds apart do not.
 #
@@ -51,6 +54,7 @@ install_deps=1
 mode=chiang
 vs_reps=15
 ab_rounds=10
+ab_prog=dual
 [[ "${HAIRSCATTER_SKIP_DEPS:-0}" == 1 ]] && install_deps=0
 
 while [[ $# -gt 0 ]]; do
@@ -66,6 +70,7 @@ while [[ $# -gt 0 ]]; do
         --programs) mode=programs ;;
         --ab) mode=ab; headers_rev="${2:?--ab needs a revision}"; shift ;;
         --rounds) ab_rounds="$2"; shift ;;
+        --ab-program) ab_prog="$2"; shift ;;
         --reps) vs_reps="$2"; shift ;;
         -h | --help) hs_usage; exit 0 ;;
         *) hs_usage_error "unknown option '$1'" ;;
@@ -133,7 +138,11 @@ if [[ -n "$headers_rev" ]]; then
 fi
 cmake -S "$SRC" -B "$BUILD" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF -DHAIRSCATTER_DOCS=OFF \
     -DCMAKE_BUILD_TYPE=Release >/dev/null
-if [[ $mode == programs || $mode == ab ]]; then
+if [[ $mode == ab ]]; then
+    [[ $ab_prog == dual || $ab_prog == chiang || $ab_prog == tabulated ]] ||
+        { echo "bench.sh: --ab-program is dual, chiang or tabulated, not '$ab_prog'" >&2; exit 2; }
+    cmake --build "$BUILD" --target "${ab_prog}_bench" -j "$(nproc 2>/dev/null || echo 2)"
+elif [[ $mode == programs ]]; then
     cmake --build "$BUILD" --target dual_bench dual_icount tabulated_bench -j "$(nproc 2>/dev/null || echo 2)"
 else
     cmake --build "$BUILD" --target chiang_bench bench_crosscheck dual_bench dual_icount tabulated_bench \
@@ -210,18 +219,23 @@ if [[ $mode == programs ]]; then
     exit 0
 fi
 if [[ $mode == ab ]]; then
-    # B: the working tree's dual_bench (A, REV's, was built above).
+    # B: the working tree's program (A, REV's, was built above).
     cmake -S "$ROOT" -B "$ROOT/build/bench" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF \
         -DHAIRSCATTER_DOCS=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
-    cmake --build "$ROOT/build/bench" --target dual_bench -j "$(nproc 2>/dev/null || echo 2)"
-    ab_out="${out:-$ROOT/bench/results/dual_ab_$(date +%Y-%m-%d)_$rev_name.txt}"
-    ab_filter="${filter:-BM_(Single|Dual)(At)?(Eval|Sample)}"
-    echo "bench.sh: dual_bench, $rev_name against the working tree, $ab_rounds rounds (filter $ab_filter)"
+    cmake --build "$ROOT/build/bench" --target "${ab_prog}_bench" -j "$(nproc 2>/dev/null || echo 2)"
+    ab_out="${out:-$ROOT/bench/results/${ab_prog}_ab_$(date +%Y-%m-%d)_$rev_name.txt}"
+    case $ab_prog in
+        dual) ab_default='BM_(Single|Dual)(At)?(Eval|Sample)' ;;
+        chiang) ab_default='BM_(Eval|Pdf|Sample|AtEval|AtSample|Hit)<float>/bm:1(/wi:0)?$' ;;
+        tabulated) ab_default='BM_(At)?(Eval|Pdf|Sample)<float>/res:1/bm:1(/wi:0)?$' ;;
+    esac
+    ab_filter="${filter:-$ab_default}"
+    echo "bench.sh: ${ab_prog}_bench, $rev_name against the working tree, $ab_rounds rounds (filter $ab_filter)"
     ab_load_before="$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
-    ab_table="$(python3 "$ROOT/scripts/bench_ab.py" "$BUILD/bench/dual_bench" "$ROOT/build/bench/bench/dual_bench" \
+    ab_table="$(python3 "$ROOT/scripts/bench_ab.py" "$BUILD/bench/${ab_prog}_bench" "$ROOT/build/bench/bench/${ab_prog}_bench" \
         --filter "$ab_filter" --rounds "$ab_rounds" --min-time "$min_time")"
     {
-        echo "hairscatter benchmark: bench/dual_bench.cpp, two header revisions in alternation (scripts/bench.sh --ab)"
+        echo "hairscatter benchmark: bench/${ab_prog}_bench.cpp, two header revisions in alternation (scripts/bench.sh --ab)"
         echo
         echo "date:      $(date -u '+%Y-%m-%d %H:%M:%S UTC')"
         dirty="$(git -C "$ROOT" status --porcelain -- include bench ':!bench/results' 2>/dev/null | head -1 || true)"
