@@ -442,7 +442,9 @@ template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float asin(float x) {
     const float ax = clamp(std::fabs(x), 0.0f, 1.0f);
     // |x| > 1/2: asin(a) = π/2 - 2 asin(sqrt((1 - a)/2)) keeps the polynomial's argument
     // small. A branch, not a select: it is mispredicted when h is random, but computing
-    // both forms puts a sqrt on the wo terms' critical path, which costs more (measured).
+    // both forms puts a sqrt on the wo terms' critical path, which costs more (measured;
+    // again over 65536 inputs, where the branch goes wrong as on a renderer's directions:
+    // one polynomial on a selected argument made the dual BCSDF's eval 7 % slower).
     const float r = ax <= 0.5f ? detail::asin_half(ax)
                                : kHalfPi<float> - 2.0f * detail::asin_half(std::sqrt(0.5f * (1.0f - ax)));
     return std::copysign(r, x);
