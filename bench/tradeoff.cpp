@@ -515,7 +515,7 @@ int main(int argc, char** argv) {
         for (auto _ : state) {
             float r = bench_ref::calibration_body(in.calib_a[i], in.calib_b[i]);
             benchmark::DoNotOptimize(r);
-            i = (i + 1) & bench_ref::kMask;
+            i = (i + 1) & bench_ref::kCalibMask;
         }
     });
     add_settings(quick);
