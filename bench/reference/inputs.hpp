@@ -26,7 +26,7 @@ constexpr std::size_t kInputs = 65536;  // a power of two: the index wraps with 
 constexpr std::size_t kMask = kInputs - 1;
 // The calibration loop (calibration.hpp) keeps the cycle of 4096 it had when the speed goals
 // were stated in its unit: the unit is a yardstick of the machine, and libm's branches make
-// it 1.37× longer over 65536 (chiang_bench's BM_CalibLong), which would move the goals.
+// it about 1.3× longer over 65536 (chiang_bench's BM_CalibLong), which would move the goals.
 constexpr std::size_t kCalibInputs = 4096;
 constexpr std::size_t kCalibMask = kCalibInputs - 1;
 
