@@ -37,7 +37,18 @@ template <typename T> class TrimmedLogistic {
     // pdf(x) = density(exp(exponent(x))), so that a model can batch the exps of its lobes.
     HAIRSCATTER_HD T pdf(T x) const { return density(elem::exp(exponent(x))); }
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T exponent(T x) const { return -abs_value(x) * inv_s_; }
+    // exponent(wrap_pi_once(d)) for d = φ - Φ with φ, Φ ∈ [-π, π], so d ∈ [-2π, 2π]: the
+    // distance on the circle min(|d|, 2π - |d|), bit-identical (2π - |d| is exact for |d| ≥ π,
+    // by Sterbenz's lemma) and three operations instead of the wrap's two selects and clamp.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T exponent_of_difference(T d) const {
+        const T a = abs_value(d), b = kTwoPi<T> - a;
+        return -select(b < a, b, a) * inv_s_;
+    }
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T density(T e) const { return pdf_scale_ * e / sqr(T(1) + e); }
+    // density(e) = density_numerator(e) / density_denominator(e), for callers that multiply
+    // the density by other factors before dividing.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T density_numerator(T e) const { return pdf_scale_ * e; }
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T density_denominator(T e) const { return sqr(T(1) + e); }
 
     HAIRSCATTER_HD T cdf(T x) const {
         using std::tanh;

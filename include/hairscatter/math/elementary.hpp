@@ -37,6 +37,15 @@ namespace detail {
 // Rounds y (|y| < 2^30) to the nearest integer, halves away from zero, through a
 // float → int conversion. The classic (y + 1.5·2^23) - 1.5·2^23 trick is folded to y by
 // -ffast-math (-fassociative-math); a conversion cannot be.
+// The float exp rounds x log2 e with the shifter 1.5·2²³ (an addition and a subtraction)
+// rather than a truncating conversion after adding ±1/2 and converting back (a chain twice as
+// long). Reassociating flags (-ffast-math, -fassociative-math) would fold (y + s) - s to y,
+// so under them it keeps the conversions.
+#if defined(__FAST_MATH__) || defined(__ASSOCIATIVE_MATH__)
+#define HAIRSCATTER_EXP_SHIFTER 0
+#else
+#define HAIRSCATTER_EXP_SHIFTER 1
+#endif
 HAIRSCATTER_FORCE_INLINE std::int32_t round_to_int(float y) { return std::int32_t(y + std::copysign(0.5f, y)); }
 
 // The polynomials below take a float or a lane vector F (GCC's and Clang's vector
@@ -73,8 +82,18 @@ template <typename F> HAIRSCATTER_FORCE_INLINE F log1p_series(F x) { return atan
 template <bool kLanes> HAIRSCATTER_FORCE_INLINE float exp_float(float x) {
     const float xc = kLanes ? select(x > -87.3f, select(x < 88.0f, x, 88.0f), -87.3f)
                             : (x > -87.3f ? (x < 88.0f ? x : 88.0f) : -87.3f);
+#if HAIRSCATTER_EXP_SHIFTER
+    // n = round(x log2 e) by the shifter: 1.5·2²³ + y has unit spacing, so the sum holds the
+    // rounded y in its low mantissa bits (read as an integer) and minus the shifter is n.
+    const float t = xc * 1.44269504088896341f + 12582912.0f;
+    const float n = t - 12582912.0f;
+    std::int32_t ni;
+    std::memcpy(&ni, &t, sizeof ni);
+    ni -= 0x4B400000;
+#else
     const std::int32_t ni = round_to_int(xc * 1.44269504088896341f);
     const float n = float(ni);
+#endif
     const float r = (xc - n * 0.693145751953125f) - n * 1.42860682030941723212e-6f;
     // The terms from r² on by Estrin's scheme (a short FMA chain), the last two steps as in
     // Horner's, so that the rounding of the result stays that of Horner's scheme.
@@ -109,11 +128,17 @@ template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F exp_float_lanes(F x
     const F lo = splat<F>(-87.3f);
     const I in_range = x > lo;
     const F xc = select_lanes<F, I>(in_range, select_lanes<F, I>(x < splat<F>(88.0f), x, splat<F>(88.0f)), lo);
+#if HAIRSCATTER_EXP_SHIFTER
+    const F t = xc * splat<F>(1.44269504088896341f) + splat<F>(12582912.0f);
+    const F n = t - splat<F>(12582912.0f);
+    const I ni = reinterpret_cast<I>(t) - splat<I>(std::int32_t(0x4B400000));
+#else
     // round_to_int: y + copysign(0.5, y), truncated
     const F y = xc * splat<F>(1.44269504088896341f);
     const I sign = reinterpret_cast<I>(y) & splat<I>(std::int32_t(0x80000000u));
     const I ni = __builtin_convertvector(y + reinterpret_cast<F>(sign | reinterpret_cast<I>(splat<F>(0.5f))), I);
     const F n = __builtin_convertvector(ni, F);
+#endif
     const F r = (xc - n * splat<F>(0.693145751953125f)) - n * splat<F>(1.42860682030941723212e-6f);
     // estrin(r, 1/2, 1/6, 1/24, 1/120, 1/720, 1/5040), as hairscatter::detail::estrin groups it
     const F r2 = r * r;
@@ -312,6 +337,7 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T atan2(T y, T x) 
     return atan2(y, x);
 }
 template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float atan2(float y, float x) {
+    using namespace detail;
 #if defined(__CUDA_ARCH__)
     return ::atan2f(y, x);
 #else
@@ -328,7 +354,12 @@ template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float atan2(float y, float x
     // atan2(±0, -0) = ±π.
     const float ax = std::fabs(x), ay = std::fabs(y);
     const float hi = ay > ax ? ay : ax;  // MAXSS
-    const float lo = select(ay > ax, ax, ay);  // bit masks: GCC made a branch of ?: here
+    #if HAIRSCATTER_HAS_VECTOR_EXT
+    const F32x4 vax = {ax, ax, ax, ax}, vay = {ay, ay, ay, ay};
+    const float lo = (vax < vay ? vax : vay)[0];
+#else
+    const float lo = select(ay > ax, ax, ay);
+#endif
     const float r = detail::atan_unit(lo / (hi <= 0.0f ? 1.0f : hi));  // lo = 0 when hi = 0; NaN stays
     const float d = ax - ay;
     const float r1 = (kQuarterPi<float> - std::copysign(kQuarterPi<float>, d)) + std::copysign(r, d);
