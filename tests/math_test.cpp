@@ -287,6 +287,27 @@ TEST(Functions, AllFiniteFindsEveryNonFiniteComponent) {
     check_all_finite<double>();
 }
 
+// pairwise_sum groups as a balanced tree: (x0 + x1) + (x2 + x3) and so on. Terms chosen
+// so that the grouping shows in the result (1 + 2^-24 rounds away against 1, not
+// against 2^-24 + 2^-24), and small integers, whose sums every grouping gets exactly.
+TEST(Functions, PairwiseSumIsABalancedTree) {
+    const float e = std::ldexp(1.0f, -24);
+    const float four[4] = {1.0f, e, e, e};  // (1 + e) + (e + e) = 1 + 2^-23; the loop gives 1
+    EXPECT_EQ(hs::pairwise_sum<4>(four), (1.0f + e) + (e + e));
+    EXPECT_EQ(hs::pairwise_sum<4>(four), 1.0f + std::ldexp(1.0f, -23));
+    const float three[3] = {e, e, 1.0f};  // (e + e) + 1 = 1 + 2^-23 (the loop: the same here)
+    EXPECT_EQ(hs::pairwise_sum<3>(three), 1.0f + std::ldexp(1.0f, -23));
+    double x[9];
+    for (int k = 0; k < 9; ++k) x[k] = double(k + 1);
+    EXPECT_EQ(hs::pairwise_sum<1>(x), 1.0);
+    EXPECT_EQ(hs::pairwise_sum<2>(x), 3.0);
+    EXPECT_EQ(hs::pairwise_sum<5>(x), 15.0);
+    EXPECT_EQ(hs::pairwise_sum<8>(x), 36.0);
+    EXPECT_EQ(hs::pairwise_sum<9>(x), 45.0);
+    const float neg_zero[2] = {-0.0f, -0.0f};  // no leading +0: the sum of -0s stays -0
+    EXPECT_TRUE(std::signbit(hs::pairwise_sum<2>(neg_zero)));
+}
+
 // The device-safe machine constants are the standard library's.
 static_assert(hs::kEpsilon<float> == std::numeric_limits<float>::epsilon());
 static_assert(hs::kEpsilon<double> == std::numeric_limits<double>::epsilon());

@@ -14,6 +14,19 @@ namespace hairscatter {
 
 template <typename T> HAIRSCATTER_HD constexpr T sqr(T x) { return x * x; }
 
+// x[0] + … + x[N-1] as a balanced tree, (x0 + x1) + (x2 + x3): a chain of ⌈log2 N⌉
+// dependent additions instead of the loop's N - 1 (and no leading 0 + x0, which the
+// compilers must keep for x0 = -0). Rounds differently from the loop in the last bits.
+template <int N, typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T pairwise_sum(const T* x) {
+    static_assert(N >= 1, "at least one term");
+    if constexpr (N == 1) {
+        return x[0];
+    } else {
+        constexpr int kHalf = (N + 1) / 2;
+        return pairwise_sum<kHalf>(x) + pairwise_sum<N - kHalf>(x + kHalf);
+    }
+}
+
 // Two separate selects, each the form of one max / min instruction (x86 SSE, CUDA): the
 // compilers emit no branch for it. NaN stays NaN.
 template <typename T> HAIRSCATTER_HD constexpr T clamp(T x, T lo, T hi) {

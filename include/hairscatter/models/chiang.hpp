@@ -240,9 +240,9 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
             // (The means go to a local array and o.w is written whole, once: writing it lane
             // by lane and then rescaling it made GCC reload it as a vector from narrower
             // stores, a store-forwarding stall on the sampling path.)
-            T mean[kLanes], total = T(0);
+            T mean[kLanes];
             for (int k = 0; k < kLanes; ++k) mean[k] = (o.a[k][0] + o.a[k][1] + o.a[k][2]) * T(1.0 / 3.0);
-            for (int k = 0; k < kLanes; ++k) total += mean[k];
+            const T total = pairwise_sum<kLanes>(mean);  // (a tree: the chain to w is shorter)
             // With R kept at a gain above 0, total ≥ gain F > 0. Otherwise every kept lobe can
             // vanish (an opaque fiber, zero gains): the weights stay 0 and so does the pdf.
             // A subnormal total (gains near 1e-39) has no finite reciprocal: its lanes are
@@ -306,8 +306,12 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
             }
             r.f = rgb(f);
         }
-        if constexpr (kPdf)
-            for (int k = 0; k < kLanes; ++k) r.pdf += mn[k] * o.w[k];
+        if constexpr (kPdf) {
+            // Σ mn w as a tree: two dependent additions after the products instead of four.
+            T terms[kLanes];
+            for (int k = 0; k < kLanes; ++k) terms[k] = mn[k] * o.w[k];
+            r.pdf = pairwise_sum<kLanes>(terms);
+        }
         return r;
     }
 
