@@ -108,7 +108,7 @@ if [[ $mode == vs_pbrt ]]; then
         echo "date:      $(date -u '+%Y-%m-%d %H:%M:%S UTC')"
         dirty="$(git -C "$ROOT" status --porcelain -- include bench ':!bench/results' 2>/dev/null | head -1 || true)"
         echo "commit:    $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')${dirty:+ (with uncommitted changes in include/ or bench/)}"
-        echo "cpu:       $(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -1), $(nproc) cores"
+        echo "cpu:       $(hs_cpu_line)"
         echo "compiler:  $("$cxx" --version | head -1)"
         for level in 2 3; do
             echo "flags -O$level: $(sed -n 's/.*"flags": "\(.*\)".*/\1/p; s/^flags: //p' "$BUILD/vs_pbrt_o$level.txt" | head -1)"
@@ -200,7 +200,7 @@ run_programs() {
             echo "date:      $(date -u '+%Y-%m-%d %H:%M:%S UTC')"
             dirty="$(git -C "$ROOT" status --porcelain -- include bench ':!bench/results' 2>/dev/null | head -1 || true)"
             echo "commit:    $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')${dirty:+ (with uncommitted changes in include/ or bench/)}"
-            echo "cpu:       $(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -1), $(nproc) cores"
+            echo "cpu:       $(hs_cpu_line)"
             echo "compiler:  $("$cxx" --version | head -1); flags -O2 -march=native -DNDEBUG (bench/CMakeLists.txt)"
             echo "run:       ${prog}_bench ${prog_args[*]:0:4} (medians of the CPU time)"
             echo "load:      average before ${prog_load_before}, after $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
@@ -241,7 +241,7 @@ if [[ $mode == ab ]]; then
         dirty="$(git -C "$ROOT" status --porcelain -- include bench ':!bench/results' 2>/dev/null | head -1 || true)"
         echo "A:         include/ of commit $rev_name (--ab $headers_rev)"
         echo "B:         the working tree, commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')${dirty:+ (with uncommitted changes in include/ or bench/)}"
-        echo "cpu:       $(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -1), $(nproc) cores"
+        echo "cpu:       $(hs_cpu_line)"
         echo "compiler:  $("$cxx" --version | head -1); flags -O2 -march=native -DNDEBUG (bench/CMakeLists.txt)"
         echo "load:      average before ${ab_load_before}, after $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
         echo
@@ -309,7 +309,7 @@ EOF
     fi
     echo "           sha1 of include/**/*.hpp $(cd "$SRC" && find include -name '*.hpp' | LC_ALL=C sort | xargs cat | sha1sum | cut -c1-12)"
     echo "uname -a:  $(uname -a)"
-    echo "cpu:       $(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -1), $(nproc) cores ($(lscpu | sed -n 's/^CPU(s):[[:space:]]*//p' | head -1) CPUs)"
+    echo "cpu:       $(hs_cpu_line) ($(lscpu | sed -n 's/^CPU(s):[[:space:]]*//p' | head -1) CPUs)"
     echo "compiler:  $("$cxx" --version | head -1)"
     march="$("$cxx" -march=native -Q --help=target 2>/dev/null | awk '$1 == "-march=" {print $2}' | head -1 || true)"
     echo "flags:     -O2 -march=native (= ${march:-?} here) -DNDEBUG on the bench targets; they come after"

@@ -46,13 +46,12 @@ cmd=("$BUILD/bench/tradeoff" --out "$work" ${quick_flag[@]+"${quick_flag[@]}"} -
 cp "$work/tradeoff.csv" "$out/tradeoff.csv"
 gnuplot -e "csv='$out/tradeoff.csv'; png='$out/tradeoff.png'" "$ROOT/bench/tradeoff.gp"
 
-cpu="$(lscpu 2>/dev/null | sed -n 's/^Model name: *//p' | head -1)"
 {
     echo "# Speed against accuracy: every model and knob"
     echo
     echo "Made by \`scripts/tradeoff.sh${quick_flag:+ --quick}\` (program: \`bench/tradeoff.cpp\`, plot: \`bench/tradeoff.gp\`)"
     echo "on $(date -u +%Y-%m-%d), commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown),"
-    echo "${cpu:-unknown CPU}, $(nproc) cores, $(c++ --version | head -1)."
+    echo "$(hs_cpu_line), $(c++ --version | head -1)."
     echo "Times are Google Benchmark medians of $reps repetitions (CPU time, one thread); ratios within"
     echo "this table are the meaningful comparison on a shared machine."
     echo
