@@ -34,18 +34,19 @@ namespace elem {
 
 namespace detail {
 
-// Rounds y (|y| < 2^30) to the nearest integer, halves away from zero, through a
-// float → int conversion. The classic (y + 1.5·2^23) - 1.5·2^23 trick is folded to y by
-// -ffast-math (-fassociative-math); a conversion cannot be.
 // The float exp rounds x log2 e with the shifter 1.5·2²³ (an addition and a subtraction)
 // rather than a truncating conversion after adding ±1/2 and converting back (a chain twice as
 // long). Reassociating flags (-ffast-math, -fassociative-math) would fold (y + s) - s to y,
-// so under them it keeps the conversions.
+// so under them it keeps the conversions (round_to_int).
 #if defined(__FAST_MATH__) || defined(__ASSOCIATIVE_MATH__)
 #define HAIRSCATTER_EXP_SHIFTER 0
 #else
 #define HAIRSCATTER_EXP_SHIFTER 1
 #endif
+
+// Rounds y (|y| < 2^30) to the nearest integer, halves away from zero, through a
+// float → int conversion. The classic (y + 1.5·2^23) - 1.5·2^23 trick is folded to y by
+// -ffast-math (-fassociative-math); a conversion cannot be.
 HAIRSCATTER_FORCE_INLINE std::int32_t round_to_int(float y) { return std::int32_t(y + std::copysign(0.5f, y)); }
 
 // The polynomials below take a float or a lane vector F (GCC's and Clang's vector
@@ -337,7 +338,6 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T atan2(T y, T x) 
     return atan2(y, x);
 }
 template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float atan2(float y, float x) {
-    using namespace detail;
 #if defined(__CUDA_ARCH__)
     return ::atan2f(y, x);
 #else
@@ -354,8 +354,11 @@ template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float atan2(float y, float x
     // atan2(±0, -0) = ±π.
     const float ax = std::fabs(x), ay = std::fabs(y);
     const float hi = ay > ax ? ay : ax;  // MAXSS
-    #if HAIRSCATTER_HAS_VECTOR_EXT
-    const F32x4 vax = {ax, ax, ax, ax}, vay = {ay, ay, ay, ay};
+    // min as one MINPS of splatted vectors: a scalar ?: here became a branch (GCC shares
+    // its comparison with the max), and the integer-mask select a trip through general
+    // registers.
+#if HAIRSCATTER_HAS_VECTOR_EXT
+    const detail::F32x4 vax = {ax, ax, ax, ax}, vay = {ay, ay, ay, ay};
     const float lo = (vax < vay ? vax : vay)[0];
 #else
     const float lo = select(ay > ax, ax, ay);
