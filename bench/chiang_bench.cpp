@@ -347,8 +347,8 @@ BENCHMARK_TEMPLATE(BM_RefCtor, double)->Apply(beta_args);
 // Why the inputs are many (bench/reference/inputs.hpp): the float atan2 of relative_azimuth
 // in two forms, over the first `cycle` wo / wi pairs of the inputs, cycled. "branches" is the
 // form the library had before: the octant and the quadrant chosen by conditional
-// expressions, which GCC compiles to branches; "selects" is elem::atan2 (the same results,
-// bit for bit, but -0 for x, where it is std::atan2's ±π). Over a short cycle the branch
+// expressions, which GCC compiles to branches; "selects" is elem::atan2 (the same results
+// but for rounding, and -0 for x, where it is std::atan2's ±π). Over a short cycle the branch
 // predictor learns the branches' outcomes; over a long one they go wrong as on a renderer's
 // random directions.
 HAIRSCATTER_NOINLINE float atan2_branches(float y, float x) {

@@ -368,7 +368,9 @@ TEST(Elementary, FloatVersionsAreAccurate) {
 // the scalar lane exp.
 // Both against the standard library in double (2e-7 relative, as the scalar exp above) and
 // bit for bit against each other, with the range ends, zeros, ±Inf and NaN; and sqrt_each
-// (SQRTPS on x86) bit for bit against std::sqrt.
+// (SQRTPS on x86) bit for bit against std::sqrt. exp_each_nonpositive (the lobes' exps,
+// without the clamp at 88) bit for bit against exp_each wherever it is defined, x ≤ 88
+// (-Inf and NaN included).
 TEST(Elementary, FloatExpAndSqrtLanesMatchTheScalarForms) {
     double we = 0;
     long mismatches = 0;
@@ -380,12 +382,16 @@ TEST(Elementary, FloatExpAndSqrtLanesMatchTheScalarForms) {
     };
     auto check = [&](const auto& x) {
         constexpr int n = int(sizeof(x) / sizeof(float));
-        float y[n], r[n];
-        for (int k = 0; k < n; ++k) y[k] = r[k] = x[k];
+        float y[n], r[n], z[n];
+        for (int k = 0; k < n; ++k) y[k] = r[k] = z[k] = x[k];
         hs::elem::exp_each(y);
         hs::elem::sqrt_each(r);
+        bool bounded = true;  // every x ≤ 88 or NaN: exp_each_nonpositive's domain
+        for (int k = 0; k < n; ++k) bounded = bounded && !(x[k] > 88.0f);
+        if (bounded) hs::elem::exp_each_nonpositive(z);
         for (int k = 0; k < n; ++k) {
             if (!same(y[k], hs::elem::detail::exp_float<true>(x[k]))) ++mismatches;
+            if (bounded && !same(z[k], y[k])) ++mismatches;
             if (!same(r[k], std::sqrt(x[k]))) ++mismatches;
             if (x[k] >= -87.0f && x[k] <= 88.0f)
                 we = std::max(we, std::abs(double(y[k]) / std::exp(double(x[k])) - 1));
@@ -405,6 +411,8 @@ TEST(Elementary, FloatExpAndSqrtLanesMatchTheScalarForms) {
     check(specials);
     const float tiny[4] = {1e-38f, -1e-38f, 1e-45f, 3e38f};
     check(tiny);
+    const float bounded_specials[8] = {-87.3f, std::nextafter(-87.3f, 0.0f), 88.0f, 0.0f, -0.0f, -3e38f, -inf, nan};
+    check(bounded_specials);
     std::printf("[ worst    ] float exp lanes %.3g rel; %ld mismatches against the scalar forms\n", we,
                 mismatches);
     EXPECT_LT(we, 2e-7);

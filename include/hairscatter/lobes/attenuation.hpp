@@ -194,7 +194,7 @@ template <typename T> struct FiberRefraction {
         r.gamma_t = elem::asin(q.sin_gamma_t);
         for (int c = 0; c < kChannelLanes; ++c) r.transmittance[c] = -sigma_a[c] * q.chord;
         if constexpr (std::is_same<T, float>::value) {
-            elem::exp_each(r.transmittance);
+            elem::exp_each_nonpositive(r.transmittance);  // (σa ≥ 0)
         } else {  // one libm exp per colour channel; the padding's e^0 is 1
             for (int c = 0; c < 3; ++c) r.transmittance[c] = elem::exp(r.transmittance[c]);
             for (int c = 3; c < kChannelLanes; ++c) r.transmittance[c] = T(1);

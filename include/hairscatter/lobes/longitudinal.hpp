@@ -89,7 +89,7 @@ template <typename T, int N> struct DeonLanes {
         const T sqrt_cos_i = sqrt(cos_i);
         T e[elem::exp_batch<T>(N)] = {}, factor[N];
         for (int k = 0; k < N; ++k) terms(k, sin_i, cos_i, sqrt_cos_i, e[k], factor[k]);
-        elem::exp_each(e);
+        elem::exp_each_nonpositive(e);  // (the exponents are ≤ 0)
         for (int k = 0; k < N; ++k) m[k] = factor[k] * e[k];
     }
 };

@@ -103,7 +103,7 @@ template <bool kLanes> HAIRSCATTER_FORCE_INLINE float exp_float(float x) {
     const std::int32_t bits = (ni + 127) * (1 << 23);
     float scale;
     std::memcpy(&scale, &bits, sizeof scale);
-    if (kLanes) return select(x > -87.3f, p * scale, select(x <= -87.3f, 0.0f, x));
+    if (kLanes) return p * select(x > -87.3f, scale, select(x <= -87.3f, 0.0f, x));  // (as in exp_float_lanes)
     return x > -87.3f ? p * scale : (x <= -87.3f ? 0.0f : x);
 }
 
@@ -125,10 +125,14 @@ template <typename V, typename S> HAIRSCATTER_FORCE_INLINE V splat(S v) {
 template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F select_lanes(I m, F a, F b) {
     return reinterpret_cast<F>((m & reinterpret_cast<I>(a)) | (~m & reinterpret_cast<I>(b)));
 }
-template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F exp_float_lanes(F x) {
+// kClampHigh false: for x ≤ 88 only (callers whose exponents are ≤ 0), without the clamp
+// at 88, a compare and a select less at the head of the chain; above 88 and at +Inf the
+// result is unspecified. Equal to the clamped form wherever both are defined.
+template <typename F, typename I, bool kClampHigh = true> HAIRSCATTER_FORCE_INLINE F exp_float_lanes(F x) {
     const F lo = splat<F>(-87.3f);
     const I in_range = x > lo;
-    const F xc = select_lanes<F, I>(in_range, select_lanes<F, I>(x < splat<F>(88.0f), x, splat<F>(88.0f)), lo);
+    const F xc = kClampHigh ? select_lanes<F, I>(in_range, select_lanes<F, I>(x < splat<F>(88.0f), x, splat<F>(88.0f)), lo)
+                            : select_lanes<F, I>(in_range, x, lo);
 #if HAIRSCATTER_EXP_SHIFTER
     const F t = xc * splat<F>(1.44269504088896341f) + splat<F>(12582912.0f);
     const F n = t - splat<F>(12582912.0f);
@@ -148,7 +152,9 @@ template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F exp_float_lanes(F x
     const F p = splat<F>(1.0f) + r * (splat<F>(1.0f) + r * q);
     const F scale = reinterpret_cast<F>((ni + splat<I>(std::int32_t(127))) * splat<I>(std::int32_t(1 << 23)));
     const I below = x <= lo;  // (NaN: neither, and stays NaN)
-    return select_lanes<F, I>(in_range, p * scale, select_lanes<F, I>(below, splat<F>(0.0f), x));
+    // The ranges are selected in the factor, which is ready long before p: 2^n in range,
+    // 0 below (p > 0), x itself for NaN. The polynomial's result then needs one product.
+    return p * select_lanes<F, I>(in_range, scale, select_lanes<F, I>(below, splat<F>(0.0f), x));
 }
 
 // The other lane functions the same way: each the scalar lane form's operations in the same
@@ -194,8 +200,10 @@ template <typename F, typename I> HAIRSCATTER_FORCE_INLINE F log1p_lanes(F x) {
 
 // The lane functions as function objects for each_group (generic over the vector type).
 template <typename F> using LaneIntOf = typename LaneInt<F>::type;
-struct ExpLanes {
-    template <typename F> HAIRSCATTER_FORCE_INLINE F operator()(F v) const { return exp_float_lanes<F, LaneIntOf<F>>(v); }
+template <bool kClampHigh = true> struct ExpLanes {
+    template <typename F> HAIRSCATTER_FORCE_INLINE F operator()(F v) const {
+        return exp_float_lanes<F, LaneIntOf<F>, kClampHigh>(v);
+    }
 };
 struct Expm1Lanes {
     template <typename F> HAIRSCATTER_FORCE_INLINE F operator()(F v) const { return expm1_lanes<F, LaneIntOf<F>>(v); }
@@ -226,7 +234,7 @@ template <int N, typename Op> HAIRSCATTER_FORCE_INLINE bool each_group(float (&x
 #if defined(__clang__)
             __asm__("" : "+x"(hi));  // else Clang merges the two loads into the one that stalls
 #endif
-            F32x8 v = __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
+            F32x8 v = {lo[0], lo[1], lo[2], lo[3], hi[0], hi[1], hi[2], hi[3]};
             v = op(v);
             std::memcpy(x + k, &v, sizeof v);
         }
@@ -246,16 +254,17 @@ template <int N, typename Op> HAIRSCATTER_FORCE_INLINE bool each_group(float (&x
 }
 #endif
 
-// atan(a) for a ∈ [0, 1] as a·P(a²), P fitted for this library (Chebyshev interpolation
-// against mpmath): absolute error 1e-8.
-HAIRSCATTER_FORCE_INLINE float atan_unit(float a) {
+// atan(a) = a·P(a²) for a ∈ [0, 1], P fitted for this library (Chebyshev interpolation
+// against mpmath): absolute error 1e-8. This returns P(a²); the caller multiplies.
+HAIRSCATTER_FORCE_INLINE float atan_unit_factor(float a) {
     const float z = a * a;
     // c0 + z·Q(z), Q by Estrin's scheme, as in exp_float.
-    return a * (0.99999998178865573f + z * hairscatter::detail::estrin(z, -0.33333036709286276f, 0.19991872029109072f,
-                                                                     -0.14197797794085123f, 0.10618370636953849f,
-                                                                     -0.074568548260045474f, 0.042137623589193041f,
-                                                                     -0.015731249122183653f, 0.002766283501762026f));
+    return 0.99999998178865573f + z * hairscatter::detail::estrin(z, -0.33333036709286276f, 0.19991872029109072f,
+                                                                -0.14197797794085123f, 0.10618370636953849f,
+                                                                -0.074568548260045474f, 0.042137623589193041f,
+                                                                -0.015731249122183653f, 0.002766283501762026f);
 }
+HAIRSCATTER_FORCE_INLINE float atan_unit(float a) { return a * atan_unit_factor(a); }
 
 // asin(x) for x ∈ [0, 1/2] as x + x³Q(x²), Q fitted likewise: relative error 2e-8.
 HAIRSCATTER_FORCE_INLINE float asin_half(float x) {
@@ -341,16 +350,20 @@ template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float atan2(float y, float x
 #if defined(__CUDA_ARCH__)
     return ::atan2f(y, x);
 #else
-    // Octant reduction to atan(min/max) ∈ [0, π/4], then the octant and quadrant from the
-    // signs, all without a conditional: the octant of a random direction is unpredictable,
-    // and GCC compiles conditional expressions here to branches (one mispredicted branch
-    // per call cost more than the whole polynomial). min and max are single instructions,
-    // and the two reflections are copysign (bit operations):
-    //   steep (ay > ax ⇔ ax - ay < 0):  π/2 - r = (π/4 - copysign(π/4, d)) + copysign(r, d),
-    //   x < 0:                          π - r1  = (π/2 - copysign(π/2, x)) + copysign(r1, x),
-    // each exactly r (r1) on the other side (0 + r), and the same roundings as the
-    // conditional form on this one (π/4 + π/4 = π/2 and π/2 + π/2 = π in float). d = 0 only
-    // when ax = ay (gradual underflow). x = -0 counts as negative, as in std::atan2:
+    // Octant reduction to r = atan(min/max) ∈ [0, π/4], then the octant and quadrant from
+    // the signs, all without a conditional: the octant of a random direction is
+    // unpredictable, and GCC compiles conditional expressions here to branches (one
+    // mispredicted branch per call cost more than the whole polynomial). With d = ax - ay
+    // (d < 0: steep) the angle in the upper half-plane is
+    //   x ≥ 0, d ≥ 0:  r          x ≥ 0, d < 0:  π/2 - r
+    //   x < 0, d ≥ 0:  π - r      x < 0, d < 0:  π/2 + r
+    // that is base + s·r with base = (π/2 - copysign(π/2, x)) + copysign(π/4 - copysign(π/4, d), x)
+    // (0, π/2, π; exact in float) and s the product of the signs of d and x. Both are ready
+    // long before r, so the polynomial's last step a·P(a²) becomes the one operation
+    // base + (s·a)·P(a²): after the polynomial only that and y's sign remain on the chain
+    // (they were two copysigns and two additions, and π/2 + r was rounded twice).
+    // min and max are single instructions, the reflections copysign (bit operations). d = 0
+    // only when ax = ay (gradual underflow). x = -0 counts as negative, as in std::atan2:
     // atan2(±0, -0) = ±π.
     const float ax = std::fabs(x), ay = std::fabs(y);
     const float hi = ay > ax ? ay : ax;  // MAXSS
@@ -363,11 +376,14 @@ template <> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE float atan2(float y, float x
 #else
     const float lo = select(ay > ax, ax, ay);
 #endif
-    const float r = detail::atan_unit(lo / (hi <= 0.0f ? 1.0f : hi));  // lo = 0 when hi = 0; NaN stays
+    const float a = lo / (hi <= 0.0f ? 1.0f : hi);  // lo = 0 when hi = 0; NaN stays
     const float d = ax - ay;
-    const float r1 = (kQuarterPi<float> - std::copysign(kQuarterPi<float>, d)) + std::copysign(r, d);
-    const float r2 = (kHalfPi<float> - std::copysign(kHalfPi<float>, x)) + std::copysign(r1, x);
-    return std::copysign(r2, y);
+    const float base = (kHalfPi<float> - std::copysign(kHalfPi<float>, x)) +
+                       std::copysign(kQuarterPi<float> - std::copysign(kQuarterPi<float>, d), x);
+    // s·a: the sign of the product d·x is the product of the signs even where it rounds to
+    // ±0 or overflows (and NaN inputs have already made a NaN).
+    const float signed_a = std::copysign(a, d * x);
+    return std::copysign(base + signed_a * detail::atan_unit_factor(a), y);
 #endif
 }
 
@@ -391,10 +407,19 @@ template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void exp_each(float (&x
 #else
 #if HAIRSCATTER_HAS_VECTOR_EXT
     // One vector per group of four or eight lanes (detail::each_group).
-    if (detail::each_group(x, detail::ExpLanes{})) return;
+    if (detail::each_group(x, detail::ExpLanes<>{})) return;
 #endif
     for (int k = 0; k < N; ++k) x[k] = detail::exp_float<true>(x[k]);
 #endif
+}
+// exp_each for exponents x ≤ 0 (NaN and -Inf allowed): the lobes' and the transmittances'.
+// The same results; in float the vector groups skip the clamp at 88 (exp_float_lanes).
+template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void exp_each_nonpositive(T (&x)[N]) {
+#if HAIRSCATTER_HAS_VECTOR_EXT && !defined(__CUDA_ARCH__)
+    if constexpr (std::is_same<T, float>::value)
+        if (detail::each_group(x, detail::ExpLanes<false>{})) return;
+#endif
+    exp_each(x);
 }
 
 // Writes {a, b, c, d} to out[0..3] as one store where it can (float with GCC and Clang: the

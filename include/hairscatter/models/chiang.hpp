@@ -269,7 +269,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         for (int k = 0; k < kAzimuthal; ++k) e[k] = n.exponent_of_difference(phi - o.phi_p[k]);
         const T sqrt_cos_i = sqrt(cos_i);
         for (int k = 0; k < kLanes; ++k) o.m.terms(k, sin_i, cos_i, sqrt_cos_i, e[kM + k], m_factor[k]);
-        elem::exp_each(e);  // in float whole vectors of four (math/elementary.hpp)
+        elem::exp_each_nonpositive(e);  // (every exponent ≤ 0) in float whole vectors (math/elementary.hpp)
         T mn[kLanes];
         // The residual lumps all orders: uniform in φ. Where its lane's N was computed with
         // the others (float), a select, so that mn is written as one whole vector.
