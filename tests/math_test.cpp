@@ -741,6 +741,43 @@ TEST(SampleDiscrete, NeverPicksAnEmptyEntry) {
     }
 }
 
+// chosen_index (the branch-free pick of Chiang's stateless sample) is the index that
+// sample_discrete(w, N, u, 1) picks, for normalised weights with zeros anywhere (leading,
+// inner, trailing, all), u on and next to every cumulative sum, 0, 1 and past both ends,
+// and sums that round below 1.
+TEST(SampleDiscrete, ChosenIndexMatchesSampleDiscrete) {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+    long compared = 0;
+    auto check = [&](const float (&w)[4]) {
+        std::vector<float> us = {0.0f, 1.0f, -0.5f, 1.5f, std::nextafter(1.0f, 0.0f)};
+        float cum = 0;
+        for (float x : w) {
+            cum += x;
+            for (float u : {cum, std::nextafter(cum, 0.0f), std::nextafter(cum, 2.0f)}) us.push_back(u);
+        }
+        for (int i = 0; i < 64; ++i) us.push_back(uni(rng));
+        for (float u : us) {
+            EXPECT_EQ(hs::chosen_index<4>(w, u), hs::sample_discrete(w, 4, u, 1.0f).index) << "u = " << u;
+            ++compared;
+        }
+    };
+    for (int i = 0; i < 4000; ++i) {
+        float w[4], total = 0;
+        for (float& x : w) {
+            x = uni(rng) < 0.35f ? 0.0f : uni(rng);
+            total += x;
+        }
+        for (float& x : w) x = total > 0 ? x / total : 0.0f;
+        check(w);
+    }
+    check({0.1f, 0.2f, 0.7f - 1e-7f, 0.0f});
+    check({0.0f, 0.0f, 0.0f, 0.0f});
+    check({0.0f, 0.0f, 0.0f, 1.0f});
+    check({1.0f, 0.0f, 0.0f, 0.0f});
+    EXPECT_GT(compared, 4000 * 70);
+}
+
 // The piecewise-linear CDF's inverse: C(x) = target to rounding, including flat (zero
 // density) cells and both ends.
 TEST(InvertPiecewiseLinear, InvertsTheCdf) {

@@ -50,6 +50,8 @@ template <typename T> class DeonLobes {
     HAIRSCATTER_HD T lobe_shift(int p) const { return -tilt_.angle(p); }
     // The longitudinal variance v_p of lobe p (β_p² of the dual-scattering tables).
     HAIRSCATTER_HD T lobe_variance(int p) const { return v_[p]; }
+    // e^(-2/v_p), the constant of lobe p's sampler (DeonLongitudinal::sample_sin_theta).
+    HAIRSCATTER_HD T lobe_exp_m2_over_v(int p) const { return exp_m2_over_v_[p]; }
 
     // (sinθo'_p, cosθo'_p) of every lobe p whose bit is set in `keep` (bit p), into the
     // arrays sin_p[0 … kLobes], cos_p[0 … kLobes]; the others are left untouched.

@@ -115,6 +115,27 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DiscreteChoice<T> sample_discrete(const 
     return {last, clamp((target - last_before) / w[last], T(0), T(1))};
 }
 
+// The index sample_discrete(w, N, u, 1) picks (weights the caller normalised), without a
+// branch: the count of cumulative sums at or below u, raised to the first entry with weight
+// (a u below 0) and capped at the last one (0 if none has weight). The same index for
+// every u, ties, zero weights and u outside [0, 1] included
+// (Distributions.ChosenIndexMatchesSampleDiscrete). For a sampler whose weights come at
+// the end of a long chain (a stateless sample's wo terms): a branch on the picked entry is
+// resolved only then, and goes wrong as often as the choice is uncertain, discarding the
+// work begun on the guess.
+template <int N, typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE int chosen_index(const T* w, T u) {
+    T cum = T(0);
+    int k = 0, first = N - 1, last = 0;
+    for (int i = 0; i < N; ++i) {
+        cum += w[i];
+        if (i < N - 1) k += int(u >= cum);
+        first = w[i] > T(0) && i < first ? i : first;
+        last = w[i] > T(0) ? i : last;
+    }
+    k = k < first ? first : k;
+    return k < last ? k : last;
+}
+
 template <typename T> HAIRSCATTER_HD DiscreteChoice<T> sample_discrete(const T* w, int n, T u) {
     T total = T(0);
     for (int i = 0; i < n; ++i) total += w[i];

@@ -211,6 +211,9 @@ struct Expm1Lanes {
 struct Log1pLanes {
     template <typename F> HAIRSCATTER_FORCE_INLINE F operator()(F v) const { return log1p_lanes<F, LaneIntOf<F>>(v); }
 };
+struct LogLanes {
+    template <typename F> HAIRSCATTER_FORCE_INLINE F operator()(F v) const { return log_lanes<F, LaneIntOf<F>>(v); }
+};
 struct PowLanes {  // v^y as e^(y ln v), pow_each's form
     float y;
     template <typename F> HAIRSCATTER_FORCE_INLINE F operator()(F v) const {
@@ -566,6 +569,18 @@ template <> HAIRSCATTER_HD inline float log1p(float x) {
     if (!(x > -0.29f && x < 0.41f)) return x > -1.0f && x <= 3.0e38f ? detail::log_float(1.0f + x) : std::log1p(x);
     return detail::log1p_series(x);
 #endif
+}
+
+// log of every element, each a positive normal number (as log_float): in float the lanes
+// of one vector (bit-identical to elem::log), elsewhere one call each.
+template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void log_each(T (&x)[N]) {
+    for (int k = 0; k < N; ++k) x[k] = log(x[k]);
+}
+template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void log_each(float (&x)[N]) {
+#if HAIRSCATTER_HAS_VECTOR_EXT && !defined(__CUDA_ARCH__)
+    if (detail::each_group(x, detail::LogLanes{})) return;
+#endif
+    for (int k = 0; k < N; ++k) x[k] = log(x[k]);
 }
 
 // log1p of every element x ≥ 0 (or +Inf, NaN), in one loop: log1p's two forms, the choice a

@@ -83,6 +83,9 @@ template <typename Fiber> class BoundFiber;
 //   template <bool kW> Outgoing outgoing(wo); kW: also what sampling and pdf need;
 //   template <bool kF, bool kPdf> HairEvalPdf<T> query(o, wo, wi);  f and/or pdf;
 //   HairSample<T> sample_from(o, wo, u).
+// Optionally also HairSample<T> sample_fresh(o, wo, u), the same samples for the stateless
+// sample, whose o has just been computed (a model may order the work differently when its
+// wo terms arrive last; without it, sample_from serves both).
 // Then eval, pdf, eval_pdf, sample and at(wo) are these, here, for every model alike.
 template <typename Model, typename T> class FiberModel {
   public:
@@ -106,7 +109,7 @@ template <typename Model, typename T> class FiberModel {
     }
     HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const {
         if (!all_finite(wo, u)) return HairSample<T>{};
-        return self().sample_from(self().template outgoing<true>(wo), wo, u);
+        return fresh_sample(self(), self().template outgoing<true>(wo), wo, u, 0);
     }
 
     // The model at a fixed outgoing direction: everything that depends on wo alone is
@@ -117,6 +120,17 @@ template <typename Model, typename T> class FiberModel {
     HAIRSCATTER_HD BoundFiber<Model> at(const V3& wo) const { return BoundFiber<Model>(self(), wo); }
 
   private:
+    // The model's sample_fresh where it has one (found here, where its private members are
+    // visible), else its sample_from.
+    template <typename M, typename O>
+    static HAIRSCATTER_HD auto fresh_sample(const M& m, const O& o, const V3& wo, const V4& u, int)
+        -> decltype(m.sample_fresh(o, wo, u)) {
+        return m.sample_fresh(o, wo, u);
+    }
+    template <typename M, typename O>
+    static HAIRSCATTER_HD HairSample<T> fresh_sample(const M& m, const O& o, const V3& wo, const V4& u, long) {
+        return m.sample_from(o, wo, u);
+    }
     HAIRSCATTER_HD const Model& self() const { return static_cast<const Model&>(*this); }
 };
 
