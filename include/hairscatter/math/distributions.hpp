@@ -46,10 +46,15 @@ template <typename T> class TrimmedLogistic {
     // as such) at the end instead of a compare and a select before the product. This sits
     // on the chain from the azimuth to f.
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T exponent_of_difference(T d) const {
+        return exponent_of_difference(d, -inv_s_);
+    }
+    // The same with -1/s passed in (a lane may pass -0, for an exponent of -0 whatever d).
+    static HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T exponent_of_difference(T d, T minus_inv_s) {
         const T a = abs_value(d);
-        const T near = a * -inv_s_, far = (kTwoPi<T> - a) * -inv_s_;
+        const T near = a * minus_inv_s, far = (kTwoPi<T> - a) * minus_inv_s;
         return far > near ? far : near;
     }
+    HAIRSCATTER_HD T inv_scale() const { return inv_s_; }
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T density(T e) const { return pdf_scale_ * e / sqr(T(1) + e); }
     // density(e) = density_numerator(e) / density_denominator(e), for callers that multiply
     // the density by other factors before dividing.

@@ -312,7 +312,11 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         const TrimmedLogistic<T>& n = mat_->azimuthal();
         constexpr int kM = kAzimuthal;  // where the M_p exponents start in e
         T e[kAzimuthal + kLanes], m_factor[kLanes];
-        for (int k = 0; k < kAzimuthal; ++k) e[k] = n.exponent_of_difference(phi - o.phi_p[k]);
+        // The residual's lane (float: part of the vector) gets the exponent -0, so e = 1,
+        // and its density is then 1/2π through the same arithmetic as N's (e·scale over
+        // (1 + e·0)², bit for bit as a select after it): no select on the chain.
+        for (int k = 0; k < kAzimuthal; ++k)
+            e[k] = n.exponent_of_difference(phi - o.phi_p[k], select(k < kExplicit, -n.inv_scale(), T(-0.0)));
         const T sqrt_cos_i = sqrt(cos_i);
         for (int k = 0; k < kLanes; ++k) o.m.terms(k, sin_i, cos_i, sqrt_cos_i, e[kM + k], m_factor[k]);
         elem::exp_each_nonpositive(e);  // (every exponent ≤ 0) in float whole vectors (math/elementary.hpp)
@@ -321,10 +325,13 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         // the others (float), a select, so that mn is written as one whole vector.
         // N's density e/(1 + e)² (times its scale) as one quotient with M in the numerator,
         // so that the division waits only for the denominator: the chain from the exps to f
-        // is one multiplication shorter. The residual's lane divides by 1.
-        for (int k = 0; k < kAzimuthal; ++k)
-            mn[k] = (m_factor[k] * e[kM + k]) * select(k < kExplicit, n.density_numerator(e[k]), kInvTwoPi<T>) /
-                    select(k < kExplicit, n.density_denominator(e[k]), T(1));
+        // is one multiplication shorter. The residual's lane (e = 1) has the scale 1/2π and
+        // the denominator (1 + 1·0)² = 1.
+        for (int k = 0; k < kAzimuthal; ++k) {
+            const T scale = select(k < kExplicit, n.density_numerator(T(1)), kInvTwoPi<T>);
+            const T onto = select(k < kExplicit, T(1), T(0));
+            mn[k] = (m_factor[k] * e[kM + k]) * (e[k] * scale) / sqr(T(1) + e[k] * onto);
+        }
         for (int k = kAzimuthal; k < kKeptLanes; ++k) mn[k] = m_factor[k] * e[kM + k] * kInvTwoPi<T>;
         HairEvalPdf<T> r;
         if constexpr (kF) {
