@@ -133,13 +133,34 @@ template <typename T> class DeonLongitudinal {
     // The log argument is floored at the smallest normal number instead of clamping u1,
     // so the distribution is exact wherever e^(-2/v) does not underflow.
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T sample_sin_theta(T sin_o, T cos_o, T u1, T u2) const {
-        const T arg = u1 + (T(1) - u1) * exp_m2_over_v_;
-        const T one_minus_c = clamp(-v_ * elem::log(arg > kMinNormal<T> ? arg : kMinNormal<T>), T(0), T(2));
-        const T c = T(1) - one_minus_c;
-        const T s = safe_sqrt(one_minus_c * (T(2) - one_minus_c));
+        const T v[1] = {v_}, e[1] = {exp_m2_over_v_};
+        T out[1];
+        sample_sin_theta_each(v, e, &sin_o, &cos_o, u1, u2, out);
+        return out[0];
+    }
+    // The same for N lobes from one (u1, u2): lobe j of variance v[j] (e^(-2/v) in
+    // exp_m2_over_v[j]) conditioned on θo'_j = (sin_o[j], cos_o[j]), its sinθi into out[j];
+    // the logs and square roots of the lobes one vector each in float (a sampler that draws
+    // θi for every lobe before it knows which lobe it picked). Lane j is bit for bit the
+    // one-lobe call's.
+    template <int N>
+    static HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sample_sin_theta_each(const T (&v)[N], const T (&exp_m2_over_v)[N],
+                                                                           const T* sin_o, const T* cos_o, T u1, T u2,
+                                                                           T (&out)[N]) {
+        T arg[N], omc[N], s[N];
+        for (int j = 0; j < N; ++j) {
+            const T a = u1 + (T(1) - u1) * exp_m2_over_v[j];
+            arg[j] = a > kMinNormal<T> ? a : kMinNormal<T>;
+        }
+        elem::log_each(arg);
+        for (int j = 0; j < N; ++j) {
+            omc[j] = clamp(-v[j] * arg[j], T(0), T(2));  // 1 - c
+            s[j] = omc[j] * (T(2) - omc[j]);            // ≥ 0
+        }
+        elem::sqrt_each(s);
         T sin_az, cos_az;
         elem::sincos(kTwoPi<T> * u2, sin_az, cos_az);
-        return clamp(-c * sin_o + s * cos_az * cos_o, T(-1), T(1));
+        for (int j = 0; j < N; ++j) out[j] = clamp(-(T(1) - omc[j]) * sin_o[j] + s[j] * cos_az * cos_o[j], T(-1), T(1));
     }
 
   private:

@@ -124,7 +124,7 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DiscreteChoice<T> sample_discrete(const 
 // branch: the count of cumulative sums at or below u, raised to the first entry with weight
 // (a u below 0) and capped at the last one (0 if none has weight). The same index for
 // every u, ties, zero weights and u outside [0, 1] included
-// (Distributions.ChosenIndexMatchesSampleDiscrete). For a sampler whose weights come at
+// (SampleDiscrete.ChosenIndexMatchesSampleDiscrete). For a sampler whose weights come at
 // the end of a long chain (a stateless sample's wo terms): a branch on the picked entry is
 // resolved only then, and goes wrong as often as the choice is uncertain, discarding the
 // work begun on the guess.

@@ -207,29 +207,19 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         T sin_i;
         int k;
         if constexpr (kEveryLane) {
-            // Every lane's sinθi at once (DeonLongitudinal::sample_sin_theta's operations, its
-            // log and square root one vector each), then lane k's, k chosen as data
-            // (chosen_index). In the stateless call w is the end of the wo terms' chain: a
-            // branch on the lobe resolves only then, and where it guessed wrong (as often as
-            // the choice is uncertain) the sample's own chain started over. Measured: 7 %
-            // off the stateless sample, 8 % onto the bound one (whose branch resolves early).
-            T arg[kLanes], s[kLanes], omc[kLanes], lane_sin[kLanes];
+            // Every lane's sinθi at once (DeonLongitudinal::sample_sin_theta_each: its log and
+            // square root one vector each), then lane k's, k chosen as data (chosen_index).
+            // In the stateless call w is the end of the wo terms' chain: a branch on the lobe
+            // resolves only then, and where it guessed wrong (as often as the choice is
+            // uncertain) the sample's own chain started over. Measured: 7 % off the stateless
+            // sample, 8 % onto the bound one (whose branch resolves early).
+            T v[kLanes], e[kLanes], lane_sin[kLanes];
             for (int j = 0; j < kLanes; ++j) {
-                const int q = lane_lobe(kKept, j < kKeptLanes ? j : 0);
-                const T a = u.y + (T(1) - u.y) * mat_->lobe_exp_m2_over_v(q);
-                arg[j] = a > kMinNormal<T> ? a : kMinNormal<T>;
+                const int q = lane_lobe(kKept, j < kKeptLanes ? j : 0);  // (the padding lane: a copy)
+                v[j] = mat_->lobe_variance(q);
+                e[j] = mat_->lobe_exp_m2_over_v(q);
             }
-            elem::log_each(arg);
-            for (int j = 0; j < kLanes; ++j) {
-                const int q = lane_lobe(kKept, j < kKeptLanes ? j : 0);
-                omc[j] = clamp(-mat_->lobe_variance(q) * arg[j], T(0), T(2));
-                s[j] = omc[j] * (T(2) - omc[j]);  // ≥ 0
-            }
-            elem::sqrt_each(s);
-            T sin_az, cos_az;
-            elem::sincos(kTwoPi<T> * u.z, sin_az, cos_az);
-            for (int j = 0; j < kLanes; ++j)
-                lane_sin[j] = clamp(-(T(1) - omc[j]) * o.m.sin_o[j] + s[j] * cos_az * o.m.cos_o[j], T(-1), T(1));
+            DeonLongitudinal<T>::sample_sin_theta_each(v, e, o.m.sin_o, o.m.cos_o, u.y, u.z, lane_sin);
             k = chosen_index<kKeptLanes>(o.w, u.x);
             sin_i = lane_sin[k];
         } else {
@@ -321,8 +311,8 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         for (int k = 0; k < kLanes; ++k) o.m.terms(k, sin_i, cos_i, sqrt_cos_i, e[kM + k], m_factor[k]);
         elem::exp_each_nonpositive(e);  // (every exponent ≤ 0) in float whole vectors (math/elementary.hpp)
         T mn[kLanes];
-        // The residual lumps all orders: uniform in φ. Where its lane's N was computed with
-        // the others (float), a select, so that mn is written as one whole vector.
+        // The residual lumps all orders: uniform in φ. Where its lane's N is computed with
+        // the others (float), by the same arithmetic, so that mn is written as one vector.
         // N's density e/(1 + e)² (times its scale) as one quotient with M in the numerator,
         // so that the division waits only for the denominator: the chain from the exps to f
         // is one multiplication shorter. The residual's lane (e = 1) has the scale 1/2π and
