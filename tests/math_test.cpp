@@ -742,23 +742,27 @@ TEST(SampleDiscrete, NeverPicksAnEmptyEntry) {
 }
 
 // chosen_index (the branch-free pick of Chiang's stateless sample) is the index that
-// sample_discrete(w, N, u, 1) picks, for normalised weights with zeros anywhere (leading,
-// inner, trailing, all), u on and next to every cumulative sum, 0, 1 and past both ends,
-// and sums that round below 1.
+// sample_discrete(w, N, u, total) picks, given u·total: for normalised weights (total 1)
+// and for weights that are not (Chiang's: sums of A_p's channels, total their pairwise sum,
+// which may round above or below the sum in index order), with zeros anywhere (leading,
+// inner, trailing, all), u on and next to every cumulative fraction, 0, 1 and past both
+// ends, and sums that round below 1.
 TEST(SampleDiscrete, ChosenIndexMatchesSampleDiscrete) {
     std::mt19937 rng(17);
     std::uniform_real_distribution<float> uni(0.0f, 1.0f);
     long compared = 0;
-    auto check = [&](const float (&w)[4]) {
+    auto check = [&](const float (&w)[4], float total) {
         std::vector<float> us = {0.0f, 1.0f, -0.5f, 1.5f, std::nextafter(1.0f, 0.0f)};
         float cum = 0;
         for (float x : w) {
             cum += x;
-            for (float u : {cum, std::nextafter(cum, 0.0f), std::nextafter(cum, 2.0f)}) us.push_back(u);
+            const float c = total > 0 ? cum / total : cum;
+            for (float u : {c, std::nextafter(c, 0.0f), std::nextafter(c, 2.0f)}) us.push_back(u);
         }
         for (int i = 0; i < 64; ++i) us.push_back(uni(rng));
         for (float u : us) {
-            EXPECT_EQ(hs::chosen_index<4>(w, u), hs::sample_discrete(w, 4, u, 1.0f).index) << "u = " << u;
+            EXPECT_EQ(hs::chosen_index<4>(w, u * total), hs::sample_discrete(w, 4, u, total).index)
+                << "u = " << u << ", total = " << total;
             ++compared;
         }
     };
@@ -768,14 +772,20 @@ TEST(SampleDiscrete, ChosenIndexMatchesSampleDiscrete) {
             x = uni(rng) < 0.35f ? 0.0f : uni(rng);
             total += x;
         }
+        const float scale = std::ldexp(1.0f, int(uni(rng) * 120) - 60);
+        float raw[4];
+        for (int k = 0; k < 4; ++k) raw[k] = w[k] * scale;
+        check(raw, hs::pairwise_sum<4>(raw));
         for (float& x : w) x = total > 0 ? x / total : 0.0f;
-        check(w);
+        check(w, 1.0f);
     }
-    check({0.1f, 0.2f, 0.7f - 1e-7f, 0.0f});
-    check({0.0f, 0.0f, 0.0f, 0.0f});
-    check({0.0f, 0.0f, 0.0f, 1.0f});
-    check({1.0f, 0.0f, 0.0f, 0.0f});
-    EXPECT_GT(compared, 4000 * 70);
+    check({0.1f, 0.2f, 0.7f - 1e-7f, 0.0f}, 1.0f);
+    check({0.0f, 0.0f, 0.0f, 0.0f}, 1.0f);
+    check({0.0f, 0.0f, 0.0f, 0.0f}, 0.0f);
+    check({0.0f, 0.0f, 0.0f, 1.0f}, 1.0f);
+    check({1.0f, 0.0f, 0.0f, 0.0f}, 1.0f);
+    check({3.0f, 1e-8f, 5.0f, 1e-8f}, 8.0f);
+    EXPECT_GT(compared, 2 * 4000 * 70);
 }
 
 // The piecewise-linear CDF's inverse: C(x) = target to rounding, including flat (zero

@@ -163,7 +163,10 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     // The terms that depend on wo only, shared by eval, pdf and sample, per lane.
     struct Outgoing {
         T a[kLanes][kCh];              // A_p per channel (channel 3 is padding)
-        T w[kLanes];                   // lobe selection probabilities (only when asked for)
+        // The lobe selection weights, not normalised (only when asked for): lane p is chosen
+        // with probability w_p / w_total, and pdf = Σ_p M_p N_p w_p · inv_w_total.
+        T w[kLanes];
+        T w_total, inv_w_total;        // Σ_p w_p, and its reciprocal (0 where it is 0)
         DeonLanes<T, kLanes> m;        // M_p conditioned on the tilted θo'
         T phi_p[kLanes];               // Φ(p, h), wrapped to [-π, π] (0 for the residual)
     };
@@ -220,10 +223,10 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
                 e[j] = mat_->lobe_exp_m2_over_v(q);
             }
             DeonLongitudinal<T>::sample_sin_theta_each(v, e, o.m.sin_o, o.m.cos_o, u.y, u.z, lane_sin);
-            k = chosen_index<kKeptLanes>(o.w, u.x);
+            k = chosen_index<kKeptLanes>(o.w, u.x * o.w_total);
             sin_i = lane_sin[k];
         } else {
-            k = sample_discrete(o.w, kKeptLanes, u.x, T(1)).index;
+            k = sample_discrete(o.w, kKeptLanes, u.x, o.w_total).index;
             sin_i = mat_->longitudinal(lane_lobe(kKept, k)).sample_sin_theta(o.m.sin_o[k], o.m.cos_o[k], u.y, u.z);
         }
         const int p = lane_lobe(kKept, k);
@@ -273,22 +276,27 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
             for (int k = 0; k < kKeptLanes; ++k)
                 for (int c = 0; c < kCh; ++c) o.a[k][c] *= mat_->lobe_weight_lanes(lane_lobe(kKept, k))[c];
         if constexpr (kW) {
-            // (The means go to a local array and o.w is written whole, once: writing it lane
-            // by lane and then rescaling it made GCC reload it as a vector from narrower
-            // stores, a store-forwarding stall on the sampling path.)
-            T mean[kLanes];
-            for (int k = 0; k < kLanes; ++k) mean[k] = (o.a[k][0] + o.a[k][1] + o.a[k][2]) * T(1.0 / 3.0);
-            const T total = pairwise_sum<kLanes>(mean);  // (a tree: the chain to w is shorter)
+            // w_p = Σ_c A_p,c: the normalisation is left to its two readers, so that no
+            // division stands between the wo terms and w. The pdf multiplies its sum by
+            // 1 / Σ_p w_p at the end, when the sum is ready (a division by the total first
+            // made the weights the last of the pdf's inputs); sampling compares the cumulative
+            // weights with u·Σ_p w_p. (w is built in a local array and written whole, once:
+            // writing it lane by lane and then rescaling it made GCC reload it as a vector
+            // from narrower stores, a store-forwarding stall on the sampling path.)
+            T w[kLanes];
+            for (int k = 0; k < kLanes; ++k) w[k] = o.a[k][0] + o.a[k][1] + o.a[k][2];
+            T total = pairwise_sum<kLanes>(w);  // (a tree: the chain to the total is shorter)
             // With R kept at a gain above 0, total ≥ gain F > 0. Otherwise every kept lobe can
-            // vanish (an opaque fiber, zero gains): the weights stay 0 and so does the pdf.
-            // A subnormal total (gains near 1e-39) has no finite reciprocal: its lanes are
-            // divided instead (a fuzzer found the Inf and NaN weights 1 / total gave).
-            if (total >= kMinNormal<T>) {
-                const T inv_total = T(1) / total;
-                for (int k = 0; k < kLanes; ++k) o.w[k] = mean[k] * inv_total;
-            } else {
-                for (int k = 0; k < kLanes; ++k) o.w[k] = total > T(0) ? mean[k] / total : T(0);
+            // vanish (an opaque fiber, zero gains): then the total is 0, and so is the pdf. A
+            // subnormal total (gains near 1e-39) has no finite reciprocal (a fuzzer found the
+            // Inf and NaN weights it gave): its weights are scaled by 2^64, exactly, first.
+            if (!(total >= kMinNormal<T>)) {
+                for (int k = 0; k < kLanes; ++k) w[k] *= T(18446744073709551616.0);
+                total = pairwise_sum<kLanes>(w);
             }
+            for (int k = 0; k < kLanes; ++k) o.w[k] = w[k];
+            o.w_total = total;
+            o.inv_w_total = total > T(0) ? T(1) / total : T(0);
         }
         return o;
     }
@@ -350,10 +358,11 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
             r.f = rgb(f);
         }
         if constexpr (kPdf) {
-            // Σ mn w as a tree: two dependent additions after the products instead of four.
+            // Σ mn w as a tree (two dependent additions after the products instead of four),
+            // then normalised.
             T terms[kLanes];
             for (int k = 0; k < kLanes; ++k) terms[k] = mn[k] * o.w[k];
-            r.pdf = pairwise_sum<kLanes>(terms);
+            r.pdf = pairwise_sum<kLanes>(terms) * o.inv_w_total;
         }
         return r;
     }
