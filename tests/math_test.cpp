@@ -638,6 +638,32 @@ TEST(Elementary, FloatLogAndSincosAreAccurate) {
     EXPECT_LT(wsc, 2e-7);
 }
 
+// mul_each is the element-wise product, bit for bit, in its vector form (float, four
+// elements) and its loop (other sizes, double), Inf, NaN, -0 and subnormals included.
+TEST(Elementary, MulEachIsTheElementwiseProduct) {
+    const float fx[] = {1.5f, -0.0f, std::numeric_limits<float>::infinity(), 1e-40f, 3.0f, 7.0f, -2.5f, 0.1f};
+    const float fy[] = {2.0f, 5.0f, 0.5f, 1e20f, std::numeric_limits<float>::quiet_NaN(), -0.0f, 1e-30f, 3.0f};
+    for (int start = 0; start + 4 <= 8; ++start) {
+        float x[4], y[4];
+        for (int k = 0; k < 4; ++k) x[k] = fx[start + k], y[k] = fy[(start + 2 * k) % 8];
+        float want[4];
+        for (int k = 0; k < 4; ++k) want[k] = x[k] * y[k];
+        hs::elem::mul_each(x, y);
+        for (int k = 0; k < 4; ++k) EXPECT_EQ(std::memcmp(&x[k], &want[k], sizeof(float)), 0) << start << " " << k;
+    }
+    float x3[3] = {1.0f, 2.0f, 3.0f};
+    hs::elem::mul_each(x3, {4.0f, 0.5f, -1.0f});
+    EXPECT_EQ(x3[0], 4.0f);
+    EXPECT_EQ(x3[1], 1.0f);
+    EXPECT_EQ(x3[2], -3.0f);
+    double xd[4] = {1.0, -2.0, 1e-310, 3.0};
+    hs::elem::mul_each(xd, {0.25, 3.0, 2.0, -0.0});
+    EXPECT_EQ(xd[0], 0.25);
+    EXPECT_EQ(xd[1], -6.0);
+    EXPECT_EQ(xd[2], 2e-310);
+    EXPECT_TRUE(std::signbit(xd[3]) && xd[3] == 0.0);
+}
+
 TEST(Elementary, DoubleExpFlushesSubnormalsToZero) {
     EXPECT_EQ(hs::elem::exp(-709.0), 0.0);
     EXPECT_EQ(hs::elem::exp(-1e300), 0.0);

@@ -571,6 +571,24 @@ template <> HAIRSCATTER_HD inline float log1p(float x) {
 #endif
 }
 
+// x[k] *= y[k] for every element. In float with four elements one vector product, spelled as
+// such: GCC -O3 vectorised the plain loop of Chiang's lobe gains (a branch that is not even
+// taken by default) with its own 64-, 16- and 8-byte pieces, and to do so kept the attenuation
+// rows in memory on every path; the stateless pdf was 4 % slower for it (GCC 12, Zen 5).
+template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void mul_each(T (&x)[N], const T (&y)[N]) {
+#if HAIRSCATTER_HAS_VECTOR_EXT && !defined(__CUDA_ARCH__)
+    if constexpr (std::is_same<T, float>::value && N == 4) {
+        detail::F32x4 a, b;
+        std::memcpy(&a, x, sizeof a);
+        std::memcpy(&b, y, sizeof b);
+        a *= b;
+        std::memcpy(x, &a, sizeof a);
+        return;
+    }
+#endif
+    for (int k = 0; k < N; ++k) x[k] *= y[k];
+}
+
 // log of every element, each a positive normal number (as log_float): in float the lanes
 // of one vector (bit-identical to elem::log), elsewhere one call each.
 template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void log_each(T (&x)[N]) {

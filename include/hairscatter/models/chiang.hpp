@@ -273,8 +273,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         // lobe_split all read the scaled A_p, so sampling stays proportional to eval (the
         // per-lobe tilts are in the material's DeonLobes, which condition() rotates by).
         if (mat_->has_lobe_weights())
-            for (int k = 0; k < kKeptLanes; ++k)
-                for (int c = 0; c < kCh; ++c) o.a[k][c] *= mat_->lobe_weight_lanes(lane_lobe(kKept, k))[c];
+            for (int k = 0; k < kKeptLanes; ++k) elem::mul_each(o.a[k], mat_->lobe_weight_lanes(lane_lobe(kKept, k)));
         if constexpr (kW) {
             // w_p = Σ_c A_p,c: the normalisation is left to its two readers, so that no
             // division stands between the wo terms and w. The pdf multiplies its sum by
