@@ -374,7 +374,7 @@ template <typename At> struct BoundAt {
 
 template <typename T> void add_tabulated_bound(const std::string& knob, const hs::TabulatedOptions& o, bool quick) {
     using Fiber = BoundAt<typename hs::TabulatedFiber<T>::At>;
-    add<T, Fiber>("tabulated", knob + ", at(wo)", Family::kFarField,
+    add<T, Fiber>("tabulated", knob + " + at(wo)", Family::kFarField,
                   [o](const hs::FiberParams<T>& p) {
                       const auto mat = std::make_shared<const hs::TabulatedMaterial<T>>(p, o);
                       return std::function<Fiber(T, const glm::vec<3, T>&)>(
@@ -385,7 +385,7 @@ template <typename T> void add_tabulated_bound(const std::string& knob, const hs
 
 template <typename T> void add_chiang_bound(bool quick) {
     using Fiber = BoundAt<typename hs::ChiangFiber<T>::At>;
-    add<T, Fiber>("chiang", "all lobes, at(wo)", Family::kNearField,
+    add<T, Fiber>("chiang", "all lobes + at(wo)", Family::kNearField,
                   [](const hs::FiberParams<T>& p) {
                       const hs::ChiangMaterial<T> mat(p);
                       return std::function<Fiber(T, const glm::vec<3, T>&)>(
@@ -537,9 +537,19 @@ int main(int argc, char** argv) {
 
     std::ofstream csv(out + "/tradeoff.csv");
     csv << "model,knob,precision,reference,eval_ns,pdf_ns,sample_ns,eval_u,rel_l1,furnace_dev,furnace_min,furnace_max\n";
+    // A text field as RFC 4180 wants it: quoted (quotes doubled) if it holds a comma, a quote
+    // or a line break. (A knob once held a comma unquoted, which shifted its row's columns
+    // for every reader, the plot included; the labels now avoid commas, and this keeps any
+    // later one from doing that again.)
+    const auto field = [](const std::string& f) {
+        if (f.find_first_of(",\"\n\r") == std::string::npos) return f;
+        std::string q = "\"";
+        for (char c : f) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+        return q + "\"";
+    };
     for (const Result& r : results())
-        csv << r.model << ',' << r.knob << ',' << r.precision << ','
-            << family_name(r.family) << ',' << r.eval_ns << ',' << r.pdf_ns
+        csv << field(r.model) << ',' << field(r.knob) << ',' << field(r.precision) << ','
+            << field(family_name(r.family)) << ',' << r.eval_ns << ',' << r.pdf_ns
             << ',' << r.sample_ns << ',' << r.eval_ns / unit << ',' << r.rel_l1 << ',' << r.furnace_dev << ','
             << r.furnace_min << ',' << r.furnace_max << '\n';
 

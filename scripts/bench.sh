@@ -28,7 +28,9 @@
 #                                         the table builds): bench/results/dual_ab_<date>_<REV>.txt.
 #                                         --ab-program chiang|tabulated: that program instead
 #                                         (default filter: the float calls at β_m = 0.3);
-#                                         bench/results/<program>_ab_<date>_<REV>.txt.
+#                                         --ab-program vs_pbrt_o2|vs_pbrt_o3: bench/vs_pbrt.cpp
+#                                         at -O2 or -O3, our float calls (the -O3 build is the
+#                                         only A/B at -O3); bench/results/<program>_ab_<date>_<REV>.txt.
 #                                         Two runs minutes apart on a shared machine can differ
 #                                         by more than a change; rounds seconds apart do not.
 #
@@ -139,9 +141,13 @@ fi
 cmake -S "$SRC" -B "$BUILD" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF -DHAIRSCATTER_DOCS=OFF \
     -DCMAKE_BUILD_TYPE=Release >/dev/null
 if [[ $mode == ab ]]; then
-    [[ $ab_prog == dual || $ab_prog == chiang || $ab_prog == tabulated ]] ||
-        { echo "bench.sh: --ab-program is dual, chiang or tabulated, not '$ab_prog'" >&2; exit 2; }
-    cmake --build "$BUILD" --target "${ab_prog}_bench" -j "$(nproc 2>/dev/null || echo 2)"
+    case $ab_prog in
+        dual | chiang | tabulated) ab_target="${ab_prog}_bench" ;;
+        vs_pbrt_o2 | vs_pbrt_o3) ab_target="$ab_prog" ;;
+        *) echo "bench.sh: --ab-program is dual, chiang, tabulated, vs_pbrt_o2 or vs_pbrt_o3, not '$ab_prog'" >&2
+           exit 2 ;;
+    esac
+    cmake --build "$BUILD" --target "$ab_target" -j "$(nproc 2>/dev/null || echo 2)"
 elif [[ $mode == programs ]]; then
     cmake --build "$BUILD" --target dual_bench dual_icount tabulated_bench -j "$(nproc 2>/dev/null || echo 2)"
 else
@@ -222,27 +228,30 @@ if [[ $mode == ab ]]; then
     # B: the working tree's program (A, REV's, was built above).
     cmake -S "$ROOT" -B "$ROOT/build/bench" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF \
         -DHAIRSCATTER_DOCS=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
-    cmake --build "$ROOT/build/bench" --target "${ab_prog}_bench" -j "$(nproc 2>/dev/null || echo 2)"
+    cmake --build "$ROOT/build/bench" --target "$ab_target" -j "$(nproc 2>/dev/null || echo 2)"
     ab_out="${out:-$ROOT/bench/results/${ab_prog}_ab_$(date +%Y-%m-%d)_$rev_name.txt}"
     case $ab_prog in
         dual) ab_default='BM_(Single|Dual)(At)?(Eval|Sample)' ;;
         chiang) ab_default='BM_(Eval|Pdf|Sample|AtEval|AtSample|Hit)<float>/bm:1(/wi:0)?$' ;;
         tabulated) ab_default='BM_(At)?(Eval|Pdf|Sample)<float>/res:1/bm:1(/wi:0)?$' ;;
+        vs_pbrt_o2 | vs_pbrt_o3) ab_default='BM_Ours(Eval|Pdf|Sample|Vertex|AtEval)<float>' ;;
     esac
+    ab_flags="-O2 -march=native -DNDEBUG (bench/CMakeLists.txt)"
+    [[ $ab_prog == vs_pbrt_o3 ]] && ab_flags="-O3 -march=native -DNDEBUG (bench/CMakeLists.txt)"
     ab_filter="${filter:-$ab_default}"
-    echo "bench.sh: ${ab_prog}_bench, $rev_name against the working tree, $ab_rounds rounds (filter $ab_filter)"
+    echo "bench.sh: $ab_target, $rev_name against the working tree, $ab_rounds rounds (filter $ab_filter)"
     ab_load_before="$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
-    ab_table="$(python3 "$ROOT/scripts/bench_ab.py" "$BUILD/bench/${ab_prog}_bench" "$ROOT/build/bench/bench/${ab_prog}_bench" \
+    ab_table="$(python3 "$ROOT/scripts/bench_ab.py" "$BUILD/bench/$ab_target" "$ROOT/build/bench/bench/$ab_target" \
         --filter "$ab_filter" --rounds "$ab_rounds" --min-time "$min_time")"
     {
-        echo "hairscatter benchmark: bench/${ab_prog}_bench.cpp, two header revisions in alternation (scripts/bench.sh --ab)"
+        echo "hairscatter benchmark: bench/${ab_target%_o[23]}.cpp ($ab_target), two header revisions in alternation (scripts/bench.sh --ab)"
         echo
         echo "date:      $(date -u '+%Y-%m-%d %H:%M:%S UTC')"
         dirty="$(git -C "$ROOT" status --porcelain -- include bench ':!bench/results' 2>/dev/null | head -1 || true)"
         echo "A:         include/ of commit $rev_name (--ab $headers_rev)"
         echo "B:         the working tree, commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')${dirty:+ (with uncommitted changes in include/ or bench/)}"
         echo "cpu:       $(hs_cpu_line)"
-        echo "compiler:  $("$cxx" --version | head -1); flags -O2 -march=native -DNDEBUG (bench/CMakeLists.txt)"
+        echo "compiler:  $("$cxx" --version | head -1); flags $ab_flags"
         echo "load:      average before ${ab_load_before}, after $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
         echo
         echo "$ab_table"

@@ -15,12 +15,18 @@ import json
 import statistics
 import subprocess
 import sys
+import tempfile
 
 
 def run(binary, args):
-    out = subprocess.run([binary] + args, check=True, capture_output=True, text=True).stdout
+    # The JSON goes to a file of its own: a program may print more than Google Benchmark's
+    # report on standard output (vs_pbrt prints its RESULT lines there).
+    with tempfile.NamedTemporaryFile(suffix=".json") as f:
+        subprocess.run([binary] + args + ["--benchmark_out=" + f.name, "--benchmark_out_format=json"],
+                       check=True, capture_output=True, text=True)
+        report = json.load(open(f.name))
     times = {}
-    for b in json.loads(out)["benchmarks"]:
+    for b in report["benchmarks"]:
         if b.get("run_type", "iteration") != "iteration":
             continue
         scale = {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}[b.get("time_unit", "ns")]
@@ -39,7 +45,7 @@ def main():
     if opt.rounds < 2:
         sys.exit("bench_ab.py: --rounds must be at least 2")
     args = ["--benchmark_filter=" + opt.filter, "--benchmark_min_time=" + str(opt.min_time),
-            "--benchmark_repetitions=1", "--benchmark_format=json"]
+            "--benchmark_repetitions=1"]
     series = {"A": {}, "B": {}}
     for r in range(opt.rounds):
         order = ("A", "B") if r % 2 == 0 else ("B", "A")
