@@ -16,10 +16,10 @@ set xrange [0.2:4000]
 # Column 8 = eval time in u, 9 = relative L1 error, 1 = model, 2 = knob, 3 = precision.
 pick(m) = (strcol(1) eq m) ? column(9) : NaN
 # Marschner in a darker yellow than gnuplot's default, which is hard to read on white.
-# (Huang's errors are against its own brute-force reference, whose noise is ~6e-3.)
 set linetype 5 lc rgb "#b8a000"
 err(x) = (x < 1e-11) ? 1e-11 : x
 name(m) = m
+# (Huang's errors are against its own brute-force reference, whose noise is ~6e-3.)
 plot for [m in "chiang pbrt-v4-style deon-farfield tabulated marschner huang"] csv skip 1 \
          using 8:(err(pick(m))) with points pt 7 ps 1.4 title m, \
      csv skip 1 using 8:((strcol(3) eq "float") ? err(column(9)) : NaN):(strcol(2)." ".strcol(3)) \

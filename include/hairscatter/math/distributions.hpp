@@ -124,10 +124,10 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DiscreteChoice<T> sample_discrete(const 
 // weights the caller normalised), without a branch: the count of cumulative sums at or
 // below the target, raised to the first entry with weight (a target below 0) and capped at
 // the last one (0 if none has weight). The same index for every u, ties, zero weights and
-// u outside [0, 1] included (SampleDiscrete.ChosenIndexMatchesSampleDiscrete). For a sampler whose weights come at
-// the end of a long chain (a stateless sample's wo terms): a branch on the picked entry is
-// resolved only then, and goes wrong as often as the choice is uncertain, discarding the
-// work begun on the guess.
+// u outside [0, 1] included (SampleDiscrete.ChosenIndexMatchesSampleDiscrete). For a
+// sampler whose weights come at the end of a long chain (a stateless sample's wo terms): a
+// branch on the picked entry is resolved only then, and goes wrong as often as the choice
+// is uncertain, discarding the work begun on the guess.
 template <int N, typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE int chosen_index(const T* w, T target) {
     T cum = T(0);
     int k = 0, first = N - 1, last = 0;
