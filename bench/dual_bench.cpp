@@ -83,9 +83,14 @@ BENCHMARK(BM_DensityMarch);
 
 // The shading setup of the eval and sample benchmarks: a material, its dual tables and a
 // shadowed point (5 fibers toward the light, 10 beyond).
-template <typename T> struct Shading {
+template <typename T, bool kZinke = false> struct Shading {
     hs::ChiangMaterial<T> mat{params()};
-    hs::DualScatteringTables<T> tables = hs::DualScatteringTables<T>::template build<hs::ChiangFiber<T>>(mat);
+    hs::DualScatteringTables<T> tables = hs::DualScatteringTables<T>::template build<hs::ChiangFiber<T>>(mat, options());
+    static hs::DualTableOptions<T> options() {
+        hs::DualTableOptions<T> o;
+        if (kZinke) o.settings.formulation = hs::DualFormulation::kZinke2008;
+        return o;
+    }
     hs::DualScatteringLight<T> light = shadowed();
     static hs::FiberParams<T> params() {
         hs::FiberParams<T> p;
@@ -103,11 +108,12 @@ template <typename T> struct Shading {
 
 // One shading call as a renderer makes it: the fiber of the hit, then eval or sample
 // (stateless), for the single fiber and for the dual-scattering BCSDF over it, float and
-// double.
-template <typename T, bool kSample, bool kDual> void BM_Shade(benchmark::State& state) {
+// double; kZinke: the dual tables in Zinke et al. 2008's formulation (the floor of any dual
+// BCSDF over this fiber: no per-θi light transport).
+template <typename T, bool kSample, bool kDual, bool kZinke = false> void BM_Shade(benchmark::State& state) {
     using V = glm::vec<3, T>;
     using U4 = glm::vec<4, T>;
-    const Shading<T> sh;
+    const Shading<T, kZinke> sh;
     const auto& mat = sh.mat;
     const auto& tables = sh.tables;
     const auto& light = sh.light;
@@ -138,9 +144,9 @@ template <typename T, bool kSample, bool kDual> void BM_Shade(benchmark::State& 
 }
 // The per-light-sample cost once a hit is bound: 64 hits bound with at(wo) (the single fiber's
 // and the dual BCSDF's), cycled against the wi inputs, then eval only.
-template <typename T, bool kDual> void BM_AtEval(benchmark::State& state) {
+template <typename T, bool kDual, bool kZinke = false> void BM_AtEval(benchmark::State& state) {
     using V = glm::vec<3, T>;
-    const Shading<T> sh;
+    const Shading<T, kZinke> sh;
     const Scene& s = scene();
     using Dual = hs::DualScatteringBcsdf<hs::ChiangFiber<T>>;
     std::vector<typename hs::ChiangFiber<T>::At> single;
@@ -170,12 +176,15 @@ BENCHMARK_TEMPLATE(BM_Shade, float, false, false)->Name("BM_SingleEval<float>");
 BENCHMARK_TEMPLATE(BM_Shade, float, true, false)->Name("BM_SingleSample<float>");
 BENCHMARK_TEMPLATE(BM_Shade, float, false, true)->Name("BM_DualEval<float>");
 BENCHMARK_TEMPLATE(BM_Shade, float, true, true)->Name("BM_DualSample<float>");
+BENCHMARK_TEMPLATE(BM_Shade, float, false, true, true)->Name("BM_DualZinkeEval<float>");
+BENCHMARK_TEMPLATE(BM_Shade, float, true, true, true)->Name("BM_DualZinkeSample<float>");
 BENCHMARK_TEMPLATE(BM_Shade, double, false, false)->Name("BM_SingleEval<double>");
 BENCHMARK_TEMPLATE(BM_Shade, double, true, false)->Name("BM_SingleSample<double>");
 BENCHMARK_TEMPLATE(BM_Shade, double, false, true)->Name("BM_DualEval<double>");
 BENCHMARK_TEMPLATE(BM_Shade, double, true, true)->Name("BM_DualSample<double>");
 BENCHMARK_TEMPLATE(BM_AtEval, float, false)->Name("BM_SingleAtEval<float>");
 BENCHMARK_TEMPLATE(BM_AtEval, float, true)->Name("BM_DualAtEval<float>");
+BENCHMARK_TEMPLATE(BM_AtEval, float, true, true)->Name("BM_DualZinkeAtEval<float>");
 BENCHMARK_TEMPLATE(BM_AtEval, double, false)->Name("BM_SingleAtEval<double>");
 BENCHMARK_TEMPLATE(BM_AtEval, double, true)->Name("BM_DualAtEval<double>");
 

@@ -24,7 +24,12 @@ def dual(rows):
     print("  %-8s %-26s %10s %10s %7s" % ("real", "call", "single ns", "dual ns", "ratio"))
     pairs = [("eval (fiber + eval)", "BM_SingleEval", "BM_DualEval"),
              ("sample (fiber + sample)", "BM_SingleSample", "BM_DualSample"),
-             ("bound eval (at(wo) once)", "BM_SingleAtEval", "BM_DualAtEval")]
+             ("bound eval (at(wo) once)", "BM_SingleAtEval", "BM_DualAtEval"),
+             # The same over tables in Zinke et al. 2008's formulation (no per-θi light
+             # transport): the floor a dual BCSDF over this fiber reaches (float only).
+             ("Zinke 2008: eval", "BM_SingleEval", "BM_DualZinkeEval"),
+             ("Zinke 2008: sample", "BM_SingleSample", "BM_DualZinkeSample"),
+             ("Zinke 2008: bound eval", "BM_SingleAtEval", "BM_DualZinkeAtEval")]
     for real in ("float", "double"):
         for label, single, dual_name in pairs:
             s = rows.get("%s<%s>" % (single, real))
