@@ -288,10 +288,12 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
             // With R kept at a gain above 0, total ≥ gain F > 0. Otherwise every kept lobe can
             // vanish (an opaque fiber, zero gains): then the total is 0, and so is the pdf. A
             // subnormal total (gains near 1e-39) has no finite reciprocal (a fuzzer found the
-            // Inf and NaN weights it gave): its weights are scaled by 2^64, exactly, first.
+            // Inf and NaN weights it gave): its weights and total are scaled by 2^64, all
+            // exactly (sums of non-negative numbers below the smallest normal one are exact,
+            // so the scaled total is the sum of the scaled weights).
             if (!(total >= kMinNormal<T>)) {
                 for (int k = 0; k < kLanes; ++k) w[k] *= T(18446744073709551616.0);
-                total = pairwise_sum<kLanes>(w);
+                total *= T(18446744073709551616.0);
             }
             for (int k = 0; k < kLanes; ++k) o.w[k] = w[k];
             o.w_total = total;
