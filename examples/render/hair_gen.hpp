@@ -1,5 +1,6 @@
-// render — procedural hair: a block of straight or wavy strands, and a scalp with gravity
-// and curl. Strands are polylines; all fibers share one radius.
+// render — procedural hair: a block of straight or wavy strands, a scalp with gravity and
+// curl, a fur ball and a slab of parallel strands. Strands are polylines; all fibers share
+// one radius.
 #pragma once
 
 #include <cstdint>
@@ -49,5 +50,50 @@ struct ScalpOptions {
     std::uint64_t seed = 11;
 };
 Hair make_scalp(const ScalpOptions& options);
+
+// A fur ball: `count` short strands rooted area-uniformly over a sphere (centre `center`,
+// radius body_radius). Each leaves along the surface normal tilted by tilt_deg (± a
+// uniform tilt_jitter_deg, clamped below 90°) toward `comb` projected on the surface (a
+// random tangent where the comb is normal to the surface; the heading is jittered by the
+// same amount), has a length of `length` times a uniform factor in [1 - length_variation,
+// 1 + length_variation] and is bent by `gravity` (per unit length) toward -y, never
+// entering the sphere: every point after the root is at least body_radius + radius from
+// the centre.
+struct FurOptions {
+    int count = 20000;
+    glm::vec3 center{0.0f, 0.0f, 0.0f};
+    float body_radius = 1.5f;
+    float length = 0.6f;
+    float length_variation = 0.3f;
+    float tilt_deg = 30.0f;
+    float tilt_jitter_deg = 10.0f;
+    glm::vec3 comb{0.0f, -1.0f, 0.0f};
+    float radius = 0.004f;
+    int segments = 8;
+    float gravity = 0.5f;
+    bool body = true;  // the scene's diffuse body sphere; without it, a shell of strands
+    std::uint64_t seed = 13;
+};
+Hair make_fur(const FurOptions& options);
+
+// A slab of straight strands along +x, filling x in [-width/2, width/2], y in [0, height],
+// z in [-thickness/2, thickness/2] (strand axes; fibers reach out by their radius). The
+// count is set by `depth`, the mean number of fibers a ray along z crosses: a ray crosses
+// the strands whose axis lies within `radius` of it in the y–z cross-section, so
+// count = depth · height / (2 radius) strands with axes uniform in the cross-section
+// (per ray a binomial, nearly Poisson, count). back_lit is the scene's.
+struct SlabOptions {
+    float width = 5.0f;
+    float height = 5.0f;
+    float thickness = 0.5f;
+    float depth = 5.0f;
+    float radius = 0.01f;
+    int segments = 10;  // straight, but short segments keep Embree's boxes tight
+    bool back_lit = false;  // the scene's area light behind the slab instead of in front
+    std::uint64_t seed = 17;
+
+    int strand_count() const;
+};
+Hair make_slab(const SlabOptions& options);
 
 }  // namespace render

@@ -1,6 +1,6 @@
-// render — the example renderer's command line: hair blocks, a Cornell box, a scalp or a
-// .hair file; single, dual and path-traced hair with any of the library's fiber models;
-// OpenEXR + PNG output and a summary line on stdout. Every option is checked before the
+// render — the example renderer's command line: hair blocks, a Cornell box, a scalp, a fur
+// ball, a slab of parallel strands or a .hair file; single, dual and path-traced hair with
+// any of the library's fiber models; OpenEXR + PNG output and a summary line on stdout. Every option is checked before the
 // scene is built, with a message naming it.
 #include <cmath>
 #include <cstdio>
@@ -21,20 +21,23 @@ namespace hs = hairscatter;
 namespace ex = hairscatter_examples;
 
 int main(int argc, char** argv) {
-    CLI::App app{"hairscatter example renderer: hair blocks, a Cornell box and a scalp lit by an area light and a "
-                 "constant environment, shaded with single scattering, dual scattering or a path tracer"};
+    CLI::App app{"hairscatter example renderer: hair blocks, a Cornell box, a scalp, a fur ball and a slab lit by an "
+                 "area light and a constant environment, shaded with single scattering, dual scattering or a path "
+                 "tracer"};
     std::string scene_name = "block", hair_file, write_hair, out = "out/render";
     render::RenderOptions ro;
     render::BlockOptions block;
     render::ScalpOptions scalp;
+    render::FurOptions fur;
+    render::SlabOptions slab;
     render::LightingOptions lighting;
     ex::FiberOptions fiber;
     float exposure = 0.0f, grid_cell = 0.0f, thickness_scale = 1.0f;
-    bool wavy = false, mask = false, quiet = false;
+    bool wavy = false, mask = false, quiet = false, no_ground = false;
     std::string integrator = "dual", sampling = "mis";
 
-    app.add_option("--scene", scene_name, "block | cornell | scalp | file (with --hair-file)")
-        ->check(CLI::IsMember({"block", "cornell", "scalp", "file"}))
+    app.add_option("--scene", scene_name, "block | cornell | scalp | fur | slab | file (with --hair-file)")
+        ->check(CLI::IsMember({"block", "cornell", "scalp", "fur", "slab", "file"}))
         ->capture_default_str();
     app.add_option("--hair-file", hair_file, "a Cem Yuksel .hair file (implies --scene file)")->check(CLI::ExistingFile);
     app.add_option("--write-hair", write_hair, "also save the scene's strands as a .hair file");
@@ -43,11 +46,25 @@ int main(int argc, char** argv) {
     app.add_option("--hairs", block.count, "block: number of strands (the study's: 1500, 3000, 6000, 12000)")
         ->capture_default_str();
     app.add_option("--block-size", block.size, "block: side of the cube")->capture_default_str();
-    app.add_option("--fiber-radius", block.radius, "block: fiber radius")->capture_default_str();
+    app.add_option("--fiber-radius", block.radius, "block and slab: fiber radius; fur: when given (default 0.004)")
+        ->capture_default_str();
     app.add_flag("--wavy", wavy, "block: wavy strands instead of straight ones");
     app.add_option("--scalp-hairs", scalp.count, "scalp: number of strands")->capture_default_str();
     app.add_option("--curl", scalp.curl_radius, "scalp: curl radius (0: straight)")->capture_default_str();
     app.add_option("--gravity", scalp.gravity, "scalp: bend per unit length")->capture_default_str();
+    app.add_option("--fur-hairs", fur.count, "fur: number of strands")->capture_default_str();
+    app.add_option("--fur-length", fur.length, "fur: mean strand length (each varies by ±30 %)")
+        ->capture_default_str();
+    app.add_option("--fur-tilt", fur.tilt_deg, "fur: degrees from the surface normal toward -y (combing)")
+        ->capture_default_str();
+    app.add_flag("--fur-body,!--no-fur-body", fur.body,
+                 "fur: strands on a diffuse body sphere of albedo 0.4 (the default), or an empty shell of strands");
+    app.add_option("--fur-seed", fur.seed, "fur: generator seed")->capture_default_str();
+    app.add_option("--slab-depth", slab.depth, "slab: mean number of fibers a ray along the slab's normal crosses")
+        ->capture_default_str();
+    app.add_flag("--back-lit", slab.back_lit,
+                 "slab: the area light behind the slab, facing it and the camera (seen only through the gaps)");
+    app.add_flag("--no-ground", no_ground, "remove the ground plane (block, scalp, fur, file)");
     app.add_option("--integrator", integrator,
                    "single | dual | path (dual scattering is Chiang's full model only: --model and --lobes apply "
                    "to single and path)")
@@ -109,6 +126,11 @@ int main(int argc, char** argv) {
         if (!hair_file.empty()) scene_name = "file";
         if (scene_name == "block" || scene_name == "cornell") render::validate(block);
         if (scene_name == "scalp") render::validate(scalp);
+        // --fiber-radius is the block's (0.01), also the slab's; fur is finer unless it is given.
+        slab.radius = block.radius;
+        if (app.count("--fiber-radius")) fur.radius = block.radius;
+        if (scene_name == "fur") render::validate(fur);
+        if (scene_name == "slab") render::validate(slab, lighting);
         if (scene_name == "file" && hair_file.empty()) throw std::invalid_argument("--scene file needs --hair-file");
 
         render::ShadingOptions so;
@@ -139,7 +161,10 @@ int main(int argc, char** argv) {
         if (scene_name == "block") desc = render::make_block_scene(block, lighting);
         else if (scene_name == "cornell") desc = render::make_cornell_scene(block, lighting);
         else if (scene_name == "scalp") desc = render::make_scalp_scene(scalp, lighting);
+        else if (scene_name == "fur") desc = render::make_fur_scene(fur, lighting);
+        else if (scene_name == "slab") desc = render::make_slab_scene(slab, lighting);
         else desc = render::make_file_scene(hair_file, thickness_scale, lighting);
+        if (no_ground) render::remove_ground(desc);
         if (!write_hair.empty()) {
             render::HairFile file;
             for (const auto& strand : desc.hair.strands) {

@@ -6,8 +6,10 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <new>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace render {
 
@@ -60,6 +62,64 @@ void ignore_strand_filter(const RTCFilterFunctionNArguments* args) {
         if (RTCHitN_geomID(args->hit, args->N, i) != ctx->hair_geom) continue;
         if (ctx->strand_of_segment[RTCHitN_primID(args->hit, args->N, i)] != ctx->strand) continue;
         if (RTCRayN_tfar(args->ray, args->N, i) < ctx->max_t) args->valid[i] = 0;
+    }
+}
+
+// An intersect context that collects the distinct strands a ray crosses: its filter
+// records each hit's strand and rejects the hit, so traversal runs on to tmax. Round
+// curves report entry and exit, neighbouring segments of a strand (and spatial-split BVH
+// references of one segment) may report the same crossing again: strands are deduped by
+// id, in a fixed array scanned linearly (a ray rarely crosses more than a few dozen
+// strands), then in a heap vector sorted at the end.
+void count_strands_filter(const RTCFilterFunctionNArguments* args);
+
+struct CountStrandsContext {
+    static constexpr std::uint32_t kCapacity = 64;
+
+    RTCIntersectContext base;  // first member: Embree passes &base back to the filter
+    std::uint32_t ignore;
+    float max_t;
+    unsigned hair_geom;
+    const std::uint32_t* strand_of_segment;
+    std::vector<std::uint32_t>* overflow;  // strands past kCapacity, duplicates included
+    bool failed = false;                   // an allocation threw (it must not cross Embree)
+    std::uint32_t last = kNoStrand;        // the previous hit's: hits come in runs per strand
+    std::uint32_t count = 0;
+    std::uint32_t strands[kCapacity];
+
+    CountStrandsContext(std::uint32_t s, float t, unsigned g, const std::uint32_t* of, std::vector<std::uint32_t>* spill)
+        : ignore(s), max_t(t), hair_geom(g), strand_of_segment(of), overflow(spill) {
+        rtcInitIntersectContext(&base);
+        base.filter = count_strands_filter;
+    }
+
+    void add(std::uint32_t s) {
+        if (s == last) return;
+        last = s;
+        for (std::uint32_t k = count; k-- > 0;)
+            if (strands[k] == s) return;
+        if (count < kCapacity) {
+            strands[count++] = s;
+            return;
+        }
+        try {
+            overflow->push_back(s);
+        } catch (...) {
+            failed = true;
+        }
+    }
+};
+static_assert(std::is_standard_layout_v<CountStrandsContext>, "the filter casts &base back to the context");
+
+void count_strands_filter(const RTCFilterFunctionNArguments* args) {
+    auto* ctx = reinterpret_cast<CountStrandsContext*>(args->context);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        args->valid[i] = 0;
+        if (RTCHitN_geomID(args->hit, args->N, i) != ctx->hair_geom) continue;
+        const std::uint32_t s = ctx->strand_of_segment[RTCHitN_primID(args->hit, args->N, i)];
+        if (s == ctx->ignore && RTCRayN_tfar(args->ray, args->N, i) < ctx->max_t) continue;
+        ctx->add(s);
     }
 }
 
@@ -248,6 +308,19 @@ bool Scene::hair_occluded(const glm::vec3& o, const glm::vec3& d, float tmax, st
     RTCRayHit rh = make_ray(o, d, ignore == kNoStrand ? kRayEpsilon : 0.0f, tmax);
     rtcOccluded1(hair_, &ctx.base, &rh.ray);
     return rh.ray.tfar < 0;
+}
+
+std::uint32_t Scene::count_hair(const glm::vec3& o, const glm::vec3& d, float tmax, std::uint32_t ignore) const {
+    if (!has_hair()) return 0;
+    std::vector<std::uint32_t> overflow;
+    CountStrandsContext ctx(ignore, 8.0f * d_.hair.radius, hair_geom_, strand_of_segment_.data(), &overflow);
+    RTCRayHit rh = make_ray(o, d, ignore == kNoStrand ? kRayEpsilon : 0.0f, tmax);
+    rtcOccluded1(hair_, &ctx.base, &rh.ray);
+    if (ctx.failed) throw std::bad_alloc();
+    if (overflow.empty()) return ctx.count;
+    // The array holds none of the overflow's strands (add checked it first).
+    std::sort(overflow.begin(), overflow.end());
+    return ctx.count + std::uint32_t(std::unique(overflow.begin(), overflow.end()) - overflow.begin());
 }
 
 }  // namespace render

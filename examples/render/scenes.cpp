@@ -47,6 +47,11 @@ Mesh make_sphere(const std::string& name, const glm::vec3& center, float radius,
 
 namespace {
 
+constexpr float kPi = 3.14159265358979f;
+
+// The slab's camera distance: the default scene camera's 14 units for a 5-unit slab.
+float slab_eye_distance(const SlabOptions& o) { return 14.0f * std::max(o.width, o.height) / 5.0f; }
+
 void require(bool ok, const std::string& message) {
     if (!ok) throw std::invalid_argument(message);
 }
@@ -73,6 +78,41 @@ void validate(const ScalpOptions& s) {
     require(s.count >= 1 && s.count <= 10'000'000, "--scalp-hairs: " + std::to_string(s.count) + " is outside [1, 10^7]");
     require(std::isfinite(s.gravity), "--gravity: " + num(s.gravity) + " is not a finite number");
     require(std::isfinite(s.curl_radius) && s.curl_radius >= 0, "--curl: " + num(s.curl_radius) + " is not a radius >= 0");
+}
+
+void validate(const FurOptions& f) {
+    require(f.count >= 1 && f.count <= 10'000'000, "--fur-hairs: " + std::to_string(f.count) + " is outside [1, 10^7]");
+    require(std::isfinite(f.length) && f.length > 0, "--fur-length: " + num(f.length) + " is not a length > 0");
+    require(std::isfinite(f.tilt_deg) && f.tilt_deg >= 0 && f.tilt_deg < 90,
+            "--fur-tilt: " + num(f.tilt_deg) + " is not an angle in [0, 90) degrees");
+    require(std::isfinite(f.radius) && f.radius > 0 && f.radius < f.length,
+            "--fiber-radius: " + num(f.radius) + " is not a radius in (0, fur length)");
+}
+
+void validate(const SlabOptions& o, const LightingOptions& l) {
+    require(std::isfinite(o.depth) && o.depth > 0, "--slab-depth: " + num(o.depth) + " is not a fiber count > 0");
+    require(std::isfinite(o.radius) && o.radius > 0 && o.radius < 0.5f * o.thickness,
+            "--fiber-radius: " + num(o.radius) + " is not a radius in (0, slab thickness / 2 = " +
+                num(0.5 * o.thickness) + ")");
+    const double strands = double(o.depth) * double(o.height) / (2.0 * double(o.radius));
+    require(strands >= 0.5 && strands <= 1e7, "--slab-depth: " + num(o.depth) + " with --fiber-radius " +
+                                                   num(o.radius) + " makes " + num(std::round(strands)) +
+                                                   " strands, outside [1, 10^7]");
+    if (o.back_lit && l.light_power > 0) {
+        // Every sightline from the eye to the light must pass through the slab: the light's
+        // half side, projected from the eye onto the slab's back face, stays inside it.
+        const float eye = slab_eye_distance(o);
+        const float shrink = (eye + 0.5f * o.thickness) / (eye + kSlabBackLightDistance);
+        const float largest = std::min(o.width, o.height) / shrink;
+        require(l.light_size < largest, "--light-size: " + num(l.light_size) +
+                                            " makes the back light show beside the slab (it hides one below " +
+                                            num(largest) + ")");
+    }
+}
+
+void remove_ground(SceneDescription& scene) {
+    auto& m = scene.meshes;
+    m.erase(std::remove_if(m.begin(), m.end(), [](const Mesh& mesh) { return mesh.name == "ground"; }), m.end());
 }
 
 namespace {
@@ -143,6 +183,55 @@ SceneDescription make_scalp_scene(const ScalpOptions& scalp, const LightingOptio
     s.camera.target = o.center + glm::vec3(0, -0.4f, 0) * o.head_radius;
     s.camera.fov_y_deg = 38.0f;
     add_lighting(s, lighting, o.center + glm::vec3(3, 5, 6) * o.head_radius, 25.0f);
+    return s;
+}
+
+SceneDescription make_fur_scene(const FurOptions& fur, const LightingOptions& lighting) {
+    SceneDescription s;
+    s.name = "fur";
+    FurOptions o = fur;
+    // The longest strand reaches `outer` from the centre; the ball floats just above the
+    // ground at the default camera's height.
+    const float outer = o.body_radius + o.length * (1 + o.length_variation);
+    o.center = {0.0f, std::max(2.5f, outer + 0.2f), 0.0f};
+    s.hair = make_fur(o);
+    s.meshes.push_back(ground());
+    if (o.body) s.meshes.push_back(make_sphere("body", o.center, o.body_radius, glm::vec3(0.4f)));
+    // The ball fills about 70 % of the image height, seen from slightly above.
+    s.camera.fov_y_deg = 30.0f;
+    const float distance = outer / (0.7f * std::tan(0.5f * s.camera.fov_y_deg * kPi / 180.0f));
+    s.camera.eye = o.center + distance * glm::normalize(glm::vec3(0.0f, 0.15f, 1.0f));
+    s.camera.target = o.center;
+    // The scalp's light, scaled with the ball at constant irradiance.
+    const float k = outer / 2.0f;
+    add_lighting(s, lighting, o.center + glm::vec3(3, 5, 6) * k, 25.0f * k * k);
+    return s;
+}
+
+SceneDescription make_slab_scene(const SlabOptions& slab, const LightingOptions& lighting) {
+    SceneDescription s;
+    s.name = "slab";
+    s.hair = make_slab(slab);
+    const float mid = 0.5f * slab.height;
+    s.camera.eye = {0.0f, mid, slab_eye_distance(slab)};
+    s.camera.target = {0.0f, mid, 0.0f};
+    s.camera.fov_y_deg = 35.0f;
+    if (!slab.back_lit) {
+        add_lighting(s, lighting, {-1.0f, mid + 7.5f, 7.0f}, 80.0f);
+        return s;
+    }
+    s.environment = glm::vec3(lighting.environment);
+    if (lighting.light_power > 0) {
+        AreaLight a;
+        const float side = lighting.light_size;
+        a.corner = {-0.5f * side, mid - 0.5f * side, -kSlabBackLightDistance};
+        a.edge_u = {side, 0, 0};  // cross(u, v) = +z: toward the slab and the camera
+        a.edge_v = {0, side, 0};
+        // Facing the slab 3 units away, this gives about the irradiance the front light
+        // gives the block's top (independent of the light's size, as add_lighting's).
+        a.radiance = glm::vec3(10.0f * lighting.light_power * 4.0f / (side * side));
+        s.light = a;
+    }
     return s;
 }
 

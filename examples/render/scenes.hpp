@@ -1,5 +1,5 @@
-// render — the study's scenes (hair blocks on a ground plane, the Cornell box)
-// and a scalp, as SceneDescriptions.
+// render — the study's scenes (hair blocks on a ground plane, the Cornell box), a scalp, a
+// fur ball and a slab of parallel strands, as SceneDescriptions.
 #pragma once
 
 #include <string>
@@ -21,6 +21,11 @@ struct LightingOptions {
 void validate(const LightingOptions& lighting);
 void validate(const BlockOptions& block);
 void validate(const ScalpOptions& scalp);
+// Fur: --fur-hairs, --fur-length, --fur-tilt (degrees in [0, 90)), --fiber-radius.
+void validate(const FurOptions& fur);
+// Slab: --slab-depth, --fiber-radius; with back_lit, --light-size: the back light must
+// stay hidden behind the slab from the camera.
+void validate(const SlabOptions& slab, const LightingOptions& lighting);
 
 // The 5 × 5 × 5 hair block standing on a grey ground plane.
 SceneDescription make_block_scene(const BlockOptions& block, const LightingOptions& lighting);
@@ -32,6 +37,22 @@ SceneDescription make_cornell_scene(const BlockOptions& block, const LightingOpt
 
 // A head (a skin-coloured diffuse sphere) with scalp hair, on the ground plane.
 SceneDescription make_scalp_scene(const ScalpOptions& scalp, const LightingOptions& lighting);
+
+// A fur ball (FurOptions::body: on a diffuse body sphere of albedo 0.4, or an empty shell
+// of strands) floating above the ground plane, framed by the camera.
+SceneDescription make_fur_scene(const FurOptions& fur, const LightingOptions& lighting);
+
+// The slab (make_slab) standing vertically with its normal along z toward the camera, no
+// ground plane. Front-lit by the usual light above and in front, or with slab.back_lit by
+// a square light (side lighting.light_size) at z = -3 behind the slab's centre, facing it
+// and the camera: the camera sees the light only through the gaps between fibers.
+SceneDescription make_slab_scene(const SlabOptions& slab, const LightingOptions& lighting);
+
+// The back light's distance behind the slab's mid-plane.
+inline constexpr float kSlabBackLightDistance = 3.0f;
+
+// Removes the mesh named "ground" (block, scalp, fur, file); the others have none.
+void remove_ground(SceneDescription& scene);
 
 // Hair from a .hair file (thickness: the mean of the file's, times thickness_scale),
 // scaled uniformly to fit a 5-unit box standing on the ground plane. Throws
