@@ -102,6 +102,35 @@ class FiberSlab {
         return best;
     }
 
+    // The number of fibers o + t d crosses (t > 0, fiber `skip` excluded) until it leaves
+    // the slab: what a renderer that counts its shadow ray's hits knows exactly.
+    int count(const dvec3& o, const dvec3& d, int skip = -1) const {
+        const dvec2 d2(d.y, d.z);
+        const double len2 = glm::dot(d2, d2);
+        if (len2 < 1e-24 || d.z == 0) return 0;  // along the fibers, or never leaving: no crossing counted
+        const double len = std::sqrt(len2);
+        const double step = 0.5 * kCell / len;
+        const double t_end = d.z > 0 ? (depth_ - o.z) / d.z : -o.z / d.z;
+        if (!(t_end > 0)) return 0;
+        std::vector<int> seen;
+        int last_cell = -1;
+        for (double t = 0; t <= t_end + step; t += step) {
+            const double z = o.z + t * d.z;
+            const int cz = int(std::floor(z / kCell));
+            const int cy = wrap_cell(int(std::floor((o.y + t * d.y) / kCell)));
+            if (cz < 0 || cz >= cells_z_) continue;
+            const int cell = cz * cells_y_ + cy;
+            if (cell == last_cell) continue;
+            last_cell = cell;
+            const double y_here = o.y + t * d.y;
+            for (int i : grid_[std::size_t(cell)]) {
+                if (i == skip || std::find(seen.begin(), seen.end(), i) != seen.end()) continue;
+                if (hit_circle(o, d2, len2, i, y_here) > 1e-9) seen.push_back(i);
+            }
+        }
+        return int(seen.size());
+    }
+
   private:
     static constexpr double kCell = 4.0;
 
@@ -150,16 +179,6 @@ class FiberSlab {
 
 namespace hs = hairscatter;
 
-// Dual scattering (both formulations) at the first hits of `paths` camera rays along -wo
-// against path tracing the same slab (depth 8 tau, 2,000 fibers per 10 deep) under a
-// directional light from wl: both use ChiangFiber at the true h of every hit; dual
-// scattering gets a shadow ray and the expected counts toward the light and beyond the
-// point from the slab's density, as a renderer would. Sums of the channel means.
-struct Sums {
-    double path = 0, improved = 0, zinke = 0, path_sq = 0;
-    int hits = 0;
-};
-
 inline double mean(const dvec3& v) { return (v.x + v.y + v.z) / 3; }
 
 // Four uniform numbers drawn in order (the order in which a function's arguments are
@@ -169,6 +188,59 @@ template <typename Dist, typename Rng> glm::dvec4 draw4(Dist& u, Rng& rng) {
     for (int i = 0; i < 4; ++i) r[i] = u(rng);
     return r;
 }
+
+// A directional light from wl or, with furnace, a uniform environment of radiance 1.
+struct Lighting {
+    dvec3 wl{0, 0, 1};
+    bool furnace = false;
+};
+
+// The exact multiple scattering leaving the slab's hit toward wo (channel mean), path-traced
+// with the single-fiber model at the true h of every hit: next-event estimation of the
+// directional light, or escapes into the environment; Russian roulette only, no depth cut.
+template <typename Rng>
+double path_radiance(const FiberSlab& s, const hs::ChiangMaterial<double>& mat, const Hit& hit, const dvec3& wo,
+                     const Lighting& light, Rng& rng) {
+    std::uniform_real_distribution<double> U;
+    const dvec3 axis(1, 0, 0);
+    double L = 0;
+    dvec3 beta(1), w = wo;
+    Hit cur = hit;
+    for (int depth = 0;; ++depth) {
+        const hs::FiberFrame<double> fr(axis, w);
+        const hs::ChiangFiber<double> fiber(mat, glm::dot(cur.p - cur.axis, fr.y));
+        const dvec3 wo_l = fr.to_local(w);
+        if (!light.furnace && s.intersect(cur.p, light.wl, cur.fiber).fiber < 0)
+            L += mean(beta * fiber.eval(wo_l, fr.to_local(light.wl)));
+        const auto smp = fiber.sample(wo_l, draw4(U, rng));
+        if (!(smp.pdf > 0)) break;
+        beta *= smp.weight;
+        const dvec3 d = glm::normalize(fr.to_world(smp.wi));
+        const Hit next = s.intersect(cur.p, d, cur.fiber);
+        if (next.fiber < 0) {
+            if (light.furnace) L += mean(beta);  // escaped into the environment
+            break;
+        }
+        w = -d;
+        cur = next;
+        if (depth >= 3) {
+            const double q = std::min(0.95, std::max({beta.x, beta.y, beta.z}));
+            if (U(rng) >= q) break;
+            beta /= q;
+        }
+    }
+    return L;
+}
+
+// Dual scattering (both formulations) at the first hits of `paths` camera rays along -wo
+// against path tracing the same slab (depth 8 tau, 2,000 fibers per 10 deep) under a
+// directional light from wl: both use ChiangFiber at the true h of every hit; dual
+// scattering gets a shadow ray and the expected counts toward the light and beyond the
+// point from the slab's density, as a renderer would. Sums of the channel means.
+struct Sums {
+    double path = 0, improved = 0, zinke = 0, path_sq = 0;
+    int hits = 0;
+};
 
 inline Sums compare_dual(const hs::FiberParams<double>& params, double tau, const dvec3& wl, const dvec3& wo, int paths) {
     using Dual = hs::DualScatteringBcsdf<hs::ChiangFiber<double>>;
@@ -200,33 +272,102 @@ inline Sums compare_dual(const hs::FiberParams<double>& params, double tau, cons
         l.beyond = hs::kUnbounded<double>;
         r.zinke += mean(Dual(fiber0, zinke).eval(f0.to_local(wo), f0.to_local(wl), l));
 
-        double L = 0;
-        dvec3 beta(1), w = wo;
-        slab::Hit cur = hit;
-        for (int depth = 0;; ++depth) {
-            const hs::FiberFrame<double> fr(axis, w);
-            const hs::ChiangFiber<double> fiber(mat, glm::dot(cur.p - cur.axis, fr.y));
-            const dvec3 wo_l = fr.to_local(w);
-            if (s.intersect(cur.p, wl, cur.fiber).fiber < 0) L += mean(beta * fiber.eval(wo_l, fr.to_local(wl)));
-            const auto smp = fiber.sample(wo_l, draw4(U, rng));
-            if (!(smp.pdf > 0)) break;
-            beta *= smp.weight;
-            const dvec3 d = glm::normalize(fr.to_world(smp.wi));
-            const slab::Hit next = s.intersect(cur.p, d, cur.fiber);
-            if (next.fiber < 0) break;
-            w = -d;
-            cur = next;
-            if (depth >= 3) {  // Russian roulette only: no depth cut
-                const double q = std::min(0.95, std::max({beta.x, beta.y, beta.z}));
-                if (U(rng) >= q) break;
-                beta /= q;
-            }
-        }
+        const double L = path_radiance(s, mat, hit, wo, Lighting{wl, false}, rng);
         r.path += L;
         r.path_sq += L * L;
     }
     return r;
 }
 
+// Two-stream dual scattering at the arrival direction (dual/two_stream.hpp) against the same
+// path tracer, under a directional light from wl or, with furnace, a uniform environment of
+// radiance 1 (then a lossless slab's exact answer is 1 at every hit). At each first hit the
+// estimator samples `arrivals` directions a from the fiber's sampler: an unobstructed a sees
+// the source itself; an obstructed one gets D(a) = c_f L̃_f + c_b L̃_b, with the counts along a
+// and -a either counted exactly on the slab's fibers (`exact`, what a renderer that counts
+// its rays' hits knows) or drawn from Poisson distributions of the slab's expected counts
+// (`expected`: what a renderer with a density grid does, poisson_fiber_count, conditioned on
+// the ray along a being blocked). L̃ is the kernel at the light's
+// direction, or under the environment one kernel sample of it.
+struct TwoStreamSums {
+    double path = 0, path_sq = 0, exact = 0, expected = 0;
+    int hits = 0;
+    double path_mean() const { return path / hits; }
+    double path_noise() const {  // 2σ of the path mean
+        const double m = path_mean();
+        return 2 * std::sqrt(std::max(0.0, path_sq / hits - m * m) / hits);
+    }
+};
+
+inline TwoStreamSums compare_two_stream(const hs::FiberParams<double>& params, double tau, const Lighting& light,
+                                        const dvec3& wo, int paths, int arrivals = 16, bool with_path = true) {
+    const hs::ChiangMaterial<double> mat(params);
+    const auto tables = hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(mat);
+    const auto view = tables.view();
+    const slab::FiberSlab s(400, 8 * tau, tau, 7);
+    std::mt19937_64 rng(13);
+    std::uniform_real_distribution<double> U;
+    const dvec3 axis(1, 0, 0);
+    const double per_length = s.crossings_per_length();
+    const auto expected_count = [&](const dvec3& p, const dvec3& d) {
+        if (d.z == 0) return hs::kUnbounded<double>;
+        const double t = d.z > 0 ? (s.depth() - p.z) / d.z : p.z / -d.z;
+        return per_length * std::sqrt(d.y * d.y + d.z * d.z) * t;
+    };
+    TwoStreamSums r;
+    for (int k = 0; k < paths; ++k) {
+        const slab::Hit hit = s.intersect(dvec3(0, U(rng) * s.width(), wo.z > 0 ? s.depth() : 0.0), -wo);
+        if (hit.fiber < 0) continue;
+        ++r.hits;
+        const hs::FiberFrame<double> f0(axis, wo);
+        const hs::ChiangFiber<double> fiber(mat, glm::dot(hit.p - hit.axis, f0.y));
+        const auto bound = fiber.at(f0.to_local(wo));
+        double exact = 0, expected = 0;
+        if (!light.furnace && s.count(hit.p, light.wl, hit.fiber) == 0) {
+            const double direct = mean(bound.eval(f0.to_local(light.wl)));
+            exact += direct;
+            expected += direct;
+        }
+        for (int j = 0; j < arrivals; ++j) {
+            const auto smp = bound.sample(draw4(U, rng));
+            if (!(smp.pdf > 0)) continue;
+            const dvec3 a = glm::normalize(f0.to_world(smp.wi));
+            const int n = s.count(hit.p, a, hit.fiber);
+            if (n == 0) {  // unobstructed: the source itself (a directional light is never hit)
+                if (light.furnace) {
+                    exact += mean(smp.weight) / arrivals;
+                    expected += mean(smp.weight) / arrivals;
+                }
+                continue;
+            }
+            const int m = s.count(hit.p, -a, hit.fiber);
+            const hs::DualStreams<double> st[2] = {
+                hs::dual_streams(view, smp.wi.x, double(n), double(m)),
+                hs::dual_streams(view, smp.wi.x, hs::poisson_fiber_count(expected_count(hit.p, a), U(rng), true),
+                                 hs::poisson_fiber_count(expected_count(hit.p, -a), U(rng), false))};
+            double* sums[2] = {&exact, &expected};
+            const dvec4 u = draw4(U, rng);
+            for (int c = 0; c < 2; ++c) {
+                const hs::DualSourceKernel<double> kernel(smp.wi, st[c]);
+                dvec3 source(0);
+                if (light.furnace) {
+                    const auto ks = kernel.sample(u);
+                    if (ks.pdf > 0) source = kernel.eval(ks.s) / ks.pdf;
+                } else {
+                    source = kernel.eval(f0.to_local(light.wl));
+                }
+                *sums[c] += mean(smp.weight * source) / arrivals;
+            }
+        }
+        r.exact += exact;
+        r.expected += expected;
+        if (!with_path) continue;
+
+        const double L = path_radiance(s, mat, hit, wo, light, rng);
+        r.path += L;
+        r.path_sq += L * L;
+    }
+    return r;
+}
 
 }  // namespace slab
