@@ -84,14 +84,19 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--threads", ro.threads, "rendering threads (0: one per core; the image does not depend on it)")
         ->capture_default_str();
-    std::string dual_formulation = "improved";
+    std::string dual_formulation = "two-stream", dual_counts = "exact";
     float d_f = -1, d_b = -1;
     app.add_option("--dual", dual_formulation,
-                   "dual: improved (the library's default) | zinke (Zinke et al. 2008 as written)")
-        ->check(CLI::IsMember({"improved", "zinke"}))
+                   "dual: two-stream (the default: two-stream transport at the arrival direction, surfaces "
+                   "traced) | improved (the dual-scattering BCSDF) | zinke (the BCSDF as Zinke et al. 2008 wrote it)")
+        ->check(CLI::IsMember({"two-stream", "improved", "zinke"}))
         ->capture_default_str();
-    app.add_option("--d-f", d_f, "dual: forward density factor in [0, 1] (default 1 improved, 0.7 zinke)");
-    app.add_option("--d-b", d_b, "dual: backward density factor in [0, 1] (default 1 improved, 0.7 zinke)");
+    app.add_option("--dual-counts", dual_counts,
+                   "dual two-stream: fibers along a ray counted exactly on the hair, or drawn from the density grid")
+        ->check(CLI::IsMember({"exact", "grid"}))
+        ->capture_default_str();
+    app.add_option("--d-f", d_f, "dual improved and zinke: forward density factor in [0, 1] (default 1 improved, 0.7 zinke)");
+    app.add_option("--d-b", d_b, "dual improved and zinke: backward density factor in [0, 1] (default 1 improved, 0.7 zinke)");
     app.add_option("--grid-cell", grid_cell, "dual: density grid cell size (0: 1/32 of the hair's extent)");
     app.add_option("--light-size", lighting.light_size, "side of the square area light")->capture_default_str();
     app.add_option("--light-power", lighting.light_power, "area light scale (0: no area light)")
@@ -146,6 +151,8 @@ int main(int argc, char** argv) {
         const ex::StrandSetup strands = ex::strand_setup(fiber);
         so.section = fiber.section;
         so.dual_scattering = ro.integrator == render::Integrator::kDual;
+        so.two_stream = dual_formulation == "two-stream";
+        so.exact_counts = dual_counts == "exact";
         so.dual = dual_formulation == "zinke" ? hs::DualScatteringSettings<float>::zinke2008()
                                               : hs::DualScatteringSettings<float>::improved();
         if (app.count("--d-f")) so.dual.d_f = d_f;

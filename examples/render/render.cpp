@@ -92,7 +92,8 @@ RenderResult render(const Scene& scene, const ShadingSetup& shading, const Rende
     if (o.integrator == Integrator::kDual &&
         (shading.options().model != FiberModel::kChiang || shading.options().lobes != hairscatter_examples::LobeBits::kAll))
         throw std::invalid_argument("--integrator dual shades with the full Chiang model only (no --model, --lobes)");
-    if (o.integrator == Integrator::kDual && scene.has_hair() && !shading.grid())
+    if (o.integrator == Integrator::kDual && scene.has_hair() &&
+        (!shading.options().dual_scattering || (shading.needs_grid() && !shading.grid())))
         throw std::invalid_argument("--integrator dual needs a shading setup built with dual_scattering");
     const auto t0 = std::chrono::steady_clock::now();
     RenderResult r;
@@ -180,7 +181,13 @@ std::string summary_line(const Scene& scene, const ShadingSetup& shading, const 
     for (std::size_t i = 0; i + 2 < r.rgb.size(); i += 3)
         nonfinite += !(std::isfinite(r.rgb[i]) && std::isfinite(r.rgb[i + 1]) && std::isfinite(r.rgb[i + 2]));
     s << "scene=" << scene.description().name << " integrator=" << to_string(o.integrator)
-      << " sampling=" << to_string(o.sampling) << " model=" << hairscatter_examples::to_string(shading.options().model)
+      << " sampling=" << to_string(o.sampling);
+    if (o.integrator == Integrator::kDual) {
+        const ShadingOptions& so = shading.options();
+        s << " dual=" << (so.two_stream ? "two-stream" : so.dual.formulation == hairscatter::DualFormulation::kZinke2008 ? "zinke" : "improved");
+        if (so.two_stream) s << " counts=" << (so.exact_counts ? "exact" : "grid");
+    }
+    s << " model=" << hairscatter_examples::to_string(shading.options().model)
       << " lobes=" << hairscatter_examples::lobes_to_string(shading.options().lobes) << " width=" << r.width
       << " height=" << r.height << " spp=" << o.spp << " seed=" << o.seed << " strands=" << st.strands
       << " segments=" << st.hair_segments << " time_s=" << r.seconds << " build_s=" << st.bvh_seconds + sh.seconds

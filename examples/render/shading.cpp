@@ -47,7 +47,7 @@ glm::ivec3 grid_resolution(const Hair& hair, float cell) {
 }
 
 float check_grid(const Hair& hair, const ShadingOptions& o) {
-    if (!o.dual_scattering || hair.segment_count() == 0) return 0.0f;
+    if (!o.dual_scattering || (o.two_stream && o.exact_counts) || hair.segment_count() == 0) return 0.0f;
     if (!(o.grid_cell >= 0) || !std::isfinite(o.grid_cell))
         throw std::invalid_argument("--grid-cell: " + std::to_string(o.grid_cell) + " is not a size >= 0");
     const float cell = o.grid_cell > 0 ? o.grid_cell : automatic_grid_cell(hair);
@@ -87,6 +87,8 @@ ShadingSetup::ShadingSetup(const Scene& scene, const ShadingOptions& options) : 
         stats_.table_bytes = tables_.entries().size() * sizeof(hs::DualScatteringEntry<float>) +
                              tables_.window_data().size() * sizeof(glm::vec3) + tables_.window_cdf_data().size() * sizeof(float);
 
+    }
+    if (needs_grid() && scene.has_hair()) {
         const float cell = check_grid(hair, o_);
         const auto t_grid = Clock::now();
         grid_ = std::make_unique<hs::DensityGrid<float>>(

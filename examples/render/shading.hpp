@@ -27,6 +27,14 @@ struct ShadingOptions {
     hairscatter_examples::FiberExtras<float> fiber_extras;
     hairscatter_examples::SectionShape section;  // --model huang's cross-section
     bool dual_scattering = true;  // build the dual-scattering tables and the density grid
+    // How the dual integrator shades hair: the two-stream estimator at the arrival direction
+    // (hairscatter/dual/two_stream.hpp, the default) or the dual-scattering BCSDF with the
+    // tables' formulation (improved or Zinke 2008).
+    bool two_stream = true;
+    // Two-stream: the fibers along a direction counted exactly on the hair (Embree, a
+    // sample of the count's distribution per ray) or drawn from the density grid's
+    // expectation (a Poisson count). The grid is built only where something reads it.
+    bool exact_counts = true;
     // Dual scattering's formulation and density factors: the tables are built with them
     // (their one owner); the integrator reads them back from the tables.
     hairscatter::DualScatteringSettings<float> dual{};
@@ -57,7 +65,10 @@ class ShadingSetup {
     // The Chiang material (the dual-scattering integrator's, whatever the model).
     const hairscatter::ChiangMaterial<float>& chiang() const { return models_->chiang(); }
     const hairscatter::DualScatteringTables<float>& tables() const { return tables_; }
+    // The density grid, or null when nothing reads it (no dual scattering, or the two-stream
+    // estimator with exact counts).
     const hairscatter::DensityGrid<float>* grid() const { return grid_.get(); }
+    bool needs_grid() const { return o_.dual_scattering && !(o_.two_stream && o_.exact_counts); }
     const ShadingStats& stats() const { return stats_; }
 
   private:

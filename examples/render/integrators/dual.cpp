@@ -1,5 +1,6 @@
-// render — dual scattering at the camera ray's first hair hit: the library's tables,
-// density grid and DualScatteringBcsdf over the Chiang fiber (dual scattering is
+// render — dual scattering with the dual-scattering BCSDF (--dual improved | zinke; the
+// default two-stream estimator is two_stream.cpp) at the camera ray's first hair hit: the
+// library's tables, density grid and DualScatteringBcsdf over the Chiang fiber (dual scattering is
 // Chiang-only here whatever --model says). Self-contained on purpose: the whole
 // dual-scattering integrator is this file.
 //
@@ -120,6 +121,7 @@ class DualIntegrator final : public PixelIntegrator {
 }  // namespace
 
 std::unique_ptr<PixelIntegrator> make_dual_integrator(const RenderContext& c) {
+    if (c.shading.options().two_stream) return make_two_stream_integrator(c);
     return std::make_unique<DualIntegrator>(c);
 }
 

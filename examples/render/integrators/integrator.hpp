@@ -33,7 +33,10 @@ class PixelIntegrator {
 };
 
 std::unique_ptr<PixelIntegrator> make_single_integrator(const RenderContext& c);  // single.cpp
-std::unique_ptr<PixelIntegrator> make_dual_integrator(const RenderContext& c);    // dual.cpp
+// dual.cpp: the two-stream estimator (two_stream.cpp) or the dual-scattering BCSDF, as the
+// shading setup says.
+std::unique_ptr<PixelIntegrator> make_dual_integrator(const RenderContext& c);
+std::unique_ptr<PixelIntegrator> make_two_stream_integrator(const RenderContext& c);  // two_stream.cpp
 std::unique_ptr<PixelIntegrator> make_path_integrator(const RenderContext& c);    // path.cpp
 
 // An integrator templated on the fiber model (Integrator<MakeFiber>(context, make)), for

@@ -182,13 +182,15 @@ TEST(RenderCli, OversizedImagesAreRefusedWithAMessage) {
 }
 
 TEST(RenderCli, OversizedDensityGridIsRefusedWithTheReason) {
-    const Outcome r = run("--grid-cell 0.0075" + kTiny + " -o " + out_base("grid"));
+    // The grid is built where it is read: dual scattering from grid counts, or the BCSDF.
+    const Outcome r = run("--dual-counts grid --grid-cell 0.0075" + kTiny + " -o " + out_base("grid"));
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_NE(r.output.find("--grid-cell 0.0075: the density grid would be"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("use --grid-cell"), std::string::npos) << r.output;
     EXPECT_EQ(r.output.find("render: building"), std::string::npos) << r.output;
-    // Single scattering and the path tracer build no grid: the same cell is no obstacle.
+    // Single scattering, the path tracer and exact counts build no grid: the same cell is no obstacle.
     EXPECT_EQ(run("--integrator single --grid-cell 0.0075" + kTiny + " -o " + out_base("grid_single")).status, 0);
+    EXPECT_EQ(run("--grid-cell 0.0075" + kTiny + " -o " + out_base("grid_exact")).status, 0);
 }
 
 TEST(RenderCli, AHairFileWithoutHairSaysSo) {

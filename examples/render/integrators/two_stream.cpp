@@ -1,0 +1,144 @@
+// render — dual scattering by the two-stream estimator at the arrival direction
+// (hairscatter/dual/two_stream.hpp, docs/dual.md): hair-to-hair transport in closed form,
+// everything else traced as the path tracer traces it.
+//
+// At a hair point: one light sample, which lights the fiber directly where no hair is in
+// the way and is the light-sampled half of the source kernel's estimate; one arrival
+// direction a from the fiber's own sampler, which sees the source itself where no hair is
+// in the way, or else gets D(a) = c_f L̃_f + c_b L̃_b from the counts along a and beyond,
+// with L̃ estimated by that light sample and one kernel sample (MIS) traced to whatever lies
+// outside the hair. Surfaces are path-traced (next-event estimation and a cosine bounce)
+// and the hair their bounces reach is shaded by this estimator again: light that the
+// ground or a head reflects reaches the hair, and the hair's light reaches them. Every
+// vertex continues one path at most, so the cost per sample is bounded by kMaxDepth.
+#include "integrator.hpp"
+
+namespace render {
+
+namespace {
+
+namespace hs = hairscatter;
+using glm::vec3;
+
+class TwoStreamIntegrator final : public PixelIntegrator {
+  public:
+    explicit TwoStreamIntegrator(const RenderContext& c) : c_(c), tables_(c.shading.tables().view()) {}
+
+    vec3 radiance(const vec3& o, const vec3& d, Sampler& rng) const override {
+        return at_hit(c_.scene.intersect(o, d, kInf), d, 0, 0.0f, rng);
+    }
+
+  private:
+    // Hair and surface vertices a path may visit (Russian roulette ends most earlier).
+    static constexpr int kMaxDepth = 8;
+
+    static float mis(float chosen, float other) { return chosen > 0 ? power_heuristic(chosen, other) : 1.0f; }
+
+    // The radiance leaving `hit` back along d. chosen_pdf: the density of the strategy that
+    // chose d where light sampling could have chosen it too (0: nothing to weigh).
+    vec3 at_hit(const Hit& hit, const vec3& d, int depth, float chosen_pdf, Sampler& rng) const {
+        const Lights& lights = c_.lights;
+        switch (hit.kind) {
+            case Hit::kMiss: return lights.env * mis(chosen_pdf, lights.pdf_env());
+            case Hit::kLight:
+                return hit.front ? lights.area->radiance * mis(chosen_pdf, lights.pdf_area(d, hit.t)) : vec3(0);
+            case Hit::kSurface: return depth < kMaxDepth ? surface(hit, depth, rng) : vec3(0);
+            case Hit::kHair: return depth < kMaxDepth ? hair(ShadingPoint(hit, -d), depth, rng) : vec3(0);
+        }
+        return vec3(0);
+    }
+
+    // A Lambertian surface: next-event estimation (hair casts shadows: the light that gets
+    // through it arrives by the bounce, as the hair's own radiance) and a cosine bounce.
+    vec3 surface(const Hit& hit, int depth, Sampler& rng) const {
+        const Lights& lights = c_.lights;
+        const vec3 x = hit.p + kSurfaceOffset * hit.n;
+        vec3 L(0);
+        if (lights.any()) {
+            const float u0 = rng.u(), u1 = rng.u(), u2 = rng.u();
+            const Lights::Sample ls = lights.sample(hit.p, u0, u1, u2);
+            const float cos_i = glm::dot(hit.n, ls.wi);
+            if (ls.pdf > 0 && cos_i > 0 && !c_.scene.occluded(x, ls.wi, ls.dist * kShadowShorten))
+                L += hit.albedo * (cos_i / kPi) * ls.Le * power_heuristic(ls.pdf, cos_i / kPi) / ls.pdf;
+        }
+        // Russian roulette after two vertices, on the albedo (the throughput's factor here).
+        const float q = depth < 2 ? 1.0f : std::min(1.0f, max3(hit.albedo));
+        if (!(rng.u() < q)) return L;
+        const float u1 = rng.u(), u2 = rng.u();
+        const vec3 d = cosine_hemisphere(hit.n, u1, u2);
+        const float pdf = std::max(glm::dot(hit.n, d), 0.0f) / kPi;
+        if (!(pdf > 0)) return L;
+        return L + hit.albedo / q * at_hit(c_.scene.intersect(x, d, kInf), d, depth + 1, pdf, rng);
+    }
+
+    // The fibers along d from the point up to `stop` (the first surface or light; a miss
+    // is unbounded): counted on the hair, or a Poisson draw from the grid's expectation
+    // given that a ray found hair there.
+    float fibers(const ShadingPoint& sp, const vec3& d, const Hit& stop, Sampler& rng) const {
+        const float tmax = stop.kind == Hit::kMiss ? kInf : stop.t;
+        if (c_.shading.options().exact_counts) return float(c_.scene.count_hair(sp.p, d, tmax, sp.strand));
+        const float u = rng.u();
+        if (!c_.scene.hair_occluded(sp.p, d, tmax, sp.strand)) return 0.0f;
+        const float mean = c_.shading.grid()->fibers_crossed(sp.p, d, std::isfinite(tmax) ? tmax : hs::kUnbounded<float>);
+        return hs::poisson_fiber_count(mean, u, true);
+    }
+
+    vec3 hair(const ShadingPoint& sp, int depth, Sampler& rng) const {
+        const Scene& scene = c_.scene;
+        const Lights& lights = c_.lights;
+        const hs::ChiangFiber<float> fiber(c_.shading.models().chiang(sp.strand), sp.h());
+        const auto bound = fiber.at(sp.wo());
+        vec3 L(0);
+
+        // One light sample: `open` when no surface is in its way (the kernel's half),
+        // direct light when no hair is either.
+        Lights::Sample ls;
+        bool open = false;
+        if (lights.any()) {
+            const float u0 = rng.u(), u1 = rng.u(), u2 = rng.u();
+            ls = lights.sample(sp.p, u0, u1, u2);
+            if (ls.pdf > 0) {
+                const float tmax = std::isfinite(ls.dist) ? ls.dist * kShadowShorten : kInf;
+                open = scene.intersect_opaque(sp.p, ls.wi, tmax).kind == Hit::kMiss;
+                if (open && !scene.hair_occluded(sp.p, ls.wi, tmax, sp.strand)) {
+                    const auto ep = bound.eval_pdf(sp.to_local(ls.wi));
+                    L += ep.f * ls.Le * power_heuristic(ls.pdf, ep.pdf) / ls.pdf;
+                }
+            }
+        }
+
+        // One arrival direction from the fiber's sampler.
+        const hs::HairSample<float> s = bound.sample(rng.u4());
+        if (!(s.pdf > 0)) return L;
+        const vec3 a = sp.to_world(s.wi);
+        const Hit source = scene.intersect_opaque(sp.p, a, kInf);
+        const float n = fibers(sp, a, source, rng);
+        if (n == 0) return L + s.weight * at_hit(source, a, depth + 1, s.pdf, rng);
+
+        const float m = fibers(sp, -a, scene.intersect_opaque(sp.p, -a, kInf), rng);
+        const hs::DualSourceKernel<float> kernel(s.wi, hs::dual_streams(tables_, s.wi.x, n, m));
+        vec3 source_light(0);
+        if (open) {
+            const vec3 wl = sp.to_local(ls.wi);
+            source_light += kernel.eval(wl) * ls.Le * power_heuristic(ls.pdf, kernel.pdf(wl)) / ls.pdf;
+        }
+        const auto ks = kernel.sample(rng.u4());
+        if (ks.pdf > 0) {
+            const vec3 d = sp.to_world(ks.s);
+            source_light +=
+                kernel.eval(ks.s) / ks.pdf * at_hit(scene.intersect_opaque(sp.p, d, kInf), d, depth + 1, ks.pdf, rng);
+        }
+        return L + s.weight * source_light;
+    }
+
+    const RenderContext& c_;
+    hs::DualTablesView<float> tables_;
+};
+
+}  // namespace
+
+std::unique_ptr<PixelIntegrator> make_two_stream_integrator(const RenderContext& c) {
+    return std::make_unique<TwoStreamIntegrator>(c);
+}
+
+}  // namespace render
