@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Dual scattering against path tracing on slabs of explicit parallel fibers: builds
-# tests/dual_slab_sweep and writes docs/results/slab.md (about 3 minutes on 2 cores).
+# tests/dual_slab_sweep and writes docs/slab.md (about 3 minutes on 2 cores).
 #
 #   scripts/slab.sh [paths per row, default 20000]
 set -euo pipefail
@@ -21,5 +21,5 @@ mkdir -p docs/results
     echo "docs/theory.md §5.6 for the set-up."
     echo
     build/slab/tests/dual_slab_sweep "$paths"
-} > docs/results/slab.md
-echo "slab: wrote docs/results/slab.md"
+} > docs/slab.md
+echo "slab: wrote docs/slab.md"

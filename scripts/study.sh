@@ -4,16 +4,20 @@
 #      importance sampling of the dual-scattering BCSDF, over the hair pixels, under a white
 #      environment and under the preset's area light + dim environment;
 #   2. the variance between consecutive spp levels and where it drops below a threshold;
-#   3. dual scattering (improved and Zinke 2008 formulations) and single scattering against
+#   3. dual scattering (two-stream, improved and Zinke 2008) and single scattering against
 #      the path tracer: white / blond / brown / dark × 400 / 1,500 / 6,000 / 12,000 hairs
-#      without ground, a scalp, and blocks with the ground plane: error of the mean hair
-#      radiance, mean per-pixel error, error images, times;
-#   4. time to equal error: seconds for dual scattering and for the path tracer to reach a
-#      relative RMSE over the hair pixels against a converged path-traced reference;
-#   5. scale: render time and peak memory against strand count;
-#   6. a gallery of the origin study's scenes: the four hair blocks and the Cornell box.
+#      without ground, blocks on the ground plane, a scalp with and without it, fur on a
+#      body and a shell of fur, slabs lit from behind: error of the mean hair radiance, mean
+#      per-pixel error, error images, times per sample;
+#   4. the white furnace (lossless hair, uniform environment) on every kind of scene;
+#   5. time to equal error: seconds for dual scattering and for the path tracer to reach a
+#      relative RMSE over the hair pixels against a converged path-traced reference, on the
+#      blond 1,500-hair block and on blond fur;
+#   6. scale: render time and peak memory against strand count;
+#   7. a gallery of the origin study's scenes: the four hair blocks, the Cornell box, fur.
 # Tables (CSV), plots (PNG, gnuplot) and docs/results/README.md with the commands, the
-# machine and the date; the page holds measured tables only. About 30 minutes on 2 cores.
+# machine and the date; the page holds measured tables only. The full run owns
+# docs/results: it empties the folder first. About 40 minutes on 2 cores.
 #
 #   scripts/study.sh [--tiny] [--out DIR] [--build DIR] [--no-deps]
 #
@@ -45,6 +49,8 @@ if [[ -z "$out" ]]; then
 fi
 mkdir -p "$out"
 out="$(cd "$out" && pwd)"
+# Every file under the results folder is this run's: nothing stale survives a rerun.
+find "$out" -maxdepth 1 -type f \( -name '*.csv' -o -name '*.png' -o -name '*.exr' -o -name 'README.md' \) -delete
 
 if [[ $install_deps == 1 ]]; then
     bash "$ROOT/scripts/install-deps.sh" example
@@ -73,8 +79,14 @@ if [[ $tiny == 1 ]]; then
     dvp_counts=(1500)
     dvp_colours=(blond dark)
     dvp_spp=(--dual-spp 4 --path-spp 16)
+    dvp_all_colours=(blond dark)
     scalp_counts=(2000)
+    fur_counts=(2000)
+    slab_depths=(5)
+    furnace_scenes=(block:1500 fur-shell:2000 slab:5)
+    furnace_spp=(--dual-spp 4 --path-spp 8)
     tte=(--reference-spp 64 --dual-max-spp 8 --path-max-spp 16)
+    tte_fur=(--hairs 2000)
     tte_size=(--width 32 --height 24)
     scale_blocks=(1500 3000)
     scale_scalps=()
@@ -85,8 +97,14 @@ else
     dvp_counts=(400 1500 6000 12000)
     dvp_colours=(white blond brown dark)
     dvp_spp=(--dual-spp 64 --path-spp 512)
+    dvp_all_colours=(white blond brown dark)
     scalp_counts=(20000)
+    fur_counts=(20000)
+    slab_depths=(5 10)
+    furnace_scenes=(block:400 block:1500 block:6000 block:12000 scalp:20000 fur:20000 fur-shell:20000 slab:1 slab:5 slab:10 slab:40)
+    furnace_spp=(--dual-spp 32 --path-spp 64)
     tte=(--reference-spp 8192 --dual-max-spp 1024 --path-max-spp 4096)
+    tte_fur=(--hairs 20000)
     tte_size=(--width 48 --height 36)
     scale_blocks=(1500 6000 12000)
     scale_scalps=(25000 100000)
@@ -104,12 +122,26 @@ run "$STUDY" dual-vs-path --lighting both --no-ground "${size[@]}" "${dvp_spp[@]
     --colours "${dvp_colours[@]}" --out "$out"
 run "$STUDY" dual-vs-path --scene scalp --lighting both --no-ground "${size[@]}" "${dvp_spp[@]}" \
     --hair-counts "${scalp_counts[@]}" --colours blond brown --out "$out"
-run "$STUDY" dual-vs-path --lighting both "${size[@]}" "${dvp_spp[@]}" --hair-counts 1500 --colours blond dark --out "$out"
+run "$STUDY" dual-vs-path --scene scalp --lighting both "${size[@]}" "${dvp_spp[@]}" \
+    --hair-counts "${scalp_counts[@]}" --colours blond dark --out "$out"
+run "$STUDY" dual-vs-path --lighting both "${size[@]}" "${dvp_spp[@]}" --hair-counts 1500 \
+    --colours "${dvp_all_colours[@]}" --out "$out"
+run "$STUDY" dual-vs-path --scene fur --lighting both "${size[@]}" "${dvp_spp[@]}" --hair-counts "${fur_counts[@]}" \
+    --colours "${dvp_all_colours[@]}" --out "$out"
+run "$STUDY" dual-vs-path --scene fur-shell --lighting both --no-ground "${size[@]}" "${dvp_spp[@]}" \
+    --hair-counts "${fur_counts[@]}" --colours "${dvp_all_colours[@]}" --out "$out"
+run "$STUDY" dual-vs-path --scene slab --lighting both "${size[@]}" "${dvp_spp[@]}" --hair-counts "${slab_depths[@]}" \
+    --colours blond brown --out "$out"
 
-# ---- 4: time to equal error -----------------------------------------------------------
+# ---- 4: the white furnace ----------------------------------------------------------------
+run "$STUDY" furnace --scenes "${furnace_scenes[@]}" "${size[@]}" "${furnace_spp[@]}" --out "$out"
+
+# ---- 5: time to equal error -----------------------------------------------------------
 run "$STUDY" time-to-error --no-ground --colour blond --hairs 1500 --lighting both "${tte_size[@]}" "${tte[@]}" --out "$out"
+run "$STUDY" time-to-error --scene fur-shell --no-ground --colour blond "${tte_fur[@]}" --lighting both "${tte_size[@]}" \
+    "${tte[@]}" --out "$out"
 
-# ---- 5: scale --------------------------------------------------------------------------
+# ---- 6: scale --------------------------------------------------------------------------
 scale_csv="$out/scale.csv"
 echo "scene,strands,segments,integrator,render_s,build_s,peak_rss_mb,embree_mb,grid_mb,tables_kb" >"$scale_csv"
 field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" <<<" $2"; }
@@ -124,7 +156,7 @@ scale_run() {  # scene-args...
 for n in "${scale_blocks[@]}"; do scale_run --scene block --hairs "$n"; done
 for n in "${scale_scalps[@]+"${scale_scalps[@]}"}"; do scale_run --scene scalp --scalp-hairs "$n"; done
 
-# ---- 6: the origin study's scenes ----------------------------------------------------------------
+# ---- 7: the origin study's scenes ----------------------------------------------------------------
 gallery=()
 if [[ $tiny == 1 ]]; then
     gallery_size=(--width 64 --height 48 --spp 2)
@@ -139,10 +171,14 @@ for n in "${gallery_blocks[@]}"; do
 done
 run "$RENDER" --scene cornell "${gallery_size[@]}" --quiet -o "$out/scene_cornell" >/dev/null
 gallery+=("scene_cornell")
+run "$RENDER" --scene fur "${gallery_size[@]}" --quiet -o "$out/scene_fur" >/dev/null
+gallery+=("scene_fur")
 
 # ---- checks (always; they are what --tiny is for) -------------------------------------
 fail=0
-for f in "$out"/convergence_env_reference.exr "$out"/convergence_both_reference.exr "$out"/scene_cornell.exr "$out"/time_to_error.csv "$out"/dual_vs_path_scalp_both_noground.csv; do
+for f in "$out"/convergence_env_reference.exr "$out"/convergence_both_reference.exr "$out"/scene_cornell.exr \
+    "$out"/time_to_error_block_blond_1500.csv "$out"/dual_vs_path_scalp_both_noground.csv "$out"/furnace.csv \
+    "$out"/dual_vs_path_fur-shell_both_noground.csv "$out"/dual_vs_path_slab_both.csv; do
     [[ -s "$f" ]] || { echo "study: missing $f" >&2; fail=1; }
 done
 for lighting in env both; do
@@ -155,6 +191,9 @@ for lighting in env both; do
     done
 done
 [[ $(wc -l <"$scale_csv") -gt 1 ]] || { echo "study: no scale results" >&2; fail=1; }
+# The white furnace: the two-stream integrator within 2 % of 1 on every scene, at any size.
+awk -F, 'NR > 1 && $3 == "dual_two_stream" { d = $6 - 1; if (d < 0) d = -d; if (d > 0.02) { printf "study: furnace %s %s: %s\n", $1, $2, $6 > "/dev/stderr"; bad = 1 } }
+         END { exit bad }' "$out/furnace.csv" || fail=1
 [[ $fail == 0 ]] || exit 1
 elapsed=$((SECONDS - start))
 
@@ -224,45 +263,84 @@ reach() {  # csv integrator target
     echo "The path tracer (MIS, Russian roulette only, no depth cut) through \`ChiangFiber\` is the"
     echo "reference, rendered as two independent halves: path_noise is half their difference in mean,"
     echo "relative. rel_error_mean = (mean − mean_path)/mean_path of the hair pixels' mean radiance;"
-    echo "mean_abs_pixel_rel_error = mean of |x − path|/(path + 0.01). dual_improved is the library's"
-    echo "default formulation, dual_zinke Zinke et al. 2008 as written (theory.md §5.3, §5.5)."
+    echo "mean_abs_pixel_rel_error = mean of |x − path|/(path + 0.01). dual_two_stream is the"
+    echo "renderer's default (the two-stream estimator with exact fiber counts, surfaces traced);"
+    echo "dual_improved and dual_zinke are the dual-scattering BCSDF in the improved formulation and"
+    echo "as Zinke et al. 2008 wrote it, which see other surfaces only as shadow casters (theory.md §5)."
     echo
-    echo "### Blocks without the ground plane: colour and density"
+    echo "### Every row at a glance"
     echo
-    table "$out/dual_vs_path_block_both_noground.csv"
+    echo "Relative error of the mean hair radiance against the path tracer, and the cost of a sample"
+    echo "per pixel (ms per spp at this size; hair and background pixels alike, every integrator on"
+    echo "the same scene)."
     echo
-    echo "### A scalp without the ground plane"
+    echo "| scene | colour | hairs | two-stream | improved | Zinke 2008 | single | path noise | ms/spp single | two-stream | path | two-stream ÷ single | two-stream ÷ path |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    for f in "$out"/dual_vs_path_*.csv; do
+        tag="$(basename "$f" .csv)"; tag="${tag#dual_vs_path_}"
+        awk -F, -v tag="$tag" '
+            NR == 1 { next }
+            { key = $1 SUBSEP $2; if (!(key in seen)) { seen[key] = 1; order[++n] = key }
+              err[key, $3] = $8; ms[key, $3] = $6; noise[key] = $10 }
+            function pct(x) { return x == "" ? "" : sprintf("%+.1f %%", 100 * x) }
+            function num(x) { return x == "" ? "" : sprintf("%.2f", x) }
+            END { for (i = 1; i <= n; i++) { k = order[i]; split(k, p, SUBSEP)
+                    s = ms[k, "single"]; d = ms[k, "dual_two_stream"]; q = ms[k, "path"]
+                    printf "| %s | %s | %s | %s | %s | %s | %s | %.1f %% | %s | %s | %s | %s | %s |\n", tag, p[1], p[2],
+                        pct(err[k, "dual_two_stream"]), pct(err[k, "dual_improved"]), pct(err[k, "dual_zinke"]),
+                        pct(err[k, "single"]), 100 * noise[k], num(s), num(d), num(q),
+                        (s > 0 && d != "") ? sprintf("%.2f×", d / s) : "", (q > 0 && d != "") ? sprintf("%.2f×", d / q) : "" } }' "$f"
+    done
     echo
-    table "$out/dual_vs_path_scalp_both_noground.csv"
-    echo
-    echo "### Blocks with the ground plane (its bounce light reaches only the path tracer)"
-    echo
-    table "$out/dual_vs_path_block_both.csv"
-    echo
-    echo "Images (blocks without ground, 1,500 hairs): path, dual (improved), dual (Zinke), and the"
-    echo "improved dual's error (black 0 → white ≥ 50 %):"
+    for f in "$out"/dual_vs_path_*.csv; do
+        tag="$(basename "$f" .csv)"
+        echo "### ${tag#dual_vs_path_}"
+        echo
+        table "$f"
+        echo
+    done
+    echo "Images (blocks without ground, 1,500 hairs): path, dual (two-stream), dual (improved), and the"
+    echo "two-stream dual's error (black 0 → white ≥ 50 %):"
     echo
     for colour in "${dvp_colours[@]}"; do
         b="dvp_block_both_noground_${colour}_1500"
-        [[ -f "$out/${b}_path.png" ]] && echo "![path](${b}_path.png) ![dual](${b}_dual_improved.png) ![zinke](${b}_dual_zinke.png) ![error](${b}_dual_improved_error.png)" && echo
+        [[ -f "$out/${b}_path.png" ]] && echo "![path](${b}_path.png) ![dual](${b}_dual_two_stream.png) ![improved](${b}_dual_improved.png) ![error](${b}_dual_two_stream_error.png)" && echo
     done
-    echo "## 4. Time to equal error"
+    echo "## 4. The white furnace"
     echo
-    echo "Blond 1,500-hair block without ground, ${tte_size[*]}, MIS for both; relative RMSE ="
-    echo "√(mean (x − ref)²) / mean ref over the hair pixels against the path-traced reference of"
-    echo "the --reference-spp above (its own relative RMSE in the last column)."
+    echo "Lossless hair (σa = 0) and white surfaces (a body or a head of albedo 1) under a uniform"
+    echo "environment of radiance 1, no ground: the exact answer is 1 at every hair pixel. Mean over"
+    echo "the hair pixels, ${size[*]}; slab:N is a slab N fibers deep."
     echo
-    echo "| target | dual scattering (s) | path tracing (s) |"
-    echo "|---|---|---|"
-    for t in 0.10 0.05; do
-        echo "| ${t} | $(reach "$out/time_to_error.csv" dual "$t") | $(reach "$out/time_to_error.csv" path "$t") |"
+    echo "| scene | hairs | two-stream | two-stream (grid counts) | improved | Zinke 2008 | path |"
+    echo "|---|---|---|---|---|---|---|"
+    awk -F, 'NR == 1 { next }
+        { key = $1 SUBSEP $2; if (!(key in seen)) { seen[key] = 1; order[++n] = key } m[key, $3] = $6 }
+        END { for (i = 1; i <= n; i++) { k = order[i]; split(k, p, SUBSEP)
+                printf "| %s | %s | %.4f | %.4f | %.4f | %.4f | %.4f |\n", p[1], p[2], m[k, "dual_two_stream"],
+                       m[k, "dual_two_stream_grid"], m[k, "dual_improved"], m[k, "dual_zinke"], m[k, "path"] } }' "$out/furnace.csv"
+    echo
+    echo "## 5. Time to equal error"
+    echo
+    echo "Blond hair without ground, ${tte_size[*]}, MIS for both, dual = the two-stream integrator;"
+    echo "relative RMSE = √(mean (x − ref)²) / mean ref over the hair pixels against the path-traced"
+    echo "reference of the --reference-spp above (its own relative RMSE in the last column)."
+    echo
+    for t in "$out"/time_to_error_*.csv; do
+        tag="$(basename "$t" .csv)"; tag="${tag#time_to_error_}"
+        echo "### $tag"
+        echo
+        echo "| target | dual scattering (s) | path tracing (s) |"
+        echo "|---|---|---|"
+        for e in 0.20 0.10 0.05; do
+            echo "| ${e} | $(reach "$t" dual "$e") | $(reach "$t" path "$e") |"
+        done
+        echo
+        [[ -f "$out/time_to_error_$tag.png" ]] && echo "![relative RMSE against seconds](time_to_error_$tag.png)" && echo
+        table "$t"
+        echo
     done
-    echo
-    echo "![relative RMSE against seconds](time_to_error.png)"
-    echo
-    table "$out/time_to_error.csv"
-    echo
-    echo "## 5. Scale: time and memory against strand count"
+    echo "## 6. Scale: time and memory against strand count"
     echo
     echo "One process per run (${scale_size[*]}); peak_rss_mb is the process's VmHWM, embree_mb what"
     echo "Embree allocated (BVH and buffers), grid_mb the density grid, tables_kb the dual tables."
@@ -271,10 +349,10 @@ reach() {  # csv integrator target
     echo
     echo "![time against strands](scale_time.png) ![memory against strands](scale_memory.png)"
     echo
-    echo "## 6. The origin study's scenes"
+    echo "## 7. The origin study's scenes"
     echo
-    echo "Dual scattering with MIS, ${gallery_size[*]}, blond hair: the 5 × 5 × 5 blocks of"
-    echo "${gallery_blocks[*]} hairs on the ground plane, and the Cornell box."
+    echo "Dual scattering (two-stream), ${gallery_size[*]}, blond hair: the 5 × 5 × 5 blocks of"
+    echo "${gallery_blocks[*]} hairs on the ground plane, the Cornell box, and fur on a body."
     echo
     line=""
     for g in "${gallery[@]}"; do line+="![$g]($g.png) "; done

@@ -473,7 +473,7 @@ TEST(DualBcsdf, AgreesWithPathTracedSlabOfExplicitFibers) {
     // where the path estimate's own noise (2σ, checked) is below 8 % (measured 3.5–5.7 %). The improved
     // formulation must also beat Zinke's text where that one is far off (blond seen from the
     // light's side). Views through the ten-fiber slab carry too little light to test here
-    // (docs/results/slab.md has them at other depths).
+    // (docs/slab.md has them at other depths).
     const dvec3 wl = glm::normalize(dvec3(0.3, 0.35, 0.9));
     const dvec3 geometry[] = {glm::normalize(dvec3(-0.1, -0.2, 0.95)), glm::normalize(dvec3(0.2, 0.5, 0.7))};
     const char* names[] = {"seen from the light's side", "grazing"};

@@ -305,7 +305,7 @@ TEST(DualTwoStream, WhiteFurnaceOnExplicitSlabsAtEveryDepth) {
 TEST(DualTwoStream, BackLitSlabAgreesWithPathTracing) {
     // Blond hair, a slab five fibers deep lit from behind and seen from the front: light
     // through hair. Tolerance 15 % on the mean over first hits, where the path estimate's
-    // 2σ noise is asserted below 8 %; docs/results/slab.md has the sweep over depth,
+    // 2σ noise is asserted below 8 %; docs/slab.md has the sweep over depth,
     // colour and view.
     slab::Lighting back;
     back.wl = glm::normalize(dvec3(0.3, 0.35, -0.9));

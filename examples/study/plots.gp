@@ -46,12 +46,17 @@ plot dir."/scale.csv" skip 1 using 2:($7*isint("dual")) with linespoints pt 7 ti
      ''               skip 1 using 2:($8*isint("dual")) with linespoints pt 5 title "Embree (BVH + buffers)", \
      ''               skip 1 using 2:($9*isint("dual")) with linespoints pt 6 title "density grid"
 
-# time_to_error.csv: integrator,spp,seconds,rel_rmse,reference_rel_rmse
+# time_to_error_<scene>.csv: integrator,spp,seconds,rel_rmse,reference_rel_rmse
 set key top right
-set output dir."/time_to_error.png"
-set title "time to equal error: relative RMSE over hair pixels against the converged reference"
 set xlabel "render seconds"
 set ylabel "relative RMSE"
-plot dir."/time_to_error.csv" skip 1 using 3:($4*sel("dual")) with linespoints pt 7 title "dual scattering", \
-     ''                       skip 1 using 3:($4*sel("path")) with linespoints pt 5 title "path tracing", \
-     0.1 with lines dt 2 lc rgb "#888888" title "10 %", 0.05 with lines dt 3 lc rgb "#888888" title "5 %"
+do for [t in "block_blond_1500 fur-shell_blond_20000 fur-shell_blond_2000"] {
+    f = dir."/time_to_error_".t.".csv"
+    if (system("test -s ".f." && echo 1") eq "1") {
+        set output dir."/time_to_error_".t.".png"
+        set title "time to equal error, ".t.": relative RMSE over hair pixels against the converged reference"
+        plot f skip 1 using 3:($4*sel("dual")) with linespoints pt 7 title "dual scattering (two-stream)", \
+             '' skip 1 using 3:($4*sel("path")) with linespoints pt 5 title "path tracing", \
+             0.1 with lines dt 2 lc rgb "#888888" title "10 %", 0.05 with lines dt 3 lc rgb "#888888" title "5 %"
+    }
+}

@@ -4,8 +4,11 @@
 //                         sampling of the dual-scattering BCSDF inside a hair-only region of
 //                         interest, and the variance between consecutive spp levels;
 //   study dual-vs-path    dual scattering (each formulation) and single scattering against
-//                         the path tracer on hair blocks or a scalp: relative error of the mean
+//                         the path tracer on hair blocks, a scalp, fur or a back-lit slab:
+//                         relative error of the mean
 //                         hair radiance, mean per-pixel error, error images, times;
+//   study furnace         the white furnace (lossless hair, uniform environment) on any scene:
+//                         every formulation and the path tracer against the exact answer 1;
 //   study time-to-error   seconds for dual scattering and for the path tracer to reach a
 //                         relative RMSE over the hair pixels against a converged reference.
 //
@@ -50,9 +53,12 @@ glm::vec3 melanin_sigma_a(const std::string& colour) {
     return glm::vec3(io::sigma_a_of(c, colour, hairscatter::FiberParams<double>().beta_n));
 }
 
-// The origin study's hair block (5 × 5 × 5 on the ground plane; or a scalp). Lighting: "env" a white
-// environment of radiance 1 only (where BCSDF sampling is the only strategy), "area" the
-// preset's small area light only, "both" the preset's area light and dim environment.
+// The origin study's hair block (5 × 5 × 5 on the ground plane), a scalp, fur (short strands
+// on a body, or a shell of them with nothing inside) or a slab lit from behind; `hairs` is
+// the strand count, or the slab's depth in fibers. Lighting: "env" a white environment of
+// radiance 1 only (where BCSDF sampling is the only strategy; with lossless hair, the white
+// furnace), "area" the preset's small area light only, "both" the preset's area light and
+// dim environment.
 render::SceneDescription block_scene(int hairs, const std::string& light, bool ground = true,
                                      const std::string& kind = "block") {
     render::BlockOptions block;
@@ -73,20 +79,38 @@ render::SceneDescription block_scene(int hairs, const std::string& light, bool g
         d = render::make_scalp_scene(scalp, lighting);
     } else if (kind == "block") {
         d = render::make_block_scene(block, lighting);
+    } else if (kind == "fur" || kind == "fur-shell") {
+        render::FurOptions fur;
+        fur.count = hairs;
+        fur.body = kind == "fur";
+        d = render::make_fur_scene(fur, lighting);
+    } else if (kind == "slab") {
+        render::SlabOptions slab;
+        slab.depth = float(hairs);
+        slab.back_lit = true;
+        d = render::make_slab_scene(slab, lighting);
     } else {
-        throw std::invalid_argument("study: unknown scene '" + kind + "' (block | scalp)");
+        throw std::invalid_argument("study: unknown scene '" + kind + "' (block | scalp | fur | fur-shell | slab)");
     }
-    if (!ground) d.meshes.clear();
+    // Without ground: the ground plane goes; a body or a head stays (it is part of the hair's
+    // geometry, and the light it bounces onto the hair is part of what dual scattering must carry).
+    if (!ground) render::remove_ground(d);
     return d;
 }
 
-// The hair's shading: the Chiang fiber of the colour, with the dual-scattering tables and grid.
-render::ShadingOptions shading_options(const std::string& colour, const std::string& formulation = "improved") {
+// The hair's shading: the Chiang fiber of the colour, with dual scattering as `formulation`
+// says: two-stream (the default: exact counts), two-stream-grid (counts from the density
+// grid), improved or zinke (the dual-scattering BCSDF).
+render::ShadingOptions shading_options(const std::string& colour, const std::string& formulation = "two-stream") {
     render::ShadingOptions o;
     o.fiber.sigma_a = melanin_sigma_a(colour);
+    o.two_stream = formulation == "two-stream" || formulation == "two-stream-grid";
+    o.exact_counts = formulation != "two-stream-grid";
     if (formulation == "zinke") o.dual = hairscatter::DualScatteringSettings<float>::zinke2008();
-    else if (formulation != "improved")
-        throw std::invalid_argument("study: unknown formulation '" + formulation + "' (improved | zinke)");
+    else if (formulation == "improved") o.dual = hairscatter::DualScatteringSettings<float>::improved();
+    else if (!o.two_stream)
+        throw std::invalid_argument("study: unknown formulation '" + formulation +
+                                    "' (two-stream | two-stream-grid | improved | zinke)");
     return o;
 }
 
@@ -182,8 +206,9 @@ render::RenderOptions options(const Common& c, render::Integrator integrator, re
 
 int convergence(const Common& c, int max_spp, int reference_spp, const std::string& reference_sampling,
                 double threshold) {
+    // The dual-scattering BCSDF's samplers (the two-stream integrator samples the fiber).
     const render::Scene scene(block_scene(c.hairs, c.lighting));
-    const render::ShadingSetup shading(scene, shading_options(c.colour));
+    const render::ShadingSetup shading(scene, shading_options(c.colour, "improved"));
     const render::Sampling ref_sampling =
         reference_sampling == "uniform" ? render::Sampling::kUniform : render::Sampling::kImportance;
     std::fprintf(stderr, "study: reference, dual scattering, %s sampling, %d spp\n", reference_sampling.c_str(),
@@ -268,7 +293,9 @@ int dual_vs_path(const Common& c, const std::string& kind, const std::vector<int
             rows.emplace_back("path", path, path_spp);
             for (const std::string& f : formulations) {
                 const render::ShadingSetup shading(scene, shading_options(colour, f));
-                rows.emplace_back("dual_" + f, render::render(scene, shading, options(c, render::Integrator::kDual,
+                std::string row = "dual_" + f;
+                std::replace(row.begin(), row.end(), '-', '_');
+                rows.emplace_back(row, render::render(scene, shading, options(c, render::Integrator::kDual,
                                                                                       render::Sampling::kMis, dual_spp, 2)),
                                   dual_spp);
             }
@@ -303,13 +330,55 @@ int dual_vs_path(const Common& c, const std::string& kind, const std::vector<int
     return 0;
 }
 
+// ---- the white furnace -----------------------------------------------------------------------
+
+// Lossless hair (and white surfaces: a body or a head of albedo 1) under a uniform
+// environment of radiance 1, no ground: the exact radiance is 1 at every hair pixel, on
+// any geometry. Each scene "kind:hairs" with every dual formulation and the path tracer.
+int furnace(const Common& c, const std::vector<std::string>& scenes, const std::vector<std::string>& formulations,
+            int dual_spp, int path_spp) {
+    std::ofstream csv(c.out + "/furnace.csv");
+    csv << "scene,hairs,integrator,spp,seconds,mean,rel_error\n";
+    for (const std::string& spec : scenes) {
+        const std::size_t colon = spec.find(':');
+        if (colon == std::string::npos) throw std::invalid_argument("study: furnace scene '" + spec + "' is not kind:hairs");
+        const std::string kind = spec.substr(0, colon);
+        const int hairs = std::stoi(spec.substr(colon + 1));
+        render::SceneDescription d = block_scene(hairs, "env", false, kind);
+        d.light.reset();
+        for (render::Mesh& m : d.meshes) m.albedo = glm::vec3(1.0f);
+        const render::Scene scene(std::move(d));
+        std::vector<std::pair<std::string, render::RenderResult>> rows;
+        for (const std::string& f : formulations) {
+            const render::ShadingSetup shading(scene, shading_options("white", f));
+            std::string row = "dual_" + f;
+            std::replace(row.begin(), row.end(), '-', '_');
+            rows.emplace_back(row, render::render(scene, shading, options(c, render::Integrator::kDual, render::Sampling::kMis, dual_spp, 2)));
+        }
+        const render::ShadingSetup path_shading(scene, shading_options("white"));
+        rows.emplace_back("path", render::render(scene, path_shading, options(c, render::Integrator::kPath, render::Sampling::kMis, path_spp, 1)));
+        const Roi roi(rows.back().second);
+        for (const auto& [name, r] : rows) {
+            if (!all_finite(r.rgb)) throw std::runtime_error("study: non-finite pixels in the furnace, " + name);
+            const glm::dvec3 m = roi.mean(r.rgb);
+            const double mean = (m.x + m.y + m.z) / 3;
+            const int spp = name == "path" ? path_spp : dual_spp;
+            csv << kind << ',' << hairs << ',' << name << ',' << spp << ',' << r.seconds << ',' << mean << ',' << mean - 1 << '\n';
+            csv.flush();
+            std::fprintf(stderr, "study: furnace %-9s %6d %-22s %8.2f s  mean %.4f\n", kind.c_str(), hairs, name.c_str(),
+                         r.seconds, mean);
+        }
+    }
+    return 0;
+}
+
 // ---- time to equal error ---------------------------------------------------------------------
 
-// Seconds for dual scattering (improved formulation) and the path tracer, both with MIS, to
+// Seconds for dual scattering (the two-stream integrator) and the path tracer, both with MIS, to
 // reach each relative RMSE over the hair pixels against a converged path-traced reference
 // (rendered as two independent halves: their difference states its own RMSE).
-int time_to_error(const Common& c, int reference_spp, int dual_max_spp, int path_max_spp) {
-    const render::Scene scene(block_scene(c.hairs, c.lighting, c.ground));
+int time_to_error(const Common& c, const std::string& kind, int reference_spp, int dual_max_spp, int path_max_spp) {
+    const render::Scene scene(block_scene(c.hairs, c.lighting, c.ground, kind));
     const render::ShadingSetup shading(scene, shading_options(c.colour));
     const HalvedReference halves = path_reference(c, scene, shading, reference_spp, 1000003, 2000003);
     const render::RenderResult &ra = halves.a, &rb = halves.b, &ref = halves.mean;
@@ -318,8 +387,9 @@ int time_to_error(const Common& c, int reference_spp, int dual_max_spp, int path
     const double mean_ref = (mref.x + mref.y + mref.z) / 3;
     // The reference's own relative RMSE: that of each half against the other, / 2.
     const double ref_rmse = std::sqrt(roi.mse(ra.rgb, rb.rgb).first) / 2 / mean_ref;
-    write_images(c.out + "/tte_reference", ref, 1.0f);
-    std::ofstream csv(c.out + "/time_to_error.csv");
+    const std::string tag = kind + "_" + c.colour + "_" + std::to_string(c.hairs);
+    write_images(c.out + "/tte_" + tag + "_reference", ref, 1.0f);
+    std::ofstream csv(c.out + "/time_to_error_" + tag + ".csv");
     csv << "integrator,spp,seconds,rel_rmse,reference_rel_rmse\n";
     for (const auto& [name, integrator, max_spp] :
          {std::tuple<const char*, render::Integrator, int>{"dual", render::Integrator::kDual, dual_max_spp},
@@ -366,7 +436,7 @@ int main(int argc, char** argv) {
     common(dvp);
     std::vector<int> hair_counts{1500};
     std::vector<std::string> colours{"blond", "dark"};
-    std::vector<std::string> formulations{"improved", "zinke"};
+    std::vector<std::string> formulations{"two-stream", "improved", "zinke"};
     std::string kind = "block";
     int dual_spp = 64, path_spp = 256;
     dvp->add_option("--hair-counts", hair_counts, "block sizes")->capture_default_str();
@@ -375,10 +445,25 @@ int main(int argc, char** argv) {
                   "remove the ground plane: the light it bounces onto the hair reaches only the path tracer, so "
                   "without it the difference is the hair's own multiple scattering");
     dvp->add_option("--colours", colours, "hair colours")->capture_default_str();
-    dvp->add_option("--formulations", formulations, "dual-scattering formulations: improved, zinke")->capture_default_str();
-    dvp->add_option("--scene", kind, "block | scalp (--hair-counts are strands on the scalp)")->capture_default_str();
+    dvp->add_option("--formulations", formulations,
+                    "dual-scattering formulations: two-stream, two-stream-grid, improved, zinke")
+        ->capture_default_str();
+    dvp->add_option("--scene", kind,
+                    "block | scalp | fur | fur-shell | slab (--hair-counts: strands; the slab's depth in fibers)")
+        ->capture_default_str();
     dvp->add_option("--dual-spp", dual_spp, "spp of the dual and single scattering images")->capture_default_str();
     dvp->add_option("--path-spp", path_spp, "spp of the path-traced reference")->capture_default_str();
+
+    CLI::App* furn = app.add_subcommand("furnace", "the white furnace: lossless hair under a uniform environment");
+    common(furn);
+    std::vector<std::string> furnace_scenes{"block:1500", "fur-shell:20000"};
+    std::vector<std::string> furnace_formulations{"two-stream", "two-stream-grid", "improved", "zinke"};
+    int furnace_dual_spp = 32, furnace_path_spp = 64;
+    furn->add_option("--scenes", furnace_scenes, "kind:hairs (block, scalp, fur, fur-shell, slab: its depth)")
+        ->capture_default_str();
+    furn->add_option("--formulations", furnace_formulations, "dual-scattering formulations")->capture_default_str();
+    furn->add_option("--dual-spp", furnace_dual_spp, "spp of the dual images")->capture_default_str();
+    furn->add_option("--path-spp", furnace_path_spp, "spp of the path-traced images")->capture_default_str();
 
     CLI::App* tte = app.add_subcommand("time-to-error", "seconds to a relative RMSE: dual scattering vs path tracing");
     common(tte);
@@ -389,15 +474,18 @@ int main(int argc, char** argv) {
     tte->add_option("--dual-max-spp", tte_dual, "largest dual-scattering spp level")->capture_default_str();
     tte->add_option("--path-max-spp", tte_path, "largest path-tracing spp level")->capture_default_str();
     tte->add_flag("--no-ground", tte_no_ground, "remove the ground plane");
+    std::string tte_kind = "block";
+    tte->add_option("--scene", tte_kind, "block | scalp | fur | fur-shell | slab")->capture_default_str();
 
     CLI11_PARSE(app, argc, argv);
     try {
         if (conv->parsed()) return convergence(c, max_spp, reference_spp, reference_sampling, threshold);
         c.ground = !no_ground;
         if (dvp->parsed()) return dual_vs_path(c, kind, hair_counts, colours, formulations, dual_spp, path_spp);
+        if (furn->parsed()) return furnace(c, furnace_scenes, furnace_formulations, furnace_dual_spp, furnace_path_spp);
         if (tte->parsed()) {
             c.ground = !tte_no_ground;
-            return time_to_error(c, tte_ref, tte_dual, tte_path);
+            return time_to_error(c, tte_kind, tte_ref, tte_dual, tte_path);
         }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "study: %s\n", e.what());
