@@ -1,6 +1,6 @@
 // CUDA compile check of dual scattering: the tables' view, the dual BCSDF (eval, pdf,
-// sample, the bound at(wo)), the per-point helpers and the density grid's view in device
-// code. Built by scripts/cuda-check.sh (nvcc -c only; no GPU is needed or used).
+// sample, the bound at(wo)), the per-point helpers, the density grid's view and the
+// two-stream estimator (streams, source kernel, Poisson counts) in device code. Built by scripts/cuda-check.sh (nvcc -c only; no GPU is needed or used).
 #include <hairscatter/dual.hpp>
 
 #include <cuda_runtime.h>
@@ -29,6 +29,29 @@ __global__ void shade_dual(const hairscatter::ChiangMaterial<T>* mat, hairscatte
     f[i] = at.eval(wi[i], light) + dual.eval(wo[i], wi[i], light);
     pdf[i] = at.pdf(wi[i]) + s.pdf + dual.pdf(wo[i], s.wi);
 }
+
+// The two-stream estimator's per-arrival work: counts (one drawn from the grid's
+// expectation), the streams and the source kernel's eval, pdf and sample.
+template <typename T>
+__global__ void two_stream(hairscatter::DualTablesView<T> tables, hairscatter::DensityGridView<T> grid,
+                           const glm::vec<3, T>* x, const glm::vec<3, T>* a, const glm::vec<4, T>* u,
+                           glm::vec<3, T>* f, T* pdf, int n) {
+    const int i = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
+    if (i >= n) return;
+    const T fibers = hairscatter::poisson_fiber_count(grid.fibers_crossed(x[i], a[i], hairscatter::kUnbounded<T>), u[i].x, true);
+    const T beyond = grid.fibers_crossed(x[i], -a[i], hairscatter::kUnbounded<T>);
+    const hairscatter::DualSourceKernel<T> k(a[i], hairscatter::dual_streams(tables, a[i].x, fibers, beyond));
+    const auto s = k.sample(u[i]);
+    f[i] = k.eval(s.s);
+    pdf[i] = s.pdf + k.pdf(a[i]);
+}
+
+template __global__ void two_stream<float>(hairscatter::DualTablesView<float>, hairscatter::DensityGridView<float>,
+                                           const glm::vec<3, float>*, const glm::vec<3, float>*,
+                                           const glm::vec<4, float>*, glm::vec<3, float>*, float*, int);
+template __global__ void two_stream<double>(hairscatter::DualTablesView<double>, hairscatter::DensityGridView<double>,
+                                            const glm::vec<3, double>*, const glm::vec<3, double>*,
+                                            const glm::vec<4, double>*, glm::vec<3, double>*, double*, int);
 
 template __global__ void shade_dual<float>(const hairscatter::ChiangMaterial<float>*, hairscatter::DualTablesView<float>,
                                            hairscatter::DensityGridView<float>, const glm::vec<3, float>*,
