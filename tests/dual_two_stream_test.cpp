@@ -114,6 +114,35 @@ TEST(DualTwoStream, UnobstructedAndOneSidedLimits) {
     }
 }
 
+TEST(DualTwoStream, CountLimitIsWhereMoreFibersStopMattering) {
+    // Beyond the limit, T_N < tolerance and R_N within it of R_∞ (checked on the stacks);
+    // a lossless fiber never gets there (kDeepStack); darker hair gets there sooner.
+    double prev = 1e30;
+    for (double eumelanin : {0.1, 0.3, 1.3, 8.0}) {
+        const auto tables = tables_of<double>(eumelanin);
+        for (double sin_t : {-0.9, 0.0, 0.4}) {
+            const auto e = tables.lookup(sin_t);
+            for (double tol : {1e-2, 1e-3, 1e-5}) {
+                const double n = hs::dual_count_limit(e, tol);
+                ASSERT_LT(n, hs::kDeepStack<double>) << eumelanin;
+                for (int c = 0; c < 3; ++c) {
+                    const auto s = hs::layered_stack(e.a_f[c], e.a_b[c], n);
+                    const auto deep = hs::layered_stack(e.a_f[c], e.a_b[c], 1e6);
+                    EXPECT_LT(s.T_, tol) << eumelanin << " " << sin_t << " " << tol;
+                    EXPECT_LT(std::abs(s.R - deep.R), tol) << eumelanin << " " << sin_t << " " << tol;
+                }
+            }
+        }
+        const double n = hs::dual_count_limit(tables.lookup(0.0), 1e-3);
+        EXPECT_LT(n, prev) << eumelanin;
+        prev = n;
+    }
+    EXPECT_EQ(hs::dual_count_limit(tables_of<double>(-1).lookup(0.2), 1e-3), hs::kDeepStack<double>);
+    const auto tf = tables_of<float>(0.3);
+    EXPECT_NEAR(hs::dual_count_limit(tf.view().lookup(0.2f), 1e-3f), hs::dual_count_limit(tables_of<double>(0.3).lookup(0.2), 1e-3),
+                0.5);
+}
+
 TEST(DualTwoStream, SpreadsCountTheStacksEvents) {
     // One fiber and nothing beyond: a transmitted path is exactly one forward event
     // (T_1 = a_f), so v_f = β̄²_f; a reflected one is one backward event (R_1 = a_b), v_b = β̄²_b.

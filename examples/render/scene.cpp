@@ -84,6 +84,7 @@ struct CountStrandsContext {
     std::vector<std::uint32_t>* overflow;  // strands past kCapacity, duplicates included
     bool failed = false;                   // an allocation threw (it must not cross Embree)
     std::uint32_t last = kNoStrand;        // the previous hit's: hits come in runs per strand
+    std::uint32_t limit = 0xffffffffu;     // stop the traversal once this many are found
     std::uint32_t count = 0;
     std::uint32_t strands[kCapacity];
 
@@ -120,6 +121,12 @@ void count_strands_filter(const RTCFilterFunctionNArguments* args) {
         const std::uint32_t s = ctx->strand_of_segment[RTCHitN_primID(args->hit, args->N, i)];
         if (s == ctx->ignore && RTCRayN_tfar(args->ray, args->N, i) < ctx->max_t) continue;
         ctx->add(s);
+        // Enough: accepting the hit ends an occlusion query (hits arrive in no order along
+        // the ray, but any `limit` distinct strands make the count's minimum with it).
+        if (ctx->count >= ctx->limit) {
+            args->valid[i] = -1;
+            return;
+        }
     }
 }
 
@@ -310,17 +317,20 @@ bool Scene::hair_occluded(const glm::vec3& o, const glm::vec3& d, float tmax, st
     return rh.ray.tfar < 0;
 }
 
-std::uint32_t Scene::count_hair(const glm::vec3& o, const glm::vec3& d, float tmax, std::uint32_t ignore) const {
-    if (!has_hair()) return 0;
+std::uint32_t Scene::count_hair(const glm::vec3& o, const glm::vec3& d, float tmax, std::uint32_t ignore,
+                                std::uint32_t limit) const {
+    if (!has_hair() || limit == 0) return 0;
     std::vector<std::uint32_t> overflow;
     CountStrandsContext ctx(ignore, 8.0f * d_.hair.radius, hair_geom_, strand_of_segment_.data(), &overflow);
+    // Only the fixed array counts toward the limit (the overflow keeps duplicates).
+    ctx.limit = limit <= CountStrandsContext::kCapacity ? limit : 0xffffffffu;
     RTCRayHit rh = make_ray(o, d, ignore == kNoStrand ? kRayEpsilon : 0.0f, tmax);
     rtcOccluded1(hair_, &ctx.base, &rh.ray);
     if (ctx.failed) throw std::bad_alloc();
-    if (overflow.empty()) return ctx.count;
+    if (overflow.empty()) return std::min(ctx.count, limit);
     // The array holds none of the overflow's strands (add checked it first).
     std::sort(overflow.begin(), overflow.end());
-    return ctx.count + std::uint32_t(std::unique(overflow.begin(), overflow.end()) - overflow.begin());
+    return std::min(limit, ctx.count + std::uint32_t(std::unique(overflow.begin(), overflow.end()) - overflow.begin()));
 }
 
 }  // namespace render

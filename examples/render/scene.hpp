@@ -103,8 +103,11 @@ class Scene {
     // `ignore` is skipped by the rule of intersect: its hits closer than a few fibre radii.
     // Hair only: surfaces and the light are not seen. count_hair(...) > 0 exactly when
     // hair_occluded(...) with the same arguments. Costs a traversal to tmax (about 5
-    // hair_occluded calls through hair 10 fibres deep).
-    std::uint32_t count_hair(const glm::vec3& o, const glm::vec3& d, float tmax, std::uint32_t ignore = kNoStrand) const;
+    // hair_occluded calls through hair 10 fibres deep). With a limit, the count's minimum
+    // with it, and the traversal stops once that many are found (limits above 64 are
+    // counted in full).
+    std::uint32_t count_hair(const glm::vec3& o, const glm::vec3& d, float tmax, std::uint32_t ignore = kNoStrand,
+                             std::uint32_t limit = 0xffffffffu) const;
 
   private:
     Hit hit_from(const RTCRayHit& rh, const glm::vec3& o, const glm::vec3& d) const;

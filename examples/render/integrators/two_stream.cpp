@@ -72,11 +72,11 @@ class TwoStreamIntegrator final : public PixelIntegrator {
     }
 
     // The fibers along d from the point up to `stop` (the first surface or light; a miss
-    // is unbounded): counted on the hair, or a Poisson draw from the grid's expectation
-    // given that a ray found hair there.
-    float fibers(const ShadingPoint& sp, const vec3& d, const Hit& stop, Sampler& rng) const {
+    // is unbounded): counted on the hair up to `limit` (past which the stacks no longer
+    // change), or a Poisson draw from the grid's expectation given that a ray found hair.
+    float fibers(const ShadingPoint& sp, const vec3& d, const Hit& stop, std::uint32_t limit, Sampler& rng) const {
         const float tmax = stop.kind == Hit::kMiss ? kInf : stop.t;
-        if (c_.shading.options().exact_counts) return float(c_.scene.count_hair(sp.p, d, tmax, sp.strand));
+        if (c_.shading.options().exact_counts) return float(c_.scene.count_hair(sp.p, d, tmax, sp.strand, limit));
         const float u = rng.u();
         if (!c_.scene.hair_occluded(sp.p, d, tmax, sp.strand)) return 0.0f;
         const float mean = c_.shading.grid()->fibers_crossed(sp.p, d, std::isfinite(tmax) ? tmax : hs::kUnbounded<float>);
@@ -112,11 +112,14 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         if (!(s.pdf > 0)) return L;
         const vec3 a = sp.to_world(s.wi);
         const Hit source = scene.intersect_opaque(sp.p, a, kInf);
-        const float n = fibers(sp, a, source, rng);
+        const hs::DualScatteringEntry<float> entry = tables_.lookup(s.wi.x);
+        // Past a depth where T_N < 1e-3 and R_N is within 1e-3 of R_∞, more fibers change nothing.
+        const std::uint32_t limit = std::uint32_t(std::ceil(hs::dual_count_limit(entry, 1e-3f)));
+        const float n = fibers(sp, a, source, limit, rng);
         if (n == 0) return L + s.weight * at_hit(source, a, depth + 1, s.pdf, rng);
 
-        const float m = fibers(sp, -a, scene.intersect_opaque(sp.p, -a, kInf), rng);
-        const hs::DualSourceKernel<float> kernel(s.wi, hs::dual_streams(tables_, s.wi.x, n, m));
+        const float m = fibers(sp, -a, scene.intersect_opaque(sp.p, -a, kInf), limit, rng);
+        const hs::DualSourceKernel<float> kernel(s.wi, hs::dual_streams(entry, n, m));
         vec3 source_light(0);
         if (open) {
             const vec3 wl = sp.to_local(ls.wi);

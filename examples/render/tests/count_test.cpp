@@ -142,6 +142,24 @@ TEST(CountHair, GridCountsAreExact) {
     EXPECT_EQ(scene.count_hair({0.3f, 5.0f, 0.25f}, {0, 1, 0}, 100.0f), 0u);
 }
 
+TEST(CountHair, ALimitStopsTheCountThere) {
+    // Across the rows, five strands: a limit returns the minimum, stopping early or not.
+    const Scene scene(grid());
+    const glm::vec3 o{0.3f, -1.0f, 1.0f}, d{0, 1, 0};
+    for (std::uint32_t limit : {0u, 1u, 3u, 5u, 6u, 64u, 65u, 1000u})
+        EXPECT_EQ(scene.count_hair(o, d, 100.0f, kNoStrand, limit), std::min(limit, 5u)) << limit;
+    // Past the inline set (a column of 150 strands) a limit above 64 counts in full first.
+    SceneDescription c;
+    c.hair.radius = 0.01f;
+    for (int k = 0; k < 150; ++k)
+        c.hair.strands.push_back({{-1, 0, 0.05f * float(k)}, {0, 0, 0.05f * float(k)}, {1, 0, 0.05f * float(k)}});
+    const Scene column(c);
+    const glm::vec3 top{0.2f, 0.003f, 10.0f}, down{0, 0, -1};
+    EXPECT_EQ(column.count_hair(top, down, 100.0f, kNoStrand, 40), 40u);
+    EXPECT_EQ(column.count_hair(top, down, 100.0f, kNoStrand, 100), 100u);
+    EXPECT_EQ(column.count_hair(top, down, 100.0f, kNoStrand, 200), 150u);
+}
+
 TEST(CountHair, JointsAndRunsAlongAStrandCountOnce) {
     const Scene scene(grid());
     const float r = kGridRadius;

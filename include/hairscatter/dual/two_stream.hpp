@@ -64,6 +64,31 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T dual_stack_depth
     return count > T(0) ? (count < kDeepStack<T> ? count : kDeepStack<T>) : T(0);
 }
 
+// The depth beyond which more fibers change no stack by more than `tolerance`: T_N below it
+// and R_N within it of R_∞, in every channel of the entry (a renderer counting a ray's fibers
+// can stop there). For N ≫ 1, T_N → a_f (1 − e^{−2κ}) e^{−(N−1)κ} / (1 − a_f e^{−κ}) (the
+// closed form of tables.hpp), and R_N − R_∞ falls as e^{−2Nκ}, faster. Lossless channels
+// (κ = 0) fall only as 1/N: kDeepStack.
+template <typename T> HAIRSCATTER_HD T dual_count_limit(const DualScatteringEntry<T>& e, T tolerance) {
+    const T tol = tolerance > T(1e-12) ? (tolerance < T(0.5) ? tolerance : T(0.5)) : T(1e-12);
+    LayerLanes<T, 4> c;
+    for (int k = 0; k < 3; ++k) c.a_f[k] = e.a_f[k], c.a_b[k] = e.a_b[k];
+    c.a_f[3] = T(0), c.a_b[3] = T(0);
+    layer_lanes(c);
+    T limit = T(1);
+    for (int k = 0; k < 3; ++k) {
+        const T kappa = c.kappa[k];
+        if (!(c.a_f[k] > T(0))) continue;  // opaque: the first fiber stops everything
+        if (!(kappa > T(1e-6))) return kDeepStack<T>;
+        const T den = T(1) - c.a_f[k] * c.e_k[k];
+        const T scale = den > T(0) ? c.a_f[k] * c.q[k] / den : T(1);
+        const T n = T(1) + elem::log(scale > tol ? scale / tol : T(1)) / kappa;
+        limit = n > limit ? n : limit;
+    }
+    limit = limit + T(1);  // one layer's margin over the asymptote
+    return limit < kDeepStack<T> ? limit : kDeepStack<T>;
+}
+
 // One count drawn from a Poisson distribution of mean `mean` (conditioned on at least one
 // fiber when given_hit: the ray along a was found blocked), by inversion of its CDF with
 // the uniform number u. A density source reports an expectation; the stacks' T_N and R_N
