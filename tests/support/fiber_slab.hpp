@@ -64,27 +64,8 @@ class FiberSlab {
         Hit best;
         const dvec2 d2(d.y, d.z);
         const double len2 = glm::dot(d2, d2);
-        if (len2 < 1e-24) return best;
-        // Walk the cells the projected ray crosses (uniform steps of half a cell: a fiber of
-        // radius 1 is registered in every cell its disc touches, so none is missed).
-        const double len = std::sqrt(len2);
-        const double step = 0.5 * kCell / len;  // in t
-        double t_end = 1e30;
-        // leave the slab
-        if (d.z > 0) t_end = (depth_ - o.z) / d.z;
-        else if (d.z < 0) t_end = -o.z / d.z;
-        if (!(t_end > 0)) return best;
-        int last_cell = -1;
-        for (double t = 0; t <= t_end + step; t += step) {
-            const double z = o.z + t * d.z;
-            const int cz = int(std::floor(z / kCell));
-            const int cy = wrap_cell(int(std::floor((o.y + t * d.y) / kCell)));
-            if (cz < 0 || cz >= cells_z_) continue;
-            const int cell = cz * cells_y_ + cy;
-            if (cell == last_cell) continue;
-            last_cell = cell;
-            const double y_here = o.y + t * d.y;
-            for (int i : grid_[std::size_t(cell)]) {
+        walk(o, d, [&](const std::vector<int>& fibers, double y_here, double t, double step) {
+            for (int i : fibers) {
                 if (i == skip) continue;
                 const double th = hit_circle(o, d2, len2, i, y_here);
                 if (th > 1e-9 && (best.fiber < 0 || th < best.t)) {
@@ -92,8 +73,8 @@ class FiberSlab {
                     best.fiber = i;
                 }
             }
-            if (best.fiber >= 0 && best.t < t - 2 * step) break;
-        }
+            return !(best.fiber >= 0 && best.t < t - 2 * step);
+        });
         if (best.fiber >= 0) {
             best.p = o + best.t * d;
             const dvec2 c = nearest_image(centres_[std::size_t(best.fiber)], best.p.y);
@@ -105,34 +86,46 @@ class FiberSlab {
     // The number of fibers o + t d crosses (t > 0, fiber `skip` excluded) until it leaves
     // the slab: what a renderer that counts its shadow ray's hits knows exactly.
     int count(const dvec3& o, const dvec3& d, int skip = -1) const {
+        if (d.z == 0) return 0;  // along the slab: never leaving it, no crossing counted
         const dvec2 d2(d.y, d.z);
         const double len2 = glm::dot(d2, d2);
-        if (len2 < 1e-24 || d.z == 0) return 0;  // along the fibers, or never leaving: no crossing counted
-        const double len = std::sqrt(len2);
-        const double step = 0.5 * kCell / len;
-        const double t_end = d.z > 0 ? (depth_ - o.z) / d.z : -o.z / d.z;
-        if (!(t_end > 0)) return 0;
         std::vector<int> seen;
-        int last_cell = -1;
-        for (double t = 0; t <= t_end + step; t += step) {
-            const double z = o.z + t * d.z;
-            const int cz = int(std::floor(z / kCell));
-            const int cy = wrap_cell(int(std::floor((o.y + t * d.y) / kCell)));
-            if (cz < 0 || cz >= cells_z_) continue;
-            const int cell = cz * cells_y_ + cy;
-            if (cell == last_cell) continue;
-            last_cell = cell;
-            const double y_here = o.y + t * d.y;
-            for (int i : grid_[std::size_t(cell)]) {
+        walk(o, d, [&](const std::vector<int>& fibers, double y_here, double, double) {
+            for (int i : fibers) {
                 if (i == skip || std::find(seen.begin(), seen.end(), i) != seen.end()) continue;
                 if (hit_circle(o, d2, len2, i, y_here) > 1e-9) seen.push_back(i);
             }
-        }
+            return true;
+        });
         return int(seen.size());
     }
 
   private:
     static constexpr double kCell = 4.0;
+
+    // Walks the cells the projected ray crosses until it leaves the slab (uniform steps of
+    // half a cell: a fiber of radius 1 is registered in every cell its disc touches, so none
+    // is missed), calling visit(fibers of the cell, y there, t, step) once per new cell
+    // until it returns false.
+    template <typename Visit> void walk(const dvec3& o, const dvec3& d, Visit&& visit) const {
+        const double len2 = d.y * d.y + d.z * d.z;
+        if (len2 < 1e-24) return;
+        const double step = 0.5 * kCell / std::sqrt(len2);  // in t
+        double t_end = 1e30;
+        if (d.z > 0) t_end = (depth_ - o.z) / d.z;
+        else if (d.z < 0) t_end = -o.z / d.z;
+        if (!(t_end > 0)) return;
+        int last_cell = -1;
+        for (double t = 0; t <= t_end + step; t += step) {
+            const int cz = int(std::floor((o.z + t * d.z) / kCell));
+            const int cy = wrap_cell(int(std::floor((o.y + t * d.y) / kCell)));
+            if (cz < 0 || cz >= cells_z_) continue;
+            const int cell = cz * cells_y_ + cy;
+            if (cell == last_cell) continue;
+            last_cell = cell;
+            if (!visit(grid_[std::size_t(cell)], o.y + t * d.y, t, step)) return;
+        }
+    }
 
     int wrap_cell(int cy) const { return ((cy % cells_y_) + cells_y_) % cells_y_; }
     // The periodic image of centre c nearest to the lateral position y.
