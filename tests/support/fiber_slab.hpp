@@ -115,6 +115,9 @@ class FiberSlab {
         if (d.z > 0) t_end = (depth_ - o.z) / d.z;
         else if (d.z < 0) t_end = -o.z / d.z;
         if (!(t_end > 0)) return;
+        // A ray nearly in the slab's plane would wander over the periodic images for ever:
+        // past eight widths of lateral travel (thousands of fibers) the walk stops.
+        t_end = std::min(t_end, 8.0 * width_ / std::sqrt(len2));
         int last_cell = -1;
         for (double t = 0; t <= t_end + step; t += step) {
             const int cz = int(std::floor((o.z + t * d.z) / kCell));
