@@ -113,8 +113,11 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         const vec3 a = sp.to_world(s.wi);
         const Hit source = scene.intersect_opaque(sp.p, a, kInf);
         const hs::DualScatteringEntry<float> entry = tables_.lookup(s.wi.x);
-        // Past a depth where T_N < 1e-3 and R_N is within 1e-3 of R_∞, more fibers change nothing.
-        const std::uint32_t limit = std::uint32_t(std::ceil(hs::dual_count_limit(entry, 1e-3f)));
+        // Exact counts stop past a depth where T_N < 1e-3 and R_N is within 1e-3 of R_∞ (more
+        // fibers change nothing); grid counts cost the same at any depth.
+        const std::uint32_t limit = c_.shading.options().exact_counts
+                                        ? std::uint32_t(std::ceil(hs::dual_count_limit(entry, 1e-3f)))
+                                        : 0xffffffffu;
         const float n = fibers(sp, a, source, limit, rng);
         if (n == 0) return L + s.weight * at_hit(source, a, depth + 1, s.pdf, rng);
 

@@ -72,8 +72,8 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T dual_stack_depth
 template <typename T> HAIRSCATTER_HD T dual_count_limit(const DualScatteringEntry<T>& e, T tolerance) {
     const T tol = tolerance > T(1e-12) ? (tolerance < T(0.5) ? tolerance : T(0.5)) : T(1e-12);
     LayerLanes<T, 4> c;
-    for (int k = 0; k < 3; ++k) c.a_f[k] = e.a_f[k], c.a_b[k] = e.a_b[k];
-    c.a_f[3] = T(0), c.a_b[3] = T(0);
+    elem::store4(c.a_f, e.a_f.x, e.a_f.y, e.a_f.z, T(0));
+    elem::store4(c.a_b, e.a_b.x, e.a_b.y, e.a_b.z, T(0));
     layer_lanes(c);
     T limit = T(1);
     for (int k = 0; k < 3; ++k) {
@@ -138,16 +138,16 @@ template <typename T>
 HAIRSCATTER_HD DualStreams<T> dual_streams(const DualScatteringEntry<T>& e, T n_fibers, T m_fibers) {
     DualStreams<T> s;
     const T n = dual_stack_depth(n_fibers), m = dual_stack_depth(m_fibers);
-    // Lanes 0–2: the channels, n deep (0–3) and m deep (4–7). Lanes 3 and 7: the channel mean,
-    // whose albedos give the events below.
+    // Lanes 0–2: the channels; lane 3: the channel mean, whose albedos give the events below.
+    // The same four layers n deep (lanes 0–3) and m deep (4–7), as one batch.
     const T af = (e.a_f.x + e.a_f.y + e.a_f.z) * T(1.0 / 3.0), ab = (e.a_b.x + e.a_b.y + e.a_b.z) * T(1.0 / 3.0);
+    LayerLanes<T, 4> layer;
+    elem::store4(layer.a_f, e.a_f.x, e.a_f.y, e.a_f.z, af);
+    elem::store4(layer.a_b, e.a_b.x, e.a_b.y, e.a_b.z, ab);
+    layer_lanes(layer);
     LayerLanes<T, 8> c;
+    repeat_lanes(layer, c);
     const T depth[8] = {n, n, n, n, m, m, m, m};
-    for (int k = 0; k < 8; k += 4) {
-        c.a_f[k] = e.a_f.x, c.a_f[k + 1] = e.a_f.y, c.a_f[k + 2] = e.a_f.z, c.a_f[k + 3] = af;
-        c.a_b[k] = e.a_b.x, c.a_b[k + 1] = e.a_b.y, c.a_b[k + 2] = e.a_b.z, c.a_b[k + 3] = ab;
-    }
-    layer_lanes(c);
     T R[8], T_[8];
     layered_stacks(c, depth, R, T_);
     for (int k = 0; k < 3; ++k) {
