@@ -53,6 +53,7 @@ template <typename T> class DensityGrid {
             double(resolution.x) * double(resolution.y) * double(resolution.z) > double(kMaxCells))
             bad("resolution " + std::to_string(resolution.x) + " x " + std::to_string(resolution.y) + " x " +
                 std::to_string(resolution.z) + " exceeds " + std::to_string(kMaxCells) + " cells");
+        if (msg.tellp() == 0) check_range(box_min, box_max, resolution, bad);
         if (msg.tellp() > 0) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DensityGrid: " + msg.str()));
 
         g_.lo_ = box_min;
@@ -111,13 +112,19 @@ template <typename T> class DensityGrid {
 
     // Adds the segment a–b: it is split at every cell face it crosses and each piece's
     // length goes to the cell that holds it, so the deposit is exact. Parts outside the box
-    // and segments with a non-finite end are skipped. Returns the length deposited.
+    // and segments with a non-finite end are skipped. A segment between finite ends whose
+    // length overflows T (an end near the largest float) throws std::invalid_argument: its
+    // deposit was +Inf and its direction NaN.
     T add_segment(const V3& a, const V3& b) {
         using std::ceil;
         using std::floor;
+        if (!detail::finite3(a) || !detail::finite3(b)) return T(0);
         const V3 d = b - a;
         const T length = glm::length(d);
-        if (!(length > T(0)) || !detail::finite3(a) || !detail::finite3(b)) return T(0);
+        if (!detail::finite3(d) || !is_finite(length))
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DensityGrid::add_segment: a = " + num3(a) + ", b = " +
+                                                    num3(b) + ": the segment's length overflows " + type_name()));
+        if (!(length > T(0))) return T(0);
         const detail::Span<T> s = detail::clip_to_box(g_.lo_, g_.hi_, a, d, T(1));
         if (!(s.t1 > s.t0)) return T(0);
         const Cell unit = Cell::piece(T(1), d / length);
@@ -204,6 +211,36 @@ template <typename T> class DensityGrid {
         std::ostringstream s;
         s << double(v);
         return s.str();
+    }
+    static std::string num3(const V3& v) { return "(" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + ")"; }
+    static const char* type_name() { return sizeof(T) == sizeof(float) ? "float" : "double"; }
+
+    // The box's arithmetic in T, given finite, ordered bounds and a resolution ≥ 1: its
+    // extent and diagonal finite, each cell side a normal number, and the cell volume within
+    // [1/√max, 1/√min] of T, so that a density (length per volume) and its square in the
+    // crossing density stay normal and finite. A 1e-38 box in float had subnormal cells and
+    // answered NaN; a cell of 1e-12 overflowed the square of one fiber's density.
+    template <typename Bad> static void check_range(const V3& lo, const V3& hi, const glm::ivec3& res, Bad&& bad) {
+        using std::sqrt;
+        const char* axis[3] = {"x", "y", "z"};
+        const T smallest = std::numeric_limits<T>::min(), largest = std::numeric_limits<T>::max();
+        const V3 extent = hi - lo, cell = extent / V3(res);
+        for (int a = 0; a < 3; ++a) {
+            if (!is_finite(extent[a]))
+                bad(std::string("box_max.") + axis[a] + " - box_min." + axis[a] + " = " + num(hi[a]) + " - " +
+                    num(lo[a]) + " overflows " + type_name());
+            else if (!(cell[a] >= smallest))
+                bad(std::string("the cell size along ") + axis[a] + ", (box_max - box_min)." + axis[a] + " / resolution." +
+                    axis[a] + " = " + num(cell[a]) + ", is below the smallest normal " + type_name() + " " + num(smallest));
+        }
+        if (!detail::finite3(extent) || !(cell.x >= smallest && cell.y >= smallest && cell.z >= smallest)) return;
+        if (!is_finite(glm::length(extent)))
+            bad("the box diagonal |box_max - box_min| overflows " + std::string(type_name()));
+        const T volume = cell.x * cell.y * cell.z, lo_volume = T(1) / sqrt(largest), hi_volume = T(1) / sqrt(smallest);
+        if (!(volume >= lo_volume && volume <= hi_volume))
+            bad("the cell volume " + num(cell.x) + " x " + num(cell.y) + " x " + num(cell.z) + " = " + num(volume) +
+                " is outside [" + num(lo_volume) + ", " + num(hi_volume) + "], where densities and their squares stay "
+                "finite in " + type_name());
     }
     std::size_t index(int i, int j, int k) const {
         return std::size_t(i) + std::size_t(g_.res_.x) * (std::size_t(j) + std::size_t(g_.res_.y) * std::size_t(k));

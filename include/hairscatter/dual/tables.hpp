@@ -493,16 +493,28 @@ template <typename T> class DualScatteringTables {
 
     // Reads a file written by save(). Rejects, with a message, a wrong magic, version,
     // size or checksum, and values that are not finite in T or outside what a fiber can
-    // produce (albedos outside [0, 1], negative variances, …).
+    // produce (albedos outside [0, 1], negative variances, …). The header's shape fixes the
+    // file's size: a file of another size is refused before its payload is read or any of
+    // it allocated (a 1 GiB file cost 1 GB and 31 s before), and a stream of unknown size
+    // (a pipe) is read no further than the header promises.
     static DualScatteringTables load(const std::string& path) {
         std::ifstream f(path, std::ios::binary);
         if (!f) HAIRSCATTER_THROW(std::runtime_error("hairscatter: cannot open dual-scattering tables '" + path + "'"));
-        const std::vector<unsigned char> buf((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
         auto fail = [&](const std::string& why) {
             return std::runtime_error("hairscatter: '" + path + "' is not a valid dual-scattering table file: " + why);
         };
         const std::size_t header = 4 + 6 * 4 + 2 * 8 + 2 * kMaxLobes * 8;
-        if (buf.size() < header + 8 || std::memcmp(buf.data(), "HSDT", 4) != 0) HAIRSCATTER_THROW(fail("bad magic or too short"));
+        // The file's size where the stream can seek (-1 for a pipe).
+        f.seekg(0, std::ios::end);
+        const std::streamoff size = f ? std::streamoff(f.tellg()) : std::streamoff(-1);
+        f.clear();
+        f.seekg(0, std::ios::beg);
+        f.clear();
+        std::vector<unsigned char> buf(header);
+        f.read(reinterpret_cast<char*>(buf.data()), std::streamsize(header));
+        buf.resize(std::size_t(f.gcount()));
+        if (buf.size() < header || (size >= 0 && std::size_t(size) < header + 8) || std::memcmp(buf.data(), "HSDT", 4) != 0)
+            HAIRSCATTER_THROW(fail("bad magic or too short"));
         std::size_t at = 4;
         std::uint32_t u[6];
         for (std::uint32_t& x : u) x = get<std::uint32_t>(buf, at);
@@ -516,13 +528,29 @@ template <typename T> class DualScatteringTables {
         if (u[5] > 1) HAIRSCATTER_THROW(fail("unknown formulation"));
         t.n_theta_ = int(u[1]), t.n_psi_ = int(u[2]), t.lobes_ = int(u[3]), t.h_nodes_ = int(u[4]);
         t.settings_.formulation = DualFormulation(u[5]);
-        const std::size_t values = std::size_t(t.n_theta_) * (Entry::kFields + std::size_t(t.lobes_ * t.n_psi_)) * 3;
-        const std::size_t expected = header + values * 8 + 8;
-        if (buf.size() != expected)
-            HAIRSCATTER_THROW(fail("size " + std::to_string(buf.size()) + " bytes, expected " + std::to_string(expected) + " (truncated?)"));
+        const std::uint64_t values = std::uint64_t(t.n_theta_) * (Entry::kFields + std::uint64_t(t.lobes_) * std::uint64_t(t.n_psi_)) * 3;
+        const std::uint64_t expected = header + values * 8 + 8;
+        auto wrong_size = [&](std::uint64_t got) {
+            return fail("size " + std::to_string(got) + " bytes, expected " + std::to_string(expected) +
+                        (got < expected ? " (truncated?)" : " (data after the tables)"));
+        };
+        if (size >= 0 && std::uint64_t(size) != expected) HAIRSCATTER_THROW(wrong_size(std::uint64_t(size)));
+        // The payload; from a pipe in chunks, so that a header promising more than the pipe
+        // delivers allocates no more than what arrives.
+        if (size >= 0) buf.reserve(std::size_t(expected));
+        while (buf.size() < expected) {
+            const std::size_t have = buf.size(), most = std::size_t(1) << 24;
+            const std::size_t chunk = expected - have < most ? std::size_t(expected - have) : most;
+            buf.resize(have + chunk);
+            f.read(reinterpret_cast<char*>(buf.data() + have), std::streamsize(chunk));
+            buf.resize(have + std::size_t(f.gcount()));
+            if (std::size_t(f.gcount()) < chunk) HAIRSCATTER_THROW(wrong_size(buf.size()));
+        }
+        if (f.peek() != std::ifstream::traits_type::eof())
+            HAIRSCATTER_THROW(fail("longer than the " + std::to_string(expected) + " bytes its header announces"));
         std::uint64_t sum;
-        std::memcpy(&sum, buf.data() + expected - 8, 8);
-        if (sum != fnv1a(buf.data(), expected - 8)) HAIRSCATTER_THROW(fail("checksum mismatch (corrupt file)"));
+        std::memcpy(&sum, buf.data() + std::size_t(expected) - 8, 8);
+        if (sum != fnv1a(buf.data(), std::size_t(expected) - 8)) HAIRSCATTER_THROW(fail("checksum mismatch (corrupt file)"));
         // Every value is checked after its conversion to T (1e300 is finite as a double,
         // not as a float) and against the range a fiber can produce.
         auto value = [&](double lo, double hi, const char* what) {

@@ -199,12 +199,12 @@ template <typename T> class TabulatedMaterial {
             bad("h_nodes", o.h_nodes, 0, FarFieldQuadrature<double>::kMaxNodes);
         if (o.longitudinal != TabulatedLongitudinal::kExact && o.longitudinal != TabulatedLongitudinal::kTable)
             bad("longitudinal", int(o.longitudinal), 0, 1);
-        if (o.longitudinal == TabulatedLongitudinal::kTable) {
-            if (!(o.m_rows >= 2 && o.m_rows <= TabulatedOptions::kMaxLongitudinalRows))
-                bad("m_rows", o.m_rows, 2, TabulatedOptions::kMaxLongitudinalRows);
-            if (!(o.m_nodes >= 2 && o.m_nodes <= TabulatedOptions::kMaxLongitudinalNodes))
-                bad("m_nodes", o.m_nodes, 2, TabulatedOptions::kMaxLongitudinalNodes);
-        }
+        // Checked in kExact mode too, where no M table is built: an option is valid or not
+        // whatever the mode (0 or 1e9 passed there while fast() refused them).
+        if (!(o.m_rows >= 2 && o.m_rows <= TabulatedOptions::kMaxLongitudinalRows))
+            bad("m_rows", o.m_rows, 2, TabulatedOptions::kMaxLongitudinalRows);
+        if (!(o.m_nodes >= 2 && o.m_nodes <= TabulatedOptions::kMaxLongitudinalNodes))
+            bad("m_nodes", o.m_nodes, 2, TabulatedOptions::kMaxLongitudinalNodes);
     }
 
     FiberParams<T> params_;
