@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 
 namespace render {
 namespace {
@@ -47,15 +46,33 @@ std::vector<std::vector<glm::vec3>> HairFile::strands() const {
     return out;
 }
 
-HairFile parse_hair(const std::vector<unsigned char>& bytes, const std::string& name) {
-    auto fail = [&](const std::string& why) { return HairFileError("'" + name + "' is not a valid .hair file: " + why); };
-    if (bytes.size() < kHeaderBytes)
-        throw fail("it has " + std::to_string(bytes.size()) + " bytes, fewer than the 128-byte header (truncated?)");
-    const unsigned char* b = bytes.data();
+namespace {
+
+HairFileError invalid(const std::string& name, const std::string& why) {
+    return HairFileError("'" + name + "' is not a valid .hair file: " + why);
+}
+
+// What a header announces, and the file size that follows from it.
+struct Header {
+    std::uint32_t strands = 0, points = 0, flags = 0, default_segments = 0;
+    std::uint64_t expected = 0;  // the whole file's bytes
+};
+
+bool valid_transparency(float t) { return std::isfinite(t) && t >= 0 && t <= 1; }
+bool valid_color(const glm::vec3& c) {
+    return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b) && c.r >= 0 && c.g >= 0 && c.b >= 0;
+}
+std::string to_string(const glm::vec3& c) {
+    return "(" + std::to_string(c.r) + ", " + std::to_string(c.g) + ", " + std::to_string(c.b) + ")";
+}
+
+// The 128-byte header at b: every field checked, the defaults stored in h.
+Header read_header(const unsigned char* b, HairFile& h, const std::string& name) {
+    auto fail = [&](const std::string& why) { return invalid(name, why); };
     if (std::memcmp(b, "HAIR", 4) != 0) throw fail("it does not start with the magic bytes \"HAIR\"");
-    const std::uint32_t strands = u32_at(b + 4), points = u32_at(b + 8), flags = u32_at(b + 12),
-                        default_segments = u32_at(b + 16);
-    HairFile h;
+    Header hd;
+    hd.strands = u32_at(b + 4), hd.points = u32_at(b + 8), hd.flags = u32_at(b + 12), hd.default_segments = u32_at(b + 16);
+    const std::uint32_t strands = hd.strands, points = hd.points, flags = hd.flags;
     h.default_thickness = f32_at(b + 20);
     h.default_transparency = f32_at(b + 24);
     h.default_color = glm::vec3(f32_at(b + 28), f32_at(b + 32), f32_at(b + 36));
@@ -71,27 +88,51 @@ HairFile parse_hair(const std::vector<unsigned char>& bytes, const std::string& 
         throw fail("strand count " + std::to_string(strands) + " exceeds the limit " + std::to_string(kHairMaxStrands));
     if (points > kHairMaxPoints)
         throw fail("point count " + std::to_string(points) + " exceeds the limit " + std::to_string(kHairMaxPoints));
-    if (!(flags & kSegmentsBit) && default_segments > 65535)
-        throw fail("default segment count " + std::to_string(default_segments) + " exceeds 65535");
+    if (!(flags & kSegmentsBit) && hd.default_segments > 65535)
+        throw fail("default segment count " + std::to_string(hd.default_segments) + " exceeds 65535");
     if (!(flags & kThicknessBit) && !(std::isfinite(h.default_thickness) && h.default_thickness > 0))
         throw fail("default thickness " + std::to_string(h.default_thickness) + " is not a positive number");
-    // With per-point thickness the header's default is unused; keep a valid one so that the
-    // file written back (which drops an empty thickness array) reads again.
+    if (!(flags & kTransparencyBit) && !valid_transparency(h.default_transparency))
+        throw fail("default transparency " + std::to_string(h.default_transparency) + " is not a number in [0, 1]");
+    if (!(flags & kColorsBit) && !valid_color(h.default_color))
+        throw fail("default colour " + to_string(h.default_color) + " is not a finite colour >= 0");
+    // With a per-point array the header's default is unused; keep a valid one so that the
+    // file written back (which drops an empty array) reads again.
     if ((flags & kThicknessBit) && !(std::isfinite(h.default_thickness) && h.default_thickness > 0))
         h.default_thickness = 1.0f;
+    if ((flags & kTransparencyBit) && !valid_transparency(h.default_transparency)) h.default_transparency = 0.0f;
+    if ((flags & kColorsBit) && !valid_color(h.default_color)) h.default_color = glm::vec3(1.0f);
 
-    // Every array's size follows from the header: check the file length before reading.
+    // Every array's size follows from the header.
     const std::uint64_t per_point = 12u + ((flags & kThicknessBit) ? 4u : 0u) + ((flags & kTransparencyBit) ? 4u : 0u) +
                                     ((flags & kColorsBit) ? 12u : 0u);
-    const std::uint64_t expected =
-        kHeaderBytes + ((flags & kSegmentsBit) ? 2ull * strands : 0ull) + per_point * std::uint64_t(points);
-    if (bytes.size() < expected)
-        throw fail("it has " + std::to_string(bytes.size()) + " bytes but its header (" + std::to_string(strands) +
-                   " strands, " + std::to_string(points) + " points) needs " + std::to_string(expected) +
-                   " (truncated, or the counts are wrong)");
-    if (bytes.size() > expected)
-        throw fail("it has " + std::to_string(bytes.size() - expected) +
-                   " bytes after the arrays its header announces (wrong counts?)");
+    hd.expected = kHeaderBytes + ((flags & kSegmentsBit) ? 2ull * strands : 0ull) + per_point * std::uint64_t(points);
+    return hd;
+}
+
+// The file's length against the header's arrays.
+void check_size(std::uint64_t size, const Header& hd, const std::string& name) {
+    if (size < hd.expected)
+        throw invalid(name, "it has " + std::to_string(size) + " bytes but its header (" + std::to_string(hd.strands) +
+                                " strands, " + std::to_string(hd.points) + " points) needs " +
+                                std::to_string(hd.expected) + " (truncated, or the counts are wrong)");
+    if (size > hd.expected)
+        throw invalid(name, "it has " + std::to_string(size - hd.expected) +
+                                " bytes after the arrays its header announces (wrong counts?)");
+}
+
+}  // namespace
+
+HairFile parse_hair(const std::vector<unsigned char>& bytes, const std::string& name) {
+    auto fail = [&](const std::string& why) { return invalid(name, why); };
+    if (bytes.size() < kHeaderBytes)
+        throw fail("it has " + std::to_string(bytes.size()) + " bytes, fewer than the 128-byte header (truncated?)");
+    const unsigned char* b = bytes.data();
+    HairFile h;
+    const Header hd = read_header(b, h, name);
+    const std::uint32_t strands = hd.strands, points = hd.points, flags = hd.flags, default_segments = hd.default_segments;
+    // Check the file length before reading.
+    check_size(bytes.size(), hd, name);
 
     // The strand count against the point count, before the segments array is allocated: a
     // 128-byte header claiming 50 M strands of a default length but 0 points passed the
@@ -138,21 +179,59 @@ HairFile parse_hair(const std::vector<unsigned char>& bytes, const std::string& 
     }
     if (flags & kTransparencyBit) {
         h.transparency.resize(points);
-        for (std::uint32_t i = 0; i < points; ++i, at += 4) h.transparency[i] = f32_at(b + at);
+        for (std::uint32_t i = 0; i < points; ++i, at += 4) {
+            h.transparency[i] = f32_at(b + at);
+            if (!valid_transparency(h.transparency[i]))
+                throw fail("transparency of point " + std::to_string(i) + " is " + std::to_string(h.transparency[i]) +
+                           ", not a number in [0, 1]");
+        }
     }
     if (flags & kColorsBit) {
         h.colors.resize(points);
-        for (std::uint32_t i = 0; i < points; ++i, at += 12)
+        for (std::uint32_t i = 0; i < points; ++i, at += 12) {
             h.colors[i] = glm::vec3(f32_at(b + at), f32_at(b + at + 4), f32_at(b + at + 8));
+            if (!valid_color(h.colors[i]))
+                throw fail("colour of point " + std::to_string(i) + " is " + to_string(h.colors[i]) +
+                           ", not a finite colour ≥ 0");
+        }
     }
     return h;
 }
 
+// The header first: a file whose size differs from what it announces is refused before
+// the arrays are read or allocated (a 1 GiB file cost 1 GB and 25 s before). A stream of
+// unknown size (a pipe) is read no further than the header promises.
 HairFile read_hair_file(const std::string& path) {
     std::ifstream f(path, std::ios::binary);
     if (!f) throw HairFileError("cannot open .hair file '" + path + "'");
-    const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    f.seekg(0, std::ios::end);
+    const std::streamoff size = f ? std::streamoff(f.tellg()) : std::streamoff(-1);  // -1: a pipe
+    f.clear();
+    f.seekg(0, std::ios::beg);
+    f.clear();
+    std::vector<unsigned char> bytes(kHeaderBytes);
+    f.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(kHeaderBytes));
+    bytes.resize(std::size_t(f.gcount()));
     if (f.bad()) throw HairFileError("cannot read .hair file '" + path + "'");
+    if (bytes.size() < kHeaderBytes) return parse_hair(bytes, path);  // names the short header
+    HairFile header_only;
+    const Header hd = read_header(bytes.data(), header_only, path);
+    if (size >= 0) {
+        check_size(std::uint64_t(size), hd, path);
+        bytes.reserve(std::size_t(hd.expected));
+    }
+    // In chunks: from a pipe, no more is allocated than arrives.
+    while (bytes.size() < hd.expected) {
+        const std::size_t have = bytes.size(), most = std::size_t(1) << 24;
+        const std::size_t chunk = hd.expected - have < most ? std::size_t(hd.expected - have) : most;
+        bytes.resize(have + chunk);
+        f.read(reinterpret_cast<char*>(bytes.data() + have), std::streamsize(chunk));
+        bytes.resize(have + std::size_t(f.gcount()));
+        if (f.bad()) throw HairFileError("cannot read .hair file '" + path + "'");
+        if (std::size_t(f.gcount()) < chunk) check_size(bytes.size(), hd, path);  // truncated
+    }
+    if (f.peek() != std::ifstream::traits_type::eof())
+        throw invalid(path, "it has bytes after the arrays its header announces (wrong counts?)");
     return parse_hair(bytes, path);
 }
 

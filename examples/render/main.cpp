@@ -122,9 +122,10 @@ int main(int argc, char** argv) {
         render::validate(ro);
         // RGB floats, the PNG bytes, the mask and the pixel loop's copies: ~32 bytes a pixel.
         ex::check_image_size(ro.width, ro.height, 32);
-        if (!std::isfinite(exposure)) throw std::invalid_argument("--exposure must be a finite number of stops");
-        if (!(std::isfinite(thickness_scale) && thickness_scale > 0))
-            throw std::invalid_argument("--thickness-scale must be a finite factor > 0");
+        if (!(std::isfinite(exposure) && std::abs(exposure) <= 64))
+            throw std::invalid_argument("--exposure must be a number of stops in [-64, 64]");
+        if (!(std::isfinite(thickness_scale) && thickness_scale >= 1e-3f && thickness_scale <= 1e3f))
+            throw std::invalid_argument("--thickness-scale must be a factor in [0.001, 1000]");
         if (!(std::isfinite(grid_cell) && grid_cell >= 0))
             throw std::invalid_argument("--grid-cell must be a size >= 0 (0: automatic)");
         render::validate(lighting);

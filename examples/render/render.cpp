@@ -81,8 +81,9 @@ void validate(const RenderOptions& o) {
         if (!ok) throw std::invalid_argument(m);
     };
     require(o.width >= 1 && o.height >= 1, "--width and --height must be >= 1");
-    require(o.spp >= 1, "--spp must be >= 1 (got " + std::to_string(o.spp) + ")");
-    require(o.max_depth >= 1, "--max-depth must be >= 1 (got " + std::to_string(o.max_depth) + ")");
+    require(o.spp >= 1 && o.spp <= 1'000'000, "--spp must be in [1, 10^6] (got " + std::to_string(o.spp) + ")");
+    require(o.max_depth >= 1 && o.max_depth <= 1'000'000,
+            "--max-depth must be in [1, 10^6] (got " + std::to_string(o.max_depth) + ")");
     require(o.tile >= 1, "the tile size must be >= 1");
     require(o.threads >= 0 && o.threads <= 1024, "--threads must be in [0, 1024] (got " + std::to_string(o.threads) + ")");
 }

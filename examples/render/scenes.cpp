@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -55,44 +56,59 @@ float slab_eye_distance(const SlabOptions& o) { return 14.0f * std::max(o.width,
 void require(bool ok, const std::string& message) {
     if (!ok) throw std::invalid_argument(message);
 }
-std::string num(double v) { return std::to_string(v); }
+// Six significant digits: 1e+30 and 1e-20 read as such (std::to_string gave 31 digits and
+// 0.000000).
+std::string num(double v) {
+    char s[32];
+    std::snprintf(s, sizeof s, "%.6g", v);
+    return s;
+}
 
 }  // namespace
 
+// The ranges keep the scenes' arithmetic in float and the picture in view: a light of side
+// 1e-20 had zero area (its radiance scales with 1/side²), a --block-size of 2^31 or a
+// --fur-length of 1e30 left the camera an empty frame or tripped an Embree assertion, and a
+// --curl of 1e30 overflowed the density grid's box. Each names its flag and its range.
 void validate(const LightingOptions& l) {
-    require(std::isfinite(l.light_size) && l.light_size > 0, "--light-size: " + num(l.light_size) + " is not a size > 0");
-    require(std::isfinite(l.light_power) && l.light_power >= 0,
-            "--light-power: " + num(l.light_power) + " is not a finite power >= 0");
-    require(std::isfinite(l.environment) && l.environment >= 0,
-            "--environment: " + num(l.environment) + " is not a finite radiance >= 0");
+    require(std::isfinite(l.light_size) && l.light_size >= 1e-3f && l.light_size <= 1e3f,
+            "--light-size: " + num(l.light_size) + " is not a size in [0.001, 1000]");
+    require(std::isfinite(l.light_power) && l.light_power >= 0 && l.light_power <= 1e6f,
+            "--light-power: " + num(l.light_power) + " is not a power in [0, 10^6]");
+    require(std::isfinite(l.environment) && l.environment >= 0 && l.environment <= 1e6f,
+            "--environment: " + num(l.environment) + " is not a radiance in [0, 10^6]");
 }
 
 void validate(const BlockOptions& b) {
     require(b.count >= 1 && b.count <= 10'000'000, "--hairs: " + std::to_string(b.count) + " is outside [1, 10^7]");
-    require(std::isfinite(b.size) && b.size > 0, "--block-size: " + num(b.size) + " is not a size > 0");
-    require(std::isfinite(b.radius) && b.radius > 0 && b.radius < b.size,
-            "--fiber-radius: " + num(b.radius) + " is not a radius in (0, block size)");
+    require(std::isfinite(b.size) && b.size >= 0.01f && b.size <= 100,
+            "--block-size: " + num(b.size) + " is not a size in [0.01, 100] (the camera frames the 5-unit block)");
+    require(std::isfinite(b.radius) && b.radius >= kMinFiberRadius && b.radius < b.size,
+            "--fiber-radius: " + num(b.radius) + " is not a radius in [10^-6, block size)");
 }
 
 void validate(const ScalpOptions& s) {
     require(s.count >= 1 && s.count <= 10'000'000, "--scalp-hairs: " + std::to_string(s.count) + " is outside [1, 10^7]");
-    require(std::isfinite(s.gravity), "--gravity: " + num(s.gravity) + " is not a finite number");
-    require(std::isfinite(s.curl_radius) && s.curl_radius >= 0, "--curl: " + num(s.curl_radius) + " is not a radius >= 0");
+    require(std::isfinite(s.gravity) && std::abs(s.gravity) <= 100,
+            "--gravity: " + num(s.gravity) + " is not a bend per unit length in [-100, 100]");
+    require(std::isfinite(s.curl_radius) && s.curl_radius >= 0 && s.curl_radius <= s.head_radius,
+            "--curl: " + num(s.curl_radius) + " is not a radius in [0, " + num(s.head_radius) + "] (the head's radius)");
 }
 
 void validate(const FurOptions& f) {
     require(f.count >= 1 && f.count <= 10'000'000, "--fur-hairs: " + std::to_string(f.count) + " is outside [1, 10^7]");
-    require(std::isfinite(f.length) && f.length > 0, "--fur-length: " + num(f.length) + " is not a length > 0");
+    require(std::isfinite(f.length) && f.length > 0 && f.length <= 100,
+            "--fur-length: " + num(f.length) + " is not a length in (0, 100]");
     require(std::isfinite(f.tilt_deg) && f.tilt_deg >= 0 && f.tilt_deg < 90,
             "--fur-tilt: " + num(f.tilt_deg) + " is not an angle in [0, 90) degrees");
-    require(std::isfinite(f.radius) && f.radius > 0 && f.radius < f.length,
-            "--fiber-radius: " + num(f.radius) + " is not a radius in (0, fur length)");
+    require(std::isfinite(f.radius) && f.radius >= kMinFiberRadius && f.radius < f.length,
+            "--fiber-radius: " + num(f.radius) + " is not a radius in [10^-6, fur length)");
 }
 
 void validate(const SlabOptions& o, const LightingOptions& l) {
     require(std::isfinite(o.depth) && o.depth > 0, "--slab-depth: " + num(o.depth) + " is not a fiber count > 0");
-    require(std::isfinite(o.radius) && o.radius > 0 && o.radius < 0.5f * o.thickness,
-            "--fiber-radius: " + num(o.radius) + " is not a radius in (0, slab thickness / 2 = " +
+    require(std::isfinite(o.radius) && o.radius >= kMinFiberRadius && o.radius < 0.5f * o.thickness,
+            "--fiber-radius: " + num(o.radius) + " is not a radius in [10^-6, slab thickness / 2 = " +
                 num(0.5 * o.thickness) + ")");
     const double strands = double(o.depth) * double(o.height) / (2.0 * double(o.radius));
     require(strands >= 0.5 && strands <= 1e7, "--slab-depth: " + num(o.depth) + " with --fiber-radius " +
@@ -257,7 +273,12 @@ SceneDescription make_file_scene(const std::string& path, float thickness_scale,
         for (float t : file.thickness) thickness += t;
         thickness /= double(file.thickness.size());
     }
-    s.hair.radius = float(0.5 * thickness * scale * thickness_scale);
+    const double radius = 0.5 * thickness * scale * thickness_scale;
+    if (!(radius >= kMinFiberRadius && radius < 5))
+        throw std::invalid_argument(path + ": its mean thickness " + num(thickness) + " scaled to the 5-unit box and by " +
+                                    "--thickness-scale " + num(thickness_scale) + " gives a fiber radius of " +
+                                    num(radius) + ", outside [10^-6, 5)");
+    s.hair.radius = float(radius);
     s.meshes.push_back(ground());
     s.camera.eye = {0.0f, 5.0f, 14.0f};
     s.camera.target = {0.0f, 0.5f * e.y * scale, 0.0f};

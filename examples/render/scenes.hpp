@@ -16,8 +16,8 @@ struct LightingOptions {
     float environment = 0.15f;     // constant environment radiance (grey); 0 for none
 };
 
-// Throw std::invalid_argument naming the bad option by its command-line flag (negative or
-// non-finite light size, power or environment; NaN gravity or curl; a non-positive count).
+// Throw std::invalid_argument naming the bad option by its command-line flag and its range
+// (light size, power and environment; gravity, curl; counts, sizes and radii).
 void validate(const LightingOptions& lighting);
 void validate(const BlockOptions& block);
 void validate(const ScalpOptions& scalp);
@@ -48,6 +48,9 @@ SceneDescription make_fur_scene(const FurOptions& fur, const LightingOptions& li
 // and the camera: the camera sees the light only through the gaps between fibers.
 SceneDescription make_slab_scene(const SlabOptions& slab, const LightingOptions& lighting);
 
+// The thinnest fiber the scenes accept: positions in a 5-unit scene resolve about 3e-7.
+inline constexpr float kMinFiberRadius = 1e-6f;
+
 // The back light's distance behind the slab's mid-plane.
 inline constexpr float kSlabBackLightDistance = 3.0f;
 
@@ -56,7 +59,8 @@ void remove_ground(SceneDescription& scene);
 
 // Hair from a .hair file (thickness: the mean of the file's, times thickness_scale),
 // scaled uniformly to fit a 5-unit box standing on the ground plane. Throws
-// std::invalid_argument when the file has no hair (no strand with a segment).
+// std::invalid_argument when the file has no hair (no strand with a segment) or when the
+// fiber radius is outside [kMinFiberRadius, 5) (naming --thickness-scale).
 SceneDescription make_file_scene(const std::string& path, float thickness_scale, const LightingOptions& lighting);
 
 // Meshes used by the presets.

@@ -50,6 +50,17 @@ float check_grid(const Hair& hair, const ShadingOptions& o) {
     if (!o.dual_scattering || (o.two_stream && o.exact_counts) || hair.segment_count() == 0) return 0.0f;
     if (!(o.grid_cell >= 0) || !std::isfinite(o.grid_cell))
         throw std::invalid_argument("--grid-cell: " + std::to_string(o.grid_cell) + " is not a size >= 0");
+    // A cell above the automatic one's largest (the hair's extent, or 4 radii) holds all
+    // the hair; far above, the grid's box overflowed float.
+    glm::vec3 lo, hi;
+    bounds(hair, lo, hi);
+    const float largest = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 4.0f * hair.radius});
+    if (!(o.grid_cell <= largest)) {
+        char msg[256];
+        std::snprintf(msg, sizeof(msg), "--grid-cell: %g is larger than the hair (%g; 0: automatic)",
+                      double(o.grid_cell), double(largest));
+        throw std::invalid_argument(msg);
+    }
     const float cell = o.grid_cell > 0 ? o.grid_cell : automatic_grid_cell(hair);
     const glm::ivec3 res = grid_resolution(hair, cell);
     const double bytes = cells_of(res) * double(sizeof(hs::HairLengthTensor<float>));

@@ -81,6 +81,50 @@ TEST(RenderCli, RefusesBadValuesNamingTheOption) {
     expect_refused("--integrator single --model marschner --alpha 20", "marschner");
 }
 
+// Out-of-range values (before: --block-size 2147483648 rendered an empty image and exited
+// 0, --fur-length 1e30 tripped an Embree assertion, --curl 1e30 and a thickness of 1e30
+// failed inside the density grid with "box diagonal / 16777216 = inf", --light-size 1e-20
+// failed after the build): each is refused up front naming its option.
+TEST(RenderCli, RefusesOutOfRangeValuesNamingTheOption) {
+    expect_refused("--block-size 2147483648", "--block-size");
+    expect_refused("--block-size 1e-30", "--block-size");
+    expect_refused("--fiber-radius 1e-30", "--fiber-radius");
+    expect_refused("--scene scalp --scalp-hairs 100 --curl 1e30", "--curl");
+    expect_refused("--scene scalp --scalp-hairs 100 --curl 1e30 --dual improved", "--curl");
+    expect_refused("--scene scalp --scalp-hairs 100 --gravity 1e30", "--gravity");
+    expect_refused("--scene fur --fur-hairs 100 --fur-length 1e30", "--fur-length");
+    expect_refused("--scene slab --fiber-radius 1e-30", "--fiber-radius");
+    expect_refused("--light-size 1e-20", "--light-size");
+    expect_refused("--light-size 1e30", "--light-size");
+    expect_refused("--light-power 1e30", "--light-power");
+    expect_refused("--environment 1e30", "--environment");
+    expect_refused("--exposure 1e30", "--exposure");
+    expect_refused("--spp 2000000", "--spp");
+    expect_refused("--integrator path --max-depth 2000000000", "--max-depth");
+    expect_refused("--dual improved --grid-cell 1e30", "--grid-cell");
+    expect_refused("--dual-counts grid --grid-cell 1e30", "--grid-cell");
+    // A .hair file: --thickness-scale out of range, or a file thickness that it turns into
+    // a fiber wider than the scene.
+    render::HairFile f;
+    f.segments = {2};
+    f.points = {{0, 0, 0}, {1, 0, 0}, {2, 0.5f, 0}};
+    f.default_thickness = 0.001f;  // a fiber radius of 1.25e-3 in the 5-unit box
+    const std::string thin = out_base("range_thin.hair"), thick = out_base("range_thick.hair");
+    render::write_hair_file(thin, f);
+    f.default_thickness = 1e30f;
+    render::write_hair_file(thick, f);
+    expect_refused("--hair-file " + thin + " --thickness-scale 1e30 --dual improved", "--thickness-scale");
+    expect_refused("--hair-file " + thick + " --dual improved", "--thickness-scale");
+    expect_refused("--hair-file " + thick + " --thickness-scale 0.001", "gives a fiber radius of");
+    // The bounds themselves render (the negative control).
+    for (const char* ok : {"--block-size 100", "--block-size 0.01 --fiber-radius 0.001", "--light-size 0.001",
+                           "--exposure -64", "--dual improved --grid-cell 4"}) {
+        const Outcome r = run(tiny(std::string("--integrator dual ") + ok));
+        EXPECT_EQ(r.status, 0) << ok << "\n" << r.output;
+    }
+    EXPECT_EQ(run(tiny("--hair-file " + thin + " --thickness-scale 1000")).status, 0);
+}
+
 // The production-shader controls (docs/controls.md): each bad value names its option.
 TEST(RenderCli, RefusesBadControlsNamingTheOption) {
     expect_refused("--melanin 1.5", "--melanin");
