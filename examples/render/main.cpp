@@ -7,6 +7,7 @@
 #include <exception>
 #include <string>
 #include <unistd.h>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <common/image_io.hpp>
@@ -208,10 +209,12 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "render: warning: no hair in view (no pixel's primary ray hits hair; check the "
                                  "camera, --fiber-radius or the file's thickness)\n");
 
-        const std::string summary = render::summary_line(scene, shading, ro, r);
-        // Both files are written to temporaries and renamed together: the pair always matches.
-        ex::write_exr_png_pair(out + ".exr", out + ".png", r.width, r.height, r.rgb, {{"hairscatter:render", summary}},
-                               ex::tone_map(r.rgb, exposure));
+        // Each file is written to a temporary and renamed when both are complete; a kill
+        // between the two renames can still pair a new EXR with an old PNG, so both carry
+        // the pair's id (also the summary's pair_id=): differing ids, files of two renders.
+        const std::vector<std::uint8_t> png = ex::tone_map(r.rgb, exposure);
+        const std::string summary = render::summary_line(scene, shading, ro, r) + " pair_id=" + ex::pair_id(r.rgb, png);
+        ex::write_exr_png_pair(out + ".exr", out + ".png", r.width, r.height, r.rgb, {{"hairscatter:render", summary}}, png);
         if (mask) {
             std::vector<std::uint8_t> m(r.hair_mask.size() * 3);
             for (std::size_t i = 0; i < r.hair_mask.size(); ++i)

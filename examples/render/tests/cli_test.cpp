@@ -12,6 +12,8 @@
 #include <sys/wait.h>
 #include <vector>
 
+#include <common/image_io.hpp>
+
 #include "hair_file.hpp"
 
 namespace {
@@ -201,6 +203,24 @@ TEST(RenderCli, ControlsRenderOnEveryModel) {
         EXPECT_GT(b, m) << model;
         EXPECT_NE(mean_hair_red(mixed.output), m) << model;
     }
+}
+
+// The EXR and the PNG of one render carry the summary's pair_id (docs: each file is atomic
+// alone; the id tells whether two files belong together).
+TEST(RenderCli, TheImagePairCarriesTheSummarysId) {
+    const std::string base = out_base("pair");
+    const Outcome r = run("--integrator single" + kTiny + " -o " + base);
+    ASSERT_EQ(r.status, 0) << r.output;
+    const std::size_t at = r.output.find(" pair_id=");
+    ASSERT_NE(at, std::string::npos) << r.output;
+    const std::string id = r.output.substr(at + 9, 16);
+    EXPECT_EQ(hairscatter_examples::read_pair_id(base + ".exr"), id);
+    EXPECT_EQ(hairscatter_examples::read_pair_id(base + ".png"), id);
+    // Another exposure: another PNG, so another pair.
+    const Outcome other = run("--integrator single --exposure 1" + kTiny + " -o " + base + "_other");
+    ASSERT_EQ(other.status, 0) << other.output;
+    EXPECT_NE(hairscatter_examples::read_pair_id(base + "_other.png"), id);
+    EXPECT_EQ(hairscatter_examples::read_pair_id(base + "_other.exr"), hairscatter_examples::read_pair_id(base + "_other.png"));
 }
 
 TEST(RenderCli, PheomelaninNeedsEumelanin) {

@@ -3,11 +3,21 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <common/fiber_models.hpp>
+#include <common/image_io.hpp>
 #include <common/options.hpp>
+
+// stb_image's decoder, to check that the PNG with its text chunk still decodes.
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_PNG
+#include <stb_image.h>
 
 namespace {
 
@@ -131,6 +141,44 @@ TEST(ExamplesCommon, ControlsFromOptions) {
     } catch (const std::invalid_argument& e) {
         EXPECT_NE(std::string(e.what()).find("--model huang"), std::string::npos) << e.what();
     }
+}
+
+// The EXR/PNG pair is atomic file by file, not as a pair (a kill between the two renames
+// once left a new EXR beside the old PNG): both files carry the pair's id, so a reader can
+// tell. The id is the content hash the writer returns, the PNG still decodes to its
+// pixels, and a torn pair (the EXR of one render, the PNG of another) shows two ids.
+TEST(ExamplesCommon, ExrPngPairCarriesOneId) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(::testing::TempDir()) / "hairscatter_pair_id";
+    fs::create_directories(dir);
+    const int w = 5, h = 3;
+    std::vector<float> rgb(std::size_t(w * h * 3));
+    for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = float(i) / float(rgb.size());
+    const std::vector<std::uint8_t> png = ex::tone_map(rgb, 0.0), brighter = ex::tone_map(rgb, 1.0);
+    const std::string a = (dir / "a").string(), b = (dir / "b").string();
+    const std::string id_a = ex::write_exr_png_pair(a + ".exr", a + ".png", w, h, rgb, {{"note", "a"}}, png);
+    const std::string id_b = ex::write_exr_png_pair(b + ".exr", b + ".png", w, h, rgb, {}, brighter);
+    EXPECT_EQ(id_a.size(), 16u);
+    EXPECT_EQ(id_a, ex::pair_id(rgb, png));
+    EXPECT_EQ(ex::read_pair_id(a + ".exr"), id_a);
+    EXPECT_EQ(ex::read_pair_id(a + ".png"), id_a);
+    EXPECT_EQ(ex::read_pair_id(b + ".png"), id_b);
+    EXPECT_NE(id_a, id_b);  // the same pixels with another preview: another pair
+    EXPECT_NE(ex::read_pair_id(a + ".exr"), ex::read_pair_id(b + ".png"));  // a torn pair shows
+    int dw = 0, dh = 0, channels = 0;
+    unsigned char* decoded = stbi_load((a + ".png").c_str(), &dw, &dh, &channels, 3);
+    ASSERT_NE(decoded, nullptr) << stbi_failure_reason();
+    EXPECT_EQ(std::vector<std::uint8_t>(decoded, decoded + w * h * 3), png);
+    EXPECT_EQ(dw, w);
+    EXPECT_EQ(dh, h);
+    stbi_image_free(decoded);
+    // A lone PNG or EXR has no id.
+    ex::write_png_rgb8(b + "_lone.png", w, h, png);
+    ex::write_exr_rgb(b + "_lone.exr", w, h, rgb, {});
+    EXPECT_EQ(ex::read_pair_id(b + "_lone.png"), "");
+    EXPECT_EQ(ex::read_pair_id(b + "_lone.exr"), "");
+    EXPECT_THROW(ex::read_pair_id(b + "_missing.png"), std::runtime_error);
+    fs::remove_all(dir);
 }
 
 }  // namespace
