@@ -4,14 +4,18 @@
 //   wo, wi: uniform on the sphere (most calls), or an edge direction — along the fiber axis
 //           (±x exactly), within 1e-6 of it, grazing (x = 0), with a 1e-7 azimuthal part;
 //   h (Chiang): uniform in [-1, 1], or exactly ±1 or 0;
-//   u: uniform, or components at 0, 1 and 1 - ulp;
-//   1 call in 64: one non-finite component (NaN, ±Inf) in wo, wi or u.
+//   u: uniform, or components at 0, 1 and 1 - ulp, and one call in 32 a component outside
+//      [0, 1] (which every model clamps);
+//   1 call in 64: one non-finite component (NaN, ±Inf) in wo, wi or u; 1 in 64 a finite
+//      direction of another length (up to the largest float; the models normalise it).
+// Chiang and the dual BCSDF also cycle through lobe gains far above 1 (up to 1e6).
 // Counted: calls (each eval, pdf, eval_pdf and sample), NaN, Inf and negative values among
 // f, pdf and the sample's weight, pdf and direction, non-finite inputs that do not give the
-// zero result (contract), and sample/pdf mismatches: a sample with pdf > 0 whose direction's
-// pdf(wo, wi) differs by more than kRelTolerance · max + kAbsTolerance (below); samples
-// exactly on the fiber axis are counted apart (no azimuth: nothing to compare), and so are
-// differences that moving wi by 4 ulps explains (within_rounding).
+// zero result (contract), and sample/pdf/eval mismatches: a sample with pdf > 0 whose
+// direction's pdf(wo, wi), or eval(wo, wi) against weight · pdf, differs by more than
+// kRelTolerance (below); samples exactly on the fiber axis are counted (and compared like
+// any other), and differences that moving wi by 4 ulps explains are counted apart as
+// rounding (within_rounding).
 //
 //   stress [--calls N] [--slow-calls N] [--dual-calls N] [--only MODEL] [--seed S] [--out FILE]
 //
@@ -57,10 +61,11 @@ struct Counts {
     double max_rel_mismatch = 0;  // among the mismatches
 };
 
-// A sample's pdf and pdf(wo, its wi) agree when |Δ| ≤ 1e-2 · max + 1e-3: relative, plus an
-// absolute 1e-3 (1/80 of the uniform sphere's density) for the edges of a lobe's support,
-// where the density falls linearly to 0 and the rounding of wi (float: 6e-8) moves it.
-constexpr double kRelTolerance = 1e-2, kAbsTolerance = 1e-3;
+// A sample's pdf and pdf(wo, its wi) (and its weight · pdf and eval(wo, wi)) agree when
+// |Δ| ≤ 1e-4 · max, with an absolute floor far below any density a renderer could use. At
+// the edges of a lobe's support and on steep narrow lobes the rounding of wi (float: 6e-8)
+// moves them more; within_rounding counts that apart.
+constexpr double kRelTolerance = 1e-4, kAbsTolerance = 1e-30;
 
 template <typename T> void tally(Counts& c, T x) {
     if (x != x) {
@@ -124,23 +129,31 @@ template <typename T> T poison(Rng& r) {
     }
 }
 
-// The sample's pdf lies within the tolerance of the range that pdf takes when wi moves by
-// 4 ulps of 1 along each axis: where the density is steep (the edge of a narrow lobe's
-// support, φ = ±π with β_n = 1e-3: 100 per radian), the rounding of the sampled angles
-// into wi moves the pdf by more than the tolerance; that is rounding, not a mismatch.
-template <typename T, typename Fiber>
-bool within_rounding(const Fiber& fiber, const glm::vec<3, T>& wo, const glm::vec<3, T>& wi, T pdf) {
+// The sample's values (pdf, and f = weight · pdf where known) lie within the tolerance of
+// the range that eval_pdf takes when wi moves by 4 ulps of 1 along each axis: where the
+// density is steep (the edge of a narrow lobe's support, φ = ±π with β_n = 1e-3: 100 per
+// radian), the rounding of the sampled angles into wi moves them by more than the
+// tolerance; that is rounding, not a mismatch.
+template <typename T> struct Back {
+    double v[4];  // pdf, then f's three channels (has_f)
+    bool has_f;
+};
+template <typename T, typename BackAt>
+bool within_rounding(const BackAt& back_at, const glm::vec<3, T>& wi, const Back<T>& want) {
     const T e = T(4) * std::numeric_limits<T>::epsilon();
-    double lo = std::numeric_limits<double>::max(), hi = 0;
+    double lo[4], hi[4];
+    for (int k = 0; k < 4; ++k) lo[k] = std::numeric_limits<double>::max(), hi[k] = -lo[k];
     for (int axis = 0; axis < 3; ++axis)
         for (T sign : {T(-1), T(1)}) {
             glm::vec<3, T> w = wi;
             w[axis] += sign * e;
-            const double p = double(fiber.pdf(wo, glm::normalize(w)));
-            lo = std::fmin(lo, p);
-            hi = std::fmax(hi, p);
+            const Back<T> b = back_at(glm::normalize(w));
+            for (int k = 0; k < 4; ++k) lo[k] = std::fmin(lo[k], b.v[k]), hi[k] = std::fmax(hi[k], b.v[k]);
         }
-    return double(pdf) >= lo * (1 - kRelTolerance) - kAbsTolerance && double(pdf) <= hi * (1 + kRelTolerance) + kAbsTolerance;
+    for (int k = 0; k < (want.has_f ? 4 : 1); ++k)
+        if (!(want.v[k] >= lo[k] * (1 - kRelTolerance) - kAbsTolerance && want.v[k] <= hi[k] * (1 + kRelTolerance) + kAbsTolerance))
+            return false;
+    return true;
 }
 
 // The inputs of one round: wo, wi, u, and in 1 call of 64 one non-finite component.
@@ -152,6 +165,14 @@ template <typename T> struct Inputs {
 template <typename T> Inputs<T> inputs(Rng& r) {
     Inputs<T> in{direction<T>(r), direction<T>(r), {}, false};
     for (int k = 0; k < 4; ++k) in.u[k] = unit_number<T>(r);
+    if (r.below(32) == 0) in.u[r.below(4)] = r.below(2) ? T(2) : T(-1);  // outside [0, 1]: clamped
+    if (r.below(64) == 0) {  // another length, finite: normalised
+        const T scales[4] = {std::numeric_limits<T>::max(), T(3), T(1e-3), T(1e-30)};
+        const T s = scales[r.below(4)];
+        glm::vec<3, T>& w = r.below(2) ? in.wo : in.wi;
+        const T m = std::fmax(std::fabs(w.x), std::fmax(std::fabs(w.y), std::fabs(w.z)));
+        w *= s / m;
+    }
     in.bad = r.below(64) == 0;
     if (in.bad) {
         const int which = r.below(10);
@@ -165,29 +186,31 @@ template <typename T> Inputs<T> inputs(Rng& r) {
     return in;
 }
 
-// A sample's direction and pdf: NaN, Inf and negative values counted; a sample exactly on
-// the fiber axis (u.y at 0 or 1 puts sinθi at ±1) has no azimuth, the density there depends
-// on the direction of approach, so it is counted, not compared; any other sample's pdf is
-// compared with back(), the pdf of its direction. within_rounding() is asked only when they
-// differ (it costs six more pdf calls).
-template <typename T, typename Back, typename WithinRounding>
-void check_sample(Counts& c, const glm::vec<3, T>& wi, T pdf, const Back& back, const WithinRounding& within_rounding) {
+// A sample's direction, pdf and (has_f) f = weight · pdf: NaN, Inf and negative values
+// counted; a sample exactly on the fiber axis (u.y at 0 or 1 puts sinθi at ±1) is counted
+// in `pole` and compared like any other (its azimuth is the one pdf(wo, wi) reads there);
+// its values are compared with back_at(wi). within_rounding() is asked only when they
+// differ (it costs six more calls).
+template <typename T, typename BackAt>
+void check_sample(Counts& c, const glm::vec<3, T>& wi, T pdf, const glm::vec<3, T>& weight, bool has_f, const BackAt& back_at) {
     tally(c, pdf);
     tally_dir(c, wi);
-    if (wi.y == T(0) && wi.z == T(0)) {
-        ++c.pole;
-        return;
-    }
+    if (wi.y == T(0) && wi.z == T(0)) ++c.pole;
     if (!(pdf > T(0) && hs::is_finite(pdf) && hs::is_finite(wi))) return;
     ++c.calls;
-    const T b = back();
-    const double diff = std::fabs(double(b) - double(pdf)), scale = std::fmax(double(b), double(pdf));
-    if (diff <= kRelTolerance * scale + kAbsTolerance) return;
-    if (within_rounding()) {
+    const Back<T> b = back_at(wi);
+    Back<T> want{{double(pdf), double(weight.x) * double(pdf), double(weight.y) * double(pdf), double(weight.z) * double(pdf)}, has_f};
+    double worst = 0;
+    for (int k = 0; k < (has_f ? 4 : 1); ++k) {
+        const double diff = std::fabs(b.v[k] - want.v[k]), scale = std::fmax(std::fabs(b.v[k]), std::fabs(want.v[k]));
+        if (diff > kRelTolerance * scale + kAbsTolerance) worst = std::fmax(worst, diff / scale);
+    }
+    if (worst == 0) return;
+    if (within_rounding(back_at, wi, want)) {
         ++c.ulp;
     } else {
         ++c.mismatch;
-        if (diff / scale > c.max_rel_mismatch) c.max_rel_mismatch = diff / scale;
+        if (worst > c.max_rel_mismatch) c.max_rel_mismatch = worst;
     }
 }
 
@@ -216,8 +239,10 @@ template <typename T, typename Fiber> void round(const Fiber& fiber, Rng& r, Cou
     tally(c, f);
     tally(c, pdf);
     tally(c, s.weight);
-    check_sample(c, s.wi, s.pdf, [&] { return fiber.pdf(wo, s.wi); },
-                 [&] { return within_rounding(fiber, wo, s.wi, s.pdf); });
+    check_sample(c, s.wi, s.pdf, s.weight, true, [&](const V3& w) {
+        const hs::HairEvalPdf<T> ep = fiber.eval_pdf(wo, w);
+        return Back<T>{{double(ep.pdf), double(ep.f.x), double(ep.f.y), double(ep.f.z)}, true};
+    });
 }
 
 // A light state for the dual-scattering BCSDF: documented values (direct fraction in
@@ -275,8 +300,9 @@ template <typename T, typename Dual> void dual_round(const Dual& dual, Rng& r, C
     tally(c, f);
     tally(c, pdf);
     // The sampler's pdf is at.pdf of its direction by construction; the comparison checks
-    // that this holds on every path (no mismatch is explained by rounding here).
-    check_sample(c, s.wi, s.pdf, [&] { return at.pdf(s.wi); }, [] { return false; });
+    // that this holds on every path. (Its value needs a light state: not compared.)
+    check_sample(c, s.wi, s.pdf, V3(T(0)), false,
+                 [&](const V3& w) { return Back<T>{{double(at.pdf(w)), 0.0, 0.0, 0.0}, false}; });
 }
 
 // The parameter sets every model cycles through: defaults, both roughnesses at the lower
@@ -357,12 +383,32 @@ Row run(const char* model, std::uint64_t calls, int materials, std::uint64_t see
     return row;
 }
 
+// Lobe gains far above 1 (docs/controls.md: the multiple-scattering sums cap them), on
+// the extra materials of Chiang and the dual BCSDF: k = 0 every gain at the limit 1e6, 1 a
+// TT gain of 100 with R off and TRT at 10, both over fiber_params' lossless set (index 2).
+template <typename T> hs::LobeControls<T> large_gains(int k) {
+    hs::LobeControls<T> c;
+    if (k == 0) {
+        for (T& g : c.gain) g = hs::kMaxLobeGain<T>;
+    } else {
+        c.gain[0] = T(0);
+        c.gain[1] = T(100);
+        c.gain[2] = T(10);
+    }
+    return c;
+}
+constexpr int kGainSets = 2;
+
 template <typename T>
 void models(std::vector<Row>& rows, std::uint64_t calls, std::uint64_t slow, std::uint64_t dual, std::uint64_t seed) {
     const auto fp = fiber_params<T>();
     const int nf = int(fp.size());
-    rows.push_back(run<T>("Chiang", calls, nf, seed + 1, [&](int m, auto&& loop) {
-        const hs::ChiangMaterial<T> mat(fp[std::size_t(m)]);
+    // (m ≥ nf: the large gains over the lossless parameters.)
+    auto chiang = [&](int m) {
+        return m < nf ? hs::ChiangMaterial<T>(fp[std::size_t(m)]) : hs::ChiangMaterial<T>(fp[2], large_gains<T>(m - nf));
+    };
+    rows.push_back(run<T>("Chiang", calls, nf + kGainSets, seed + 1, [&](int m, auto&& loop) {
+        const hs::ChiangMaterial<T> mat = chiang(m);
         loop([&](Rng& r, Counts& c) {
             const int k = r.below(8);
             const T h = k == 0 ? T(1) : k == 1 ? T(-1) : k == 2 ? T(0) : T(2 * r.uniform() - 1);
@@ -386,8 +432,8 @@ void models(std::vector<Row>& rows, std::uint64_t calls, std::uint64_t slow, std
     }));
     // Dual scattering over the Chiang fiber (h as above), the tables of each material, the
     // improved formulation on even materials and Zinke 2008's on odd ones.
-    rows.push_back(run<T>("dual (Chiang)", dual, nf, seed + 6, [&](int m, auto&& loop) {
-        const hs::ChiangMaterial<T> mat(fp[std::size_t(m)]);
+    rows.push_back(run<T>("dual (Chiang)", dual, nf + kGainSets, seed + 6, [&](int m, auto&& loop) {
+        const hs::ChiangMaterial<T> mat = chiang(m);
         hs::DualTableOptions<T> o;
         o.settings = m % 2 ? hs::DualScatteringSettings<T>::zinke2008() : hs::DualScatteringSettings<T>::improved();
         const auto tables = hs::DualScatteringTables<T>::template build<hs::ChiangFiber<T>>(mat, o);

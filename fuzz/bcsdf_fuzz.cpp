@@ -123,7 +123,8 @@ hs::DualScatteringLight<float> read_light(Reader& r) {
     hs::DualScatteringLight<float> l;
     const std::uint8_t bits = r.byte();
     l.direct_fraction = (bits & 1u) ? r.next() : r.unit<float>();
-    l.n = (bits & 2u) ? r.next() : 20.0f * r.unit<float>();
+    // Bit 128: counts up to 1e7 (log-uniform), with the large gains of read_controls.
+    l.n = (bits & 2u) ? r.next() : ((bits & 128u) ? std::pow(10.0f, 7.0f * r.unit<float>()) : 20.0f * r.unit<float>());
     l.beyond = (bits & 4u) ? r.next() : ((bits & 8u) ? hs::kUnbounded<float> : 20.0f * r.unit<float>());
     l.use_transmittance = (bits & 16u) != 0u;
     if (l.use_transmittance) {

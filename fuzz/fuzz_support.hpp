@@ -101,7 +101,14 @@ template <typename T> hs::LobeControls<T> read_controls(Reader& r, std::uint8_t 
     hs::LobeControls<T> c;
     if ((mode & 1u) == 0u) return c;
     const bool raw = (mode & 2u) != 0u, keep_residual = (mode & 4u) != 0u;
+    // Mode bit 16: gains and tints anywhere up to kMaxLobeGain (log-uniform), where the
+    // multiple-scattering sums of a dual-scattering fiber would diverge.
+    const bool large = (mode & 16u) != 0u;
     auto value = [&](T scale) {
+        if (large && !raw) {
+            const T x = T(r.next());
+            return hs::is_finite(x) ? std::pow(T(10), T(6) * (x - std::floor(x))) : T(1);
+        }
         const T x = T(r.next());
         if (raw || !hs::is_finite(x)) return raw ? x : T(1);
         return scale * (x - std::floor(x));
@@ -111,7 +118,8 @@ template <typename T> hs::LobeControls<T> read_controls(Reader& r, std::uint8_t 
     for (int p = 0; p < lobes; ++p)
         for (int ch = 0; ch < 3; ++ch) c.tint[p][ch] = value(T(3));
     for (int p = 0; p < 3; ++p) {
-        const T a = value(T(2) * hs::kMaxCuticleTilt<T>);
+        const T x = T(r.next());
+        const T a = raw || !hs::is_finite(x) ? (raw ? x : T(1)) : T(2) * hs::kMaxCuticleTilt<T> * (x - std::floor(x));
         c.alpha[p] = raw ? a : a - hs::kMaxCuticleTilt<T>;
     }
     c.alpha_override = raw ? unsigned(r.byte()) : unsigned(r.byte() & 7u);

@@ -492,3 +492,111 @@ TEST(DualBcsdf, AgreesWithPathTracedSlabOfExplicitFibers) {
         }
     }
 }
+
+// Lobe gains above 1 (accepted up to kMaxLobeGain) make a fiber return more light than it
+// receives; the multiple-scattering sums over fiber counts would diverge. Every output stays
+// finite for every count, in both precisions, and the tables stay physical (a_f + a_b ≤ 1),
+// so they save and load. Before: float gain 100 at n = 50 gave f = inf, gain 1e6 at n = 0
+// NaN, and double gain 10 at n = 1e6 inf.
+template <typename T> void check_dual_finite(const hs::ChiangMaterial<T>& m, const hs::DualTableOptions<T>& o, T gain, int lobe) {
+    using V3 = glm::vec<3, T>;
+    using V4 = glm::vec<4, T>;
+    const T unbounded = hs::kUnbounded<T>;
+    const auto tables = hs::DualScatteringTables<T>::template build<hs::ChiangFiber<T>>(m, o);
+    for (int i = 0; i < tables.size(); ++i) {
+        const auto& e = tables.entry(i);
+        for (int ch = 0; ch < 3; ++ch) {
+            EXPECT_LE(double(e.a_f[ch]) + double(e.a_b[ch]), 1.0 + 1e-5) << "gain " << gain << " lobe " << lobe;
+            for (int k = 0; k < hs::DualScatteringEntry<T>::kFields; ++k)
+                EXPECT_TRUE(std::isfinite(double(e.fields()[k][ch]))) << "field " << k;
+        }
+    }
+    for (T h : {T(-1), T(0), T(0.5)}) {
+        const hs::ChiangFiber<T> fiber(m, h);
+        const hs::DualScatteringBcsdf<hs::ChiangFiber<T>> d(fiber, tables);
+        for (T n : {T(0), T(1), T(50), T(1e6), unbounded}) {
+            hs::DualScatteringLight<T> l;
+            l.direct_fraction = T(0);
+            l.n = n;
+            for (T to : {T(-80), T(0), T(30)})
+                for (T ti : {T(-60), T(0), T(45), T(89)})
+                    for (T ph : {T(0), T(1), T(3.14159)}) {
+                        const T a = to * hs::kPi<T> / 180, b = ti * hs::kPi<T> / 180;
+                        const V3 wo(std::sin(a), std::cos(a), T(0));
+                        const V3 wi(std::sin(b), std::cos(b) * std::cos(ph), std::cos(b) * std::sin(ph));
+                        const V3 f = d.eval(wo, wi, l);
+                        ASSERT_TRUE(std::isfinite(double(f.x + f.y + f.z)) && f.x >= 0 && f.y >= 0 && f.z >= 0)
+                            << "gain " << gain << " lobe " << lobe << " n " << n << " f " << f.x << " " << f.y << " " << f.z;
+                        const auto smp = d.sample(wo, V4(T(0.3), T(0.6), T(0.2), T(0.9)));
+                        ASSERT_TRUE(std::isfinite(double(smp.pdf)) && smp.pdf >= 0);
+                        if (smp.pdf > 0) {
+                            const V3 fs = d.eval(wo, smp.wi, l);
+                            ASSERT_TRUE(std::isfinite(double(fs.x + fs.y + fs.z)));
+                        }
+                    }
+            // The two-stream estimator's coefficients over the same entries.
+            for (int i = 0; i < tables.size(); ++i)
+                for (T beyond : {T(0), T(3), unbounded}) {
+                    const auto st = hs::dual_streams(tables.entry(i), n, beyond);
+                    for (int ch = 0; ch < 3; ++ch) {
+                        ASSERT_TRUE(std::isfinite(double(st.forward[ch])) && st.forward[ch] >= 0);
+                        ASSERT_TRUE(std::isfinite(double(st.back[ch])) && st.back[ch] >= 0);
+                    }
+                }
+        }
+    }
+}
+
+template <typename T> void check_gains_finite() {
+    for (int lobe = -1; lobe < 4; ++lobe)  // -1: every lobe
+        for (T gain : {T(1), T(10), T(100), T(1e6)}) {
+            hs::LobeControls<T> c;
+            for (int p = 0; p < 4; ++p)
+                if (lobe < 0 || p == lobe) c.gain[p] = gain;
+            for (double eu : {-1.0, 0.3}) {
+                hs::FiberParams<T> p;
+                p.sigma_a = eu < 0 ? glm::vec<3, T>(T(0)) : glm::vec<3, T>(hs::sigma_a_from_melanin(eu, 0.0));
+                const hs::ChiangMaterial<T> m(p, c);
+                for (auto settings : {hs::DualScatteringSettings<T>::improved(), hs::DualScatteringSettings<T>::zinke2008()}) {
+                    hs::DualTableOptions<T> o;
+                    o.theta_samples = 16;
+                    o.settings = settings;
+                    check_dual_finite(m, o, gain, lobe);
+                }
+            }
+        }
+}
+
+TEST(DualBcsdf, FiniteForGainsUpToTheLimit) {
+    check_gains_finite<float>();
+    check_gains_finite<double>();
+}
+
+// Finite directions of any length are normalised, as the models do (models/contract.hpp);
+// a zero vector gives 0. Before, FLT_MAX components gave NaN.
+TEST(DualBcsdf, NonUnitDirectionsAreNormalised) {
+    using V3 = glm::vec3;
+    hs::FiberParams<float> p;
+    p.sigma_a = V3(hs::sigma_a_from_melanin(0.3, 0.0));
+    const hs::ChiangMaterial<float> m(p);
+    hs::DualTableOptions<float> o;
+    o.theta_samples = 16;
+    const auto tables = hs::DualScatteringTables<float>::build<hs::ChiangFiber<float>>(m, o);
+    const hs::DualScatteringBcsdf<hs::ChiangFiber<float>> d(hs::ChiangFiber<float>(m, 0.3f), tables);
+    hs::DualScatteringLight<float> l;
+    l.direct_fraction = 0.5f;
+    l.n = 3;
+    const V3 wo = glm::normalize(V3(0.3f, 0.8f, 0.2f)), wi = glm::normalize(V3(-0.4f, -0.7f, 0.5f));
+    const V3 f = d.eval(wo, wi, l);
+    const float pdf = d.pdf(wo, wi);
+    ASSERT_GT(pdf, 0.0f);
+    for (float scale : {std::numeric_limits<float>::max() / 2, 3.0f, 1e-3f, 1e-30f}) {
+        const V3 fs = d.eval(wo * scale, wi * scale, l);
+        EXPECT_NEAR(fs.x, f.x, 1e-4f * f.x) << scale;
+        EXPECT_NEAR(d.pdf(wo * scale, wi * scale), pdf, 1e-4f * pdf) << scale;
+        const auto s = d.sample(wo * scale, glm::vec4(0.3f, 0.5f, 0.6f, 0.2f));
+        EXPECT_TRUE(hs::is_finite(s.wi) && std::isfinite(s.pdf)) << scale;
+    }
+    EXPECT_EQ(d.pdf(V3(0), wi), 0.0f);
+    EXPECT_EQ(d.eval(wo, V3(0), l), V3(0));
+}

@@ -419,3 +419,25 @@ TEST(HuangDual, TablesAndBcsdfFromHuang) {
     const glm::dvec3 f = at.eval(direction(-20, 2.5), hs::DualScatteringLight<double>());
     for (int c = 0; c < 3; ++c) EXPECT_TRUE(std::isfinite(f[c]) && f[c] > 0);
 }
+
+// The recommended finer setting follows roughness as the automatic one does (a fixed
+// 128 × 4 had fewer paths than the automatic 192 × 2 at β = 0.1, and measured worse).
+TEST(HuangQuadrature, ScaledSettingFollowsRoughness) {
+    using M = hs::HuangMaterial<float>;
+    for (float beta : {0.02f, 0.05f, 0.1f, 0.2f, 0.3f, 0.6f, 1.0f}) {
+        const hs::HuangQuadrature q = hs::huang_scaled_quadrature(beta);
+        EXPECT_EQ(q.offset_nodes, M::auto_nodes(beta)) << beta;
+        EXPECT_GE(q.tt_points, M::auto_tt_points(beta)) << beta;
+        EXPECT_GE(q.tt_points * q.trt_per_tt, 2 * M::auto_tt_points(beta)) << beta;  // ≥ the automatic TRT points
+        if (beta >= 0.1f) {
+            EXPECT_EQ(q.trt_per_tt, 4) << beta;
+        }
+        EXPECT_LE(q.tt_points * q.trt_per_tt, M::kMaxTRTPoints);
+        hs::HuangParams<float> p;
+        p.roughness = beta;
+        const M m(p, q);  // within the material's limits: constructs
+        EXPECT_EQ(m.tt_points(), q.tt_points);
+    }
+    EXPECT_EQ(hs::huang_scaled_quadrature(0.3f).tt_points, 128);
+    EXPECT_EQ(hs::huang_scaled_quadrature(0.1f).tt_points, 384);
+}

@@ -380,4 +380,152 @@ template <typename T> void every_model_on_axis() {
 TEST(Axis, SampleAndPdfAgreeAlongTheFiberFloat) { every_model_on_axis<float>(); }
 TEST(Axis, SampleAndPdfAgreeAlongTheFiberDouble) { every_model_on_axis<double>(); }
 
+// Every model of the contract, Huang's included (small quadrature: the checks here are of
+// the front and the samplers, not of accuracy), for one roughness pair.
+template <typename T, typename Check> void for_each_model_with_huang(T beta_m, T beta_n, const Check& check) {
+    hs::FiberParams<T> p = brown<T>();
+    p.beta_m = beta_m;
+    p.beta_n = beta_n;
+    for_each_model<T>(p, check);
+    hs::HuangParams<T> hp;
+    hp.sigma_a = p.sigma_a;
+    hp.roughness = std::max(beta_m, hs::kMinHuangRoughness<T>);  // (one roughness, ≥ 0.02)
+    hp.aspect_ratio = T(0.7);
+    const hs::HuangMaterial<T> huang(hp, hs::HuangQuadrature{8, 16, 2});
+    check(hs::HuangFiber<T>(huang), "huang");
+}
+
+// Exact poles (θ = ±90°) of wo, of the sampled wi (u.y at 0 and 1, and u outside [0, 1],
+// which every model clamps), and near them: a sample's pdf is pdf(wo, wi) of its direction
+// and its weight is eval / pdf there, within 1e-4; a failed sample has weight 0. Before, at
+// a pole the sampler kept the density of the azimuth it drew while pdf(wo, wi) measured
+// another (Chiang float: 6e-6 against 3.5; Marschner's weight 2.72 against 2.66), and the
+// far field gave a NaN direction for u = 2.
+template <typename T, typename Fiber> void expect_pole_agreement(const Fiber& fiber, const char* name) {
+    using V3 = glm::vec<3, T>;
+    using V4 = glm::vec<4, T>;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    const T one_minus = T(1) - std::numeric_limits<T>::epsilon() / T(2);
+    const V3 wos[] = {V3(T(1), T(0), T(0)), V3(T(-1), T(0), T(0)), unit<T>(0.4, 0.3), unit<T>(-1.2, 2.0), unit<T>(0, 1)};
+    const T ys[] = {T(0), T(1), one_minus, T(2), T(-1)};
+    int compared = 0, bad = 0;
+    for (const V3& wo : wos)
+        for (int i = 0; i < 200; ++i) {
+            V4 u(T(u01(rng)), ys[i % 5], T(u01(rng)), T(u01(rng)));
+            if (i % 7 == 0) u.x = T(2);
+            if (i % 11 == 0) u.w = T(-1);
+            const hs::HairSample<T> s = fiber.sample(wo, u);
+            ASSERT_TRUE(finite3(s.wi)) << name;
+            if (!(s.pdf > T(0))) {
+                EXPECT_EQ(s.weight, V3(T(0))) << name;
+                continue;
+            }
+            ++compared;
+            const hs::HairEvalPdf<T> back = fiber.eval_pdf(wo, s.wi);
+            // The sample's f = weight · pdf and its pdf against eval_pdf of its direction,
+            // within 1e-4 of the range they take when wi moves by 4 ulps of 1 along an axis
+            // (where a narrow lobe is steep, the rounding of the sampled angles into wi moves
+            // them more than that: bench/stress.cpp counts these apart as rounding).
+            const T e = T(4) * std::numeric_limits<T>::epsilon();
+            double lo[4], hi[4];
+            for (int k = 0; k < 4; ++k) lo[k] = hi[k] = k < 3 ? double(back.f[k]) : double(back.pdf);
+            const double want[4] = {double(s.weight.x) * double(s.pdf), double(s.weight.y) * double(s.pdf),
+                                    double(s.weight.z) * double(s.pdf), double(s.pdf)};
+            auto inside = [&] {
+                for (int k = 0; k < 4; ++k)
+                    if (want[k] < lo[k] * (1 - 1e-4) - 1e-30 || want[k] > hi[k] * (1 + 1e-4) + 1e-30) return false;
+                return true;
+            };
+            bool ok = inside();
+            for (int axis = 0; axis < 3 && !ok; ++axis)
+                for (T sign : {T(-1), T(1)}) {
+                    V3 w = s.wi;
+                    w[axis] += sign * e;
+                    const hs::HairEvalPdf<T> moved = fiber.eval_pdf(wo, glm::normalize(w));
+                    for (int k = 0; k < 4; ++k) {
+                        const double v = k < 3 ? double(moved.f[k]) : double(moved.pdf);
+                        lo[k] = std::min(lo[k], v);
+                        hi[k] = std::max(hi[k], v);
+                    }
+                }
+            ok = ok || inside();
+            if (!ok && bad++ < 5)
+                ADD_FAILURE() << name << " wo (" << wo.x << ", " << wo.y << ", " << wo.z << ") u (" << u.x << ", " << u.y
+                              << ", " << u.z << ", " << u.w << "): wi (" << s.wi.x << ", " << s.wi.y << ", " << s.wi.z
+                              << ") sample pdf " << s.pdf << " weight " << s.weight.x << ", pdf(wi) " << back.pdf
+                              << " f(wi) " << back.f.x;
+        }
+    EXPECT_GT(compared, 200) << name;
+    // wi exactly at a pole: a density only where f is non-zero too (Marschner's f has the
+    // factor cosθi, so its density there is 0).
+    for (const V3& wo : wos)
+        for (T sign : {T(-1), T(1)}) {
+            const hs::HairEvalPdf<T> e = fiber.eval_pdf(wo, V3(sign, T(0), T(0)));
+            if (e.pdf > T(0)) {
+                EXPECT_GT(e.f.x + e.f.y + e.f.z, T(0)) << name << " wi at the pole " << sign;
+            }
+        }
+}
+
+template <typename T> void every_model_at_poles() {
+    for (T beta : {T(0.3), hs::kMinRoughness<T>})
+        for_each_model_with_huang<T>(beta, beta, [](const auto& fiber, const char* name) { expect_pole_agreement<T>(fiber, name); });
+}
+
+TEST(Poles, SampleAgreesWithPdfAndEvalFloat) { every_model_at_poles<float>(); }
+TEST(Poles, SampleAgreesWithPdfAndEvalDouble) { every_model_at_poles<double>(); }
+
+// Finite but not unit directions are normalised (the contract above HairSample): the
+// largest finite components, tiny ones and any other length give the unit direction's
+// values, and a zero vector gives 0 / no sample. Before, FLT_MAX components gave NaN in every
+// float model, and Huang with a tiny wo sampled a pdf of 0.057 with wi = (-inf, NaN, NaN).
+template <typename T, typename Fiber> void expect_normalised(const Fiber& fiber, const char* name) {
+    using V3 = glm::vec<3, T>;
+    using V4 = glm::vec<4, T>;
+    const T big = std::numeric_limits<T>::max();
+    const V3 wo = unit<T>(0.3, 0.2), wi = unit<T>(-0.4, 2.5);
+    const V4 u(T(0.3), T(0.6), T(0.2), T(0.7));
+    const hs::HairEvalPdf<T> ref = fiber.eval_pdf(wo, wi);
+    const hs::HairSample<T> ref_s = fiber.sample(wo, u);
+    ASSERT_GT(ref.pdf, T(0)) << name;
+    auto close = [](double a, double b) { return std::abs(a - b) <= 1e-3 * std::max(std::abs(a), std::abs(b)) + 1e-6; };
+    for (T scale : {big, big / T(3), T(3), T(1e-3), T(1e-30), std::numeric_limits<T>::denorm_min() * T(1e6)}) {
+        // Scaled so that the largest component is `scale` (the others may round to less).
+        const V3 so = wo * (scale / std::max({std::abs(wo.x), std::abs(wo.y), std::abs(wo.z)}));
+        const V3 si = wi * (scale / std::max({std::abs(wi.x), std::abs(wi.y), std::abs(wi.z)}));
+        if (!finite3(so) || !finite3(si)) continue;
+        const hs::HairEvalPdf<T> e = fiber.eval_pdf(so, si);
+        EXPECT_TRUE(close(double(e.pdf), double(ref.pdf))) << name << " scale " << scale << ": pdf " << e.pdf << " for " << ref.pdf;
+        EXPECT_TRUE(close(double(e.f.x), double(ref.f.x))) << name << " scale " << scale << ": f " << e.f.x << " for " << ref.f.x;
+        EXPECT_TRUE(close(double(fiber.pdf(so, si)), double(ref.pdf))) << name << " scale " << scale;
+        const hs::HairSample<T> s = fiber.sample(so, u);
+        ASSERT_TRUE(finite3(s.wi)) << name << " scale " << scale;
+        EXPECT_TRUE(close(double(s.pdf), double(ref_s.pdf))) << name << " scale " << scale << ": sample pdf " << s.pdf;
+        EXPECT_NEAR(double(glm::length(s.wi)), 1.0, 1e-5) << name << " scale " << scale;
+    }
+    const V3 zero(T(0));
+    EXPECT_EQ(fiber.pdf(zero, wi), T(0)) << name;
+    EXPECT_EQ(fiber.pdf(wo, zero), T(0)) << name;
+    EXPECT_EQ(fiber.eval(wo, zero), V3(T(0))) << name;
+    EXPECT_EQ(fiber.sample(zero, u).pdf, T(0)) << name;
+}
+
+template <typename T> void every_model_normalises() {
+    for_each_model_with_huang<T>(T(0.3), T(0.3), [](const auto& fiber, const char* name) { expect_normalised<T>(fiber, name); });
+}
+
+TEST(NonUnit, EveryModelNormalisesFloat) { every_model_normalises<float>(); }
+TEST(NonUnit, EveryModelNormalisesDouble) { every_model_normalises<double>(); }
+
+// Under -ffast-math (this file's second build) comparisons with NaN fold away; the checks
+// that read the bits still refuse it. Before, ChiangFiber::checked(h = NaN) stopped throwing.
+TEST(Validation, CheckedOffsetRefusesNanUnderAnyFlags) {
+    const hs::ChiangMaterial<float> m{hs::FiberParams<float>()};
+    volatile float nan = quiet_nan<float>();  // (not a constant the compiler could fold)
+    EXPECT_THROW(hs::ChiangFiber<float>::checked(m, nan), std::invalid_argument);
+    EXPECT_THROW(hs::ChiangFiber<float>::checked(m, -infinity<float>()), std::invalid_argument);
+    EXPECT_TRUE(hs::is_finite(hs::ChiangFiber<float>(m, nan).h()));
+}
+
 }  // namespace

@@ -121,6 +121,17 @@ template <typename T> struct FiberExtras {
     hairscatter::LobeControls<T> controls{};
     bool has_controls = false;
     std::vector<hairscatter::FiberParams<T>> strand_params;
+
+    // Whether some lobe's gain × tint exceeds 1 in some channel: a fiber may then return more
+    // light than it receives, and multiple scattering caps it (docs/controls.md).
+    bool amplifies() const {
+        if (!has_controls) return false;
+        for (int p = 0; p < hairscatter::LobeControls<T>::kLobes; ++p) {
+            const auto w = controls.weight(p);
+            if (w.x > T(1) || w.y > T(1) || w.z > T(1)) return true;
+        }
+        return false;
+    }
 };
 
 // The chosen model's material, built and validated once (throws std::invalid_argument

@@ -15,7 +15,8 @@ namespace hs = hairscatter;
 
 template <class MakeFiber> class PathIntegrator final : public PixelIntegrator {
   public:
-    PathIntegrator(const RenderContext& c, MakeFiber make) : c_(c), make_(make) {}
+    PathIntegrator(const RenderContext& c, MakeFiber make)
+        : c_(c), make_(make), amplifies_(c.shading.options().fiber_extras.amplifies()) {}
 
     vec3 radiance(const vec3& camera, const vec3& dir, Sampler& rng) const override {
         const Scene& scene = c_.scene;
@@ -42,6 +43,11 @@ template <class MakeFiber> class PathIntegrator final : public PixelIntegrator {
             if (hit.kind == Hit::kHair) {
                 const ShadingPoint sp(hit, -d);
                 const auto fiber = hairscatter_examples::bind_fiber(make_(sp.h(), sp.strand), sp.wo());
+                // Lobe gains above 1 can make a fiber return more light than it receives, and
+                // the sum over bounces then diverges. As in dual scattering (its tables and its
+                // integrator), the fiber the camera sees keeps its gains and every other fiber
+                // scatters at most what it receives: f / max(1, albedo(wo)) per channel.
+                if (amplifies_ && depth > 0) beta /= glm::max(fiber.albedo(), vec3(1.0f));
                 if (mis && lights.any()) {
                     const float u0 = rng.u(), u1 = rng.u(), u2 = rng.u();
                     const Lights::Sample ls = lights.sample(sp.p, u0, u1, u2);
@@ -105,6 +111,7 @@ template <class MakeFiber> class PathIntegrator final : public PixelIntegrator {
 
     const RenderContext& c_;
     MakeFiber make_;
+    bool amplifies_;
 };
 
 }  // namespace

@@ -22,7 +22,8 @@ using glm::vec3;
 
 class TwoStreamIntegrator final : public PixelIntegrator {
   public:
-    explicit TwoStreamIntegrator(const RenderContext& c) : c_(c), tables_(c.shading.tables().view()) {}
+    explicit TwoStreamIntegrator(const RenderContext& c)
+        : c_(c), tables_(c.shading.tables().view()), amplifies_(c.shading.options().fiber_extras.amplifies()) {}
 
     vec3 radiance(const vec3& o, const vec3& d, Sampler& rng) const override {
         return at_hit(c_.scene.intersect(o, d, kInf), d, 0, 0.0f, rng);
@@ -84,10 +85,17 @@ class TwoStreamIntegrator final : public PixelIntegrator {
     }
 
     vec3 hair(const ShadingPoint& sp, int depth, Sampler& rng) const {
-        const Scene& scene = c_.scene;
-        const Lights& lights = c_.lights;
         const hs::ChiangFiber<float> fiber(c_.shading.models().chiang(sp.strand), sp.h());
         const auto bound = fiber.at(sp.wo());
+        // Lobe gains above 1: the fiber the camera sees keeps them, any other scatters at most
+        // what it receives (as the tables' fibers do; path.cpp).
+        const vec3 cap = amplifies_ && depth > 0 ? 1.0f / glm::max(bound.albedo(), vec3(1.0f)) : vec3(1.0f);
+        return cap * hair_unscaled(sp, bound, depth, rng);
+    }
+
+    template <class Bound> vec3 hair_unscaled(const ShadingPoint& sp, const Bound& bound, int depth, Sampler& rng) const {
+        const Scene& scene = c_.scene;
+        const Lights& lights = c_.lights;
         vec3 L(0);
 
         // One light sample: `open` when no surface is in its way (the kernel's half),
@@ -139,6 +147,7 @@ class TwoStreamIntegrator final : public PixelIntegrator {
 
     const RenderContext& c_;
     hs::DualTablesView<float> tables_;
+    bool amplifies_;
 };
 
 }  // namespace

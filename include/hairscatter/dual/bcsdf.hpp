@@ -248,13 +248,14 @@ template <typename Fiber> class DualScatteringBcsdf {
     // light; 0 if unknown): it shapes the density, never the value.
     class At {
       public:
-        // Non-finite directions (or a non-finite wo) give 0, never NaN or an out-of-table read.
-        HAIRSCATTER_HD V3 eval(const V3& wi, const DualScatteringLight<T>& light) const {
-            if (!(valid_ && finite(wi))) return V3(T(0));
+        // Non-finite or zero directions (or such a wo) give 0, never NaN or an out-of-table
+        // read; finite ones of any other length are normalised, as the models do.
+        HAIRSCATTER_HD V3 eval(V3 wi, const DualScatteringLight<T>& light) const {
+            if (!(valid_ && unit(wi))) return V3(T(0));
             return value(wi, relative_azimuth(wo_, wi), light, single_.eval(wi));
         }
-        HAIRSCATTER_HD T pdf(const V3& wi) const {
-            if (!(valid_ && finite(wi))) return T(0);
+        HAIRSCATTER_HD T pdf(V3 wi) const {
+            if (!(valid_ && unit(wi))) return T(0);
             return density(wi, relative_azimuth(wo_, wi), single_.pdf(wi));
         }
         HAIRSCATTER_HD const V3& wo() const { return wo_; }
@@ -325,11 +326,13 @@ template <typename Fiber> class DualScatteringBcsdf {
         static HAIRSCATTER_HD T mean(const V3& v) { return (v.x + v.y + v.z) * T(1.0 / 3.0); }
         // Read from the bits (math/functions.hpp), so that -ffast-math cannot fold it away.
         static HAIRSCATTER_HD bool finite(const V3& v) { return is_finite(v); }
+        // Finite and non-zero, made unit in place (math/functions.hpp).
+        static HAIRSCATTER_HD bool unit(V3& v) { return is_finite(v) && detail::to_unit(v); }
 
         // with_mixture: also the sampler's mixture (pdf and sample need it, eval not).
         HAIRSCATTER_HD At(const DualScatteringBcsdf& d, const V3& wo, T spread, bool with_mixture = true)
-            : t_(d.tables_), single_(d.fiber_.at(wo)), wo_(wo), valid_(finite(wo)) {
-            const T so = clamp(wo.x, T(-1), T(1));
+            : t_(d.tables_), single_(d.fiber_.at(wo)), wo_(single_.wo()), valid_(single_.valid()) {
+            const T so = clamp(wo_.x, T(-1), T(1));
             sin_o_ = is_finite(so) ? so : T(0);
             cos_o_ = cos_from_sin(sin_o_);
             theta_o_ = elem::asin(sin_o_);

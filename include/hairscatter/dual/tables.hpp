@@ -421,6 +421,20 @@ template <typename T> class DualScatteringTables {
                 e.beta2_f += var * af;
                 e.beta2_b += var * ab;
             }
+            // Lobe gains above 1 (lobes/lobe_controls.hpp) let a fiber return more light than
+            // it receives, and every sum over fiber counts (a_f^n, the adding formula, Zinke
+            // et al. 2008 eqs. 13–15) then diverges. The shaded fiber keeps its gains (its own
+            // f); the fibers that carry light to it are capped at a lossless fiber's a_f + a_b
+            // = 1, per channel, with the window's shape kept (docs/controls.md).
+            for (int c = 0; c < 3; ++c) {
+                const T total = e.a_f[c] + e.a_b[c];
+                if (!(total > T(1))) continue;
+                const T k = T(1) / total;
+                e.a_f[c] *= k;
+                e.a_b[c] *= k;
+                for (int p = 0; p < L; ++p)
+                    for (int j = 0; j < opt.psi_samples; ++j) t.window_[v.window_index(i, p, j)][c] *= k;
+            }
             for (int c = 0; c < 3; ++c) {
                 const T f = e.a_f[c], b = e.a_b[c];
                 e.alpha_f[c] = f > T(0) ? e.alpha_f[c] / f : T(0);

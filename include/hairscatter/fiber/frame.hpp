@@ -61,4 +61,17 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T relative_azimuth
     return elem::atan2(oy * wi.z - oz * wi.y, oy * wi.y + oz * wi.z);
 }
 
+// The azimuth that a query of wi = direction_from_azimuth(wo, sinθ, φ) reads back: φ itself
+// (to rounding), except exactly at a pole (cosθ = 0), where wi has no azimuth and
+// relative_azimuth's convention decides, and at |φ| = π as rounded (u at 0 or 1), which is
+// past π: wi's azimuth then wraps to the float below π, a step a table's interpolation can
+// see at a narrow lobe. A sampler evaluates its sample at this φ, so that the sample's pdf
+// and weight are pdf(wo, wi) and eval / pdf there (before, at θi = ±90° a sample carried the
+// density of the φ it drew while pdf(wo, wi) read another). In float cosθ is 0 or ≥ 3.4e-4
+// (cos_from_sin of the largest float below 1): only those two edges take the second branch.
+template <typename T>
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T queried_azimuth(const glm::vec<3, T>& wo, const glm::vec<3, T>& wi, T cos_theta, T phi) {
+    return cos_theta > T(0) && phi < kPi<T> && phi > -kPi<T> ? phi : relative_azimuth(wo, wi);
+}
+
 }  // namespace hairscatter

@@ -96,6 +96,47 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE bool all_finite(const glm::vec<N, T>& a,
     return detail::max_magnitude_bits(b, detail::max_magnitude_bits(a, U(0))) < detail::FiniteBits<T>::kInf;
 }
 
+// Directions as the models read them: unit vectors. A finite direction of another length
+// (one a renderer forgot to normalise, or with components up to the largest float) is
+// rescaled, by its largest component first so that no square overflows or underflows; a
+// zero vector has no direction (false). A renderer's normalised vectors (|w|² within a few
+// ulps of 1) pass as they are: one dot product and one predictable branch.
+namespace detail {
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE bool to_unit(glm::vec<3, T>& w) {
+    using std::abs;
+    using std::sqrt;
+    const T l2 = w.x * w.x + w.y * w.y + w.z * w.z;
+    if (abs(l2 - T(1)) <= T(1e-5)) return true;
+    const T ax = abs(w.x), ay = abs(w.y), az = abs(w.z);
+    const T m = ax > ay ? (ax > az ? ax : az) : (ay > az ? ay : az);
+    if (!(m > T(0))) return false;
+    w /= m;  // the largest component is now ±1: its square neither overflows nor underflows
+    w /= sqrt(w.x * w.x + w.y * w.y + w.z * w.z);
+    return true;
+}
+}  // namespace detail
+// Finite, non-zero a and b, made unit in place (see detail::to_unit).
+template <typename T>
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE bool unit_directions(glm::vec<3, T>& a, glm::vec<3, T>& b) {
+    if (!all_finite(a, b)) return false;
+    const bool ok_a = detail::to_unit(a), ok_b = detail::to_unit(b);
+    return ok_a && ok_b;
+}
+// Finite u, clamped into [0, 1] in place: a sampler's numbers slightly outside it, or far,
+// give the nearest valid sample, in every model.
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE bool unit_numbers(glm::vec<4, T>& u) {
+    if (!is_finite(u)) return false;
+    for (int k = 0; k < 4; ++k) u[k] = u[k] < T(0) ? T(0) : (u[k] > T(1) ? T(1) : u[k]);
+    return true;
+}
+// Finite, non-zero w made unit and finite u clamped, in place.
+template <typename T>
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE bool unit_direction_and_numbers(glm::vec<3, T>& w, glm::vec<4, T>& u) {
+    if (!all_finite(w, u)) return false;
+    unit_numbers(u);
+    return detail::to_unit(w);
+}
+
 // c ? a : b without a branch, for the loops over lobes that the compilers vectorise: GCC
 // (under the default -ftrapping-math) does not if-convert a floating-point `c ? a : b`
 // whose arms it would have to speculate, and leaves the whole loop scalar; selecting the

@@ -96,6 +96,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     // Cheap, device-callable: h is clamped into [-1, 1] (hit offsets round slightly out).
     HAIRSCATTER_HD BasicChiangFiber(const Material& material, T h) : mat_(&material) {
         h_ = h > T(1) ? T(1) : (h >= T(-1) ? h : T(-1));
+        if (!is_finite(h_)) h_ = T(-1);  // NaN (read from the bits: -ffast-math keeps it)
         gamma_o_ = elem::asin(h_);
         cos_gamma_o_ = cos_from_sin(h_);
     }
@@ -103,7 +104,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
 
     // Host: the fiber at h, which must lie in [-1, 1] (throws std::invalid_argument).
     static BasicChiangFiber checked(const Material& material, T h) {
-        if (!(h >= T(-1) && h <= T(1)))
+        if (!(is_finite(h) && h >= T(-1) && h <= T(1)))  // (the bits: -ffast-math keeps NaN out)
             HAIRSCATTER_THROW(std::invalid_argument("hairscatter: h = " + std::to_string(double(h)) +
                                                     " is outside its range [-1, 1]"));
         return BasicChiangFiber(material, h);
@@ -240,7 +241,8 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         }
         phi = wrap_pi(phi);
 
-        return make_sample(direction_from_azimuth(wo, sin_i, phi), lobe_tag(p), combine<true, true>(o, sin_i, cos_i, phi));
+        const V3 wi = direction_from_azimuth(wo, sin_i, phi);
+        return make_sample(wi, lobe_tag(p), combine<true, true>(o, sin_i, cos_i, queried_azimuth(wo, wi, cos_i, phi)));
     }
 
     // kW: also the lobe selection probabilities w (pdf and sample need them, eval not).

@@ -45,10 +45,13 @@ HAIRSCATTER_HD constexpr int lobe_index(SampledLobe lobe) { return int(lobe); }
 // What sample() returns. pdf is in solid-angle measure, weight = eval / pdf. A sample
 // whose pdf is 0 (only from underflow in extreme parameters) carries weight 0.
 //
-// Non-finite input, every model: a NaN or ±Inf component in wo, wi or u makes eval 0, pdf
-// 0, eval_pdf {0, 0} and sample this default sample (wi 0, weight 0, pdf 0): a renderer
-// ends the path, and neither a NaN nor an out-of-table read can follow (the test reads the
-// bits, so it holds under -ffast-math as well). docs/robustness.md.
+// Non-finite input, every model: a NaN or ±Inf component in wo, wi or u, or a zero wo or
+// wi, makes eval 0, pdf 0, eval_pdf {0, 0} and sample this default sample (wi 0, weight 0,
+// pdf 0): a renderer ends the path, and neither a NaN nor an out-of-table read can follow
+// (the test reads the bits, so it holds under -ffast-math as well). Finite directions of
+// any other length are normalised (the largest floats included) and u is clamped into
+// [0, 1]. A sample's pdf and weight are pdf(wo, wi) and eval / pdf at its own wi, exactly
+// at the poles θi = ±90° too. docs/robustness.md.
 template <typename T> struct HairSample {
     glm::vec<3, T> wi{T(0)};
     glm::vec<3, T> weight{T(0)};
@@ -95,20 +98,22 @@ template <typename Model, typename T> class FiberModel {
     using At = BoundFiber<Model>;  // what at(wo) returns
 
     // Non-finite input gives 0 / no sample before anything reads a table (see HairSample).
-    HAIRSCATTER_HD V3 eval(const V3& wo, const V3& wi) const {
-        if (!all_finite(wo, wi)) return V3(T(0));
+    // Finite directions of any non-zero length are normalised, and u is clamped into [0, 1]
+    // (see HairSample).
+    HAIRSCATTER_HD V3 eval(V3 wo, V3 wi) const {
+        if (!unit_directions(wo, wi)) return V3(T(0));
         return self().template query<true, false>(self().template outgoing<false>(wo), wo, wi).f;
     }
-    HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const {
-        if (!all_finite(wo, wi)) return T(0);
+    HAIRSCATTER_HD T pdf(V3 wo, V3 wi) const {
+        if (!unit_directions(wo, wi)) return T(0);
         return self().template query<false, true>(self().template outgoing<true>(wo), wo, wi).pdf;
     }
-    HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(const V3& wo, const V3& wi) const {
-        if (!all_finite(wo, wi)) return HairEvalPdf<T>{};
+    HAIRSCATTER_HD HairEvalPdf<T> eval_pdf(V3 wo, V3 wi) const {
+        if (!unit_directions(wo, wi)) return HairEvalPdf<T>{};
         return self().template query<true, true>(self().template outgoing<true>(wo), wo, wi);
     }
-    HAIRSCATTER_HD HairSample<T> sample(const V3& wo, const V4& u) const {
-        if (!all_finite(wo, u)) return HairSample<T>{};
+    HAIRSCATTER_HD HairSample<T> sample(V3 wo, V4 u) const {
+        if (!unit_direction_and_numbers(wo, u)) return HairSample<T>{};
         return fresh_sample(self(), self().template outgoing<true>(wo), wo, u, 0);
     }
 
@@ -141,35 +146,42 @@ template <typename Fiber> class BoundFiber {
     using V3 = glm::vec<3, Real>;
     using V4 = glm::vec<4, Real>;
 
-    // A non-finite wo binds a valid direction instead and marks the object empty: every
-    // call then gives 0 / no sample (see HairSample).
+    // wo is normalised (any finite non-zero length); a non-finite or zero wo binds a valid
+    // direction instead and marks the object empty: every call then gives 0 / no sample.
     HAIRSCATTER_HD BoundFiber(const Fiber& fiber, const V3& wo)
-        : fiber_(fiber), wo_(is_finite(wo) ? wo : V3(Real(0), Real(1), Real(0))), valid_(is_finite(wo)),
-          o_(fiber.template outgoing<true>(wo_)) {}
+        : fiber_(fiber), wo_(bound_direction(wo)), valid_(unit_ok(wo)), o_(fiber.template outgoing<true>(wo_)) {}
 
-    HAIRSCATTER_HD V3 eval(const V3& wi) const {
-        if (!(valid_ && is_finite(wi))) return V3(Real(0));
+    HAIRSCATTER_HD V3 eval(V3 wi) const {
+        if (!(valid_ && unit_ok_in_place(wi))) return V3(Real(0));
         return fiber_.template query<true, false>(o_, wo_, wi).f;
     }
-    HAIRSCATTER_HD Real pdf(const V3& wi) const {
-        if (!(valid_ && is_finite(wi))) return Real(0);
+    HAIRSCATTER_HD Real pdf(V3 wi) const {
+        if (!(valid_ && unit_ok_in_place(wi))) return Real(0);
         return fiber_.template query<false, true>(o_, wo_, wi).pdf;
     }
-    HAIRSCATTER_HD HairEvalPdf<Real> eval_pdf(const V3& wi) const {
-        if (!(valid_ && is_finite(wi))) return HairEvalPdf<Real>{};
+    HAIRSCATTER_HD HairEvalPdf<Real> eval_pdf(V3 wi) const {
+        if (!(valid_ && unit_ok_in_place(wi))) return HairEvalPdf<Real>{};
         return fiber_.template query<true, true>(o_, wo_, wi);
     }
-    HAIRSCATTER_HD HairSample<Real> sample(const V4& u) const {
-        if (!(valid_ && is_finite(u))) return HairSample<Real>{};
+    HAIRSCATTER_HD HairSample<Real> sample(V4 u) const {
+        if (!(valid_ && unit_numbers(u))) return HairSample<Real>{};
         return fiber_.sample_from(o_, wo_, u);
     }
+    // The bound wo, normalised (or the stand-in of an empty object), and whether it was valid.
     HAIRSCATTER_HD const V3& wo() const { return wo_; }
+    HAIRSCATTER_HD bool valid() const { return valid_; }
     HAIRSCATTER_HD const Fiber& fiber() const { return fiber_; }
     // The fiber's albedo(wo): from the bound terms when the model offers albedo_from(o)
     // (no second pass over the wo terms), else by albedo(wo).
     HAIRSCATTER_HD V3 albedo() const { return albedo_of(0); }
 
   private:
+    // wo made unit, or (non-finite or zero) a valid direction to bind instead, the object
+    // then empty: every call gives 0 / no sample (see HairSample).
+    static HAIRSCATTER_HD V3 bound_direction(V3 wo) { return unit_ok_in_place(wo) ? wo : V3(Real(0), Real(1), Real(0)); }
+    static HAIRSCATTER_HD bool unit_ok(V3 w) { return unit_ok_in_place(w); }
+    static HAIRSCATTER_HD bool unit_ok_in_place(V3& w) { return is_finite(w) && detail::to_unit(w); }
+
     template <typename F = Fiber, typename O = typename F::Outgoing>
     HAIRSCATTER_HD auto albedo_of(int) const -> decltype(std::declval<const F&>().albedo_from(std::declval<const O&>())) {
         return fiber_.albedo_from(o_);

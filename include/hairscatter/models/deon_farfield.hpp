@@ -225,7 +225,8 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
                                            mat_->azimuthal().sample(u.w, v))
                                  : wrap_pi(kTwoPi<T> * u.w - kPi<T>);
 
-        return make_sample(direction_from_azimuth(wo, sin_i, phi), lobe_tag(p), combine(o, sin_i, cos_i, phi));
+        const V3 wi = direction_from_azimuth(wo, sin_i, phi);
+        return make_sample(wi, lobe_tag(p), combine(o, sin_i, cos_i, queried_azimuth(wo, wi, cos_i, phi)));
     }
 
     // A_p(h_j) for all lobes (even in h, so shared with the mirror node) and γt(h_j).

@@ -280,8 +280,11 @@ template <typename T> class MarschnerFiber : public FiberModel<MarschnerFiber<T>
         const T v = cell.rescaled;
         const T phi = wrap_pi(cubic.exit_azimuth(elem::asin(h)) + mat_->cell_lo(k) + mat_->cell_len(k) * v);
 
-        HairSample<T> r =
-            make_sample(direction_from_azimuth(wo, sin_i, phi), lobe_tag(p), combine<true, true>(o, sin_i, cos_i, phi));
+        // Evaluated at the azimuth pdf(wo, wi) reads (one atan2, small beside the root
+        // solving): the float density sums differences of arc masses, whose cancellation
+        // turns the last-bit difference between φ and wi's azimuth into 1e-4 of the pdf.
+        const V3 wi = direction_from_azimuth(wo, sin_i, phi);
+        HairSample<T> r = make_sample(wi, lobe_tag(p), combine<true, true>(o, sin_i, cos_i, relative_azimuth(wo, wi)));
         // At a roughness cell's edge the density can round to a denormal in float while f does
         // not; with one lobe alone (the others' gains 0, so no other lobe's density backs it
         // up) f / pdf then overflows. Such a sample fails, as one whose pdf rounds to 0 does.
@@ -461,7 +464,10 @@ template <typename T> class MarschnerFiber : public FiberModel<MarschnerFiber<T>
                 }
                 pdf += o.w[p] * m * np;
             }
-            r.pdf = pdf;
+            // Exactly at a pole f is 0 (its factor cosθi) and wi has no azimuth: the density
+            // there, a set of measure 0, is taken as 0 too, so that a sample landing on it
+            // fails instead of carrying weight 0 with a density that depends on φ.
+            r.pdf = cos_i > T(0) ? pdf : T(0);
         }
         return r;
     }

@@ -219,7 +219,8 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
             phi = v_->sample_phi(row, p, u.w);
         }
 
-        return make_sample(direction_from_azimuth(wo, sin_i, phi), lobe_tag(p), combine<true>(o, sin_i, cos_i, phi));
+        const V3 wi = direction_from_azimuth(wo, sin_i, phi);
+        return make_sample(wi, lobe_tag(p), combine<true>(o, sin_i, cos_i, queried_azimuth(wo, wi, cos_i, phi)));
     }
 
     const View* v_;
