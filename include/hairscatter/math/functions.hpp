@@ -110,7 +110,15 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE bool to_unit(glm::
     const T ax = abs(w.x), ay = abs(w.y), az = abs(w.z);
     const T m = ax > ay ? (ax > az ? ax : az) : (ay > az ? ay : az);
     if (!(m > T(0))) return false;
-    w /= m;  // the largest component is now ±1: its square neither overflows nor underflows
+    // w / m, the largest component then ±1, so that its square neither overflows nor
+    // underflows. Written as w · (1/m), which is what -ffast-math makes of it anyway: 1/m is
+    // subnormal (flushed to 0 under fast-math) for m above 1/FLT_MIN and infinite for a
+    // subnormal m, so m is first brought toward 1 by 2^∓64 (exact).
+    constexpr T kDown = T(5.42101086242752217e-20), kUp = T(18446744073709551616.0);  // 2^-64, 2^64
+    T k = m;
+    if (m > kUp) w *= kDown, k *= kDown;
+    if (m < kDown) w *= kUp, k *= kUp;
+    w *= T(1) / k;
     w /= sqrt(w.x * w.x + w.y * w.y + w.z * w.z);
     return true;
 }
