@@ -130,7 +130,7 @@ template <typename T> T poison(Rng& r) {
 }
 
 // The sample's values (pdf, and f = weight · pdf where known) lie within the tolerance of
-// the range that eval_pdf takes when wi moves by 4 ulps of 1 along each axis: where the
+// the range that eval_pdf takes when wi moves by up to 4 ulps of 1 along each axis: where the
 // density is steep (the edge of a narrow lobe's support, φ = ±π with β_n = 1e-3: 100 per
 // radian), the rounding of the sampled angles into wi moves them by more than the
 // tolerance; that is rounding, not a mismatch.
@@ -140,16 +140,34 @@ template <typename T> struct Back {
 };
 template <typename T, typename BackAt>
 bool within_rounding(const BackAt& back_at, const glm::vec<3, T>& wi, const Back<T>& want) {
+    using V3 = glm::vec<3, T>;
     const T e = T(4) * std::numeric_limits<T>::epsilon();
     double lo[4], hi[4];
     for (int k = 0; k < 4; ++k) lo[k] = std::numeric_limits<double>::max(), hi[k] = -lo[k];
+    auto probe = [&](const V3& w) {
+        const Back<T> b = back_at(glm::normalize(w));
+        for (int k = 0; k < 4; ++k) lo[k] = std::fmin(lo[k], b.v[k]), hi[k] = std::fmax(hi[k], b.v[k]);
+    };
     for (int axis = 0; axis < 3; ++axis)
         for (T sign : {T(-1), T(1)}) {
-            glm::vec<3, T> w = wi;
+            V3 w = wi;
             w[axis] += sign * e;
-            const Back<T> b = back_at(glm::normalize(w));
-            for (int k = 0; k < 4; ++k) lo[k] = std::fmin(lo[k], b.v[k]), hi[k] = std::fmax(hi[k], b.v[k]);
+            probe(w);
         }
+    // Between those corners too, in the fiber's inclination (x) and azimuth (a rotation
+    // about x by up to the angle 4 ulps subtend): the sampler's exact value can sit on a
+    // lobe's peak, which no corner of the box reaches.
+    const double rho = std::sqrt(double(wi.y) * double(wi.y) + double(wi.z) * double(wi.z));
+    for (int j = -8; j <= 8; ++j) {
+        const double t = double(j) / 8.0;
+        V3 w = wi;
+        w.x += T(t) * e;
+        probe(w);
+        if (rho > 0) {
+            const double a = t * double(e) / rho, c = std::cos(a), sn = std::sin(a);
+            probe(V3(wi.x, T(c * double(wi.y) - sn * double(wi.z)), T(sn * double(wi.y) + c * double(wi.z))));
+        }
+    }
     for (int k = 0; k < (want.has_f ? 4 : 1); ++k)
         if (!(want.v[k] >= lo[k] * (1 - kRelTolerance) - kAbsTolerance && want.v[k] <= hi[k] * (1 + kRelTolerance) + kAbsTolerance))
             return false;

@@ -78,8 +78,9 @@ elapsed=$((SECONDS - start))
     echo "from pdf(wo, wi) of its direction, or whose weight × pdf differs from eval(wo, wi) in a channel,"
     echo "by more than 1e-4 relative (the dual BCSDF: its pdf; its value needs a light state). Samples"
     echo "exactly on the fiber axis (u.y at 0 or 1 can put sinθi at ±1) are counted and compared like any"
-    echo "other. A difference that moving wi by 4 ulps of 1 along an axis explains (the values are that"
-    echo "steep at the edge of a narrow lobe's support) is counted as rounding, not as a mismatch."
+    echo "other. A difference that moving wi by up to 4 ulps of 1 explains (along each axis, and between,"
+    echo "along the fiber's inclination and azimuth, where the sampler's exact value can sit on a narrow"
+    echo "lobe's peak that no rounded direction reaches) is counted as rounding, not as a mismatch."
     echo "The far field and Marschner cost 10–50× more per call and run fewer calls (the slow-calls count:"
     echo "10^8 calls of the far field alone would take about an hour of one core per precision)."
     echo
