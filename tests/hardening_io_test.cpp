@@ -131,11 +131,12 @@ template <typename T> void check_overflowing_segments() {
     using V3 = glm::vec<3, T>;
     const T big = std::numeric_limits<T>::max();
     hs::DensityGrid<T> g(V3(0), V3(1), glm::ivec3(4), T(0.01));
-    for (const auto& [a, b] : std::vector<std::pair<V3, V3>>{{V3(T(0.5)), V3(big, T(0.5), T(0.5))},
+    for (const auto& ends : std::vector<std::pair<V3, V3>>{{V3(T(0.5)), V3(big, T(0.5), T(0.5))},
                                                              {V3(-big, T(0.5), T(0.5)), V3(big, T(0.5), T(0.5))},
                                                              {V3(T(0.5)), V3(big)},
                                                              {V3(T(0.5)), V3(T(2) * std::sqrt(big), T(0.5), T(0.5))}}) {
-        const std::string msg = error_of<std::invalid_argument>([&] { g.add_segment(a, b); });
+        // (Not a structured binding: C++17 lambdas cannot capture one, and Clang refuses.)
+        const std::string msg = error_of<std::invalid_argument>([&] { g.add_segment(ends.first, ends.second); });
         EXPECT_NE(msg.find("DensityGrid::add_segment"), std::string::npos) << msg;
         EXPECT_NE(msg.find("length"), std::string::npos) << msg;
     }
