@@ -273,15 +273,19 @@ TEST(RenderDual, TwoStreamReturnsTheEnvironmentInAWhiteFurnace) {
     }
 }
 
+// The default block on its ground plane under the default lights.
+SceneDescription lit_block(int hairs) {
+    BlockOptions b;
+    b.count = hairs;
+    return make_block_scene(b, LightingOptions());
+}
+
 // Light the ground bounces onto hair: dark hair on the ground plane (where the path tracer
 // finds little multiple scattering, so the bounce light is most of the difference from
 // single scattering) against the path tracer. The BCSDF formulations use other surfaces
 // only as shadow casters (−16 % in docs/results); the two-stream integrator traces them.
 TEST(RenderDual, TwoStreamCarriesTheGroundsLightLikeThePathTracer) {
-    BlockOptions b;
-    b.count = 1500;
-    LightingOptions lighting;
-    const Scene scene(make_block_scene(b, lighting));
+    const Scene scene(lit_block(1500));
     ShadingOptions so;
     so.fiber.sigma_a = hairscatter::sigma_a_from_melanin(8.0f, 0.0f);
     const ShadingSetup shading(scene, so);
@@ -323,10 +327,7 @@ TEST(RenderDual, TwoStreamCarriesTheGroundsLightLikeThePathTracer) {
 // tracer returned 59,000 where lossless hair returns 0.36 (the series over bounces
 // diverged), and every gain at 1e6 gave 2.5e30.
 TEST(RenderGains, LargeGainsStayFiniteAndBounded) {
-    BlockOptions b;
-    b.count = 1500;
-    LightingOptions lighting;
-    const Scene scene(make_block_scene(b, lighting));
+    const Scene scene(lit_block(1500));
     RenderOptions o;
     o.width = 32;
     o.height = 24;
