@@ -251,11 +251,11 @@ template <typename Fiber> class DualScatteringBcsdf {
         // Non-finite or zero directions (or such a wo) give 0, never NaN or an out-of-table
         // read; finite ones of any other length are normalised, as the models do.
         HAIRSCATTER_HD V3 eval(V3 wi, const DualScatteringLight<T>& light) const {
-            if (!(valid_ && unit(wi))) return V3(T(0));
+            if (!(valid_ && unit_direction(wi))) return V3(T(0));
             return value(wi, relative_azimuth(wo_, wi), light, single_.eval(wi));
         }
         HAIRSCATTER_HD T pdf(V3 wi) const {
-            if (!(valid_ && unit(wi))) return T(0);
+            if (!(valid_ && unit_direction(wi))) return T(0);
             return density(wi, relative_azimuth(wo_, wi), single_.pdf(wi));
         }
         HAIRSCATTER_HD const V3& wo() const { return wo_; }
@@ -326,8 +326,6 @@ template <typename Fiber> class DualScatteringBcsdf {
         static HAIRSCATTER_HD T mean(const V3& v) { return (v.x + v.y + v.z) * T(1.0 / 3.0); }
         // Read from the bits (math/functions.hpp), so that -ffast-math cannot fold it away.
         static HAIRSCATTER_HD bool finite(const V3& v) { return is_finite(v); }
-        // Finite and non-zero, made unit in place (math/functions.hpp).
-        static HAIRSCATTER_HD bool unit(V3& v) { return is_finite(v) && detail::to_unit(v); }
 
         // with_mixture: also the sampler's mixture (pdf and sample need it, eval not).
         HAIRSCATTER_HD At(const DualScatteringBcsdf& d, const V3& wo, T spread, bool with_mixture = true)

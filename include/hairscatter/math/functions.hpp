@@ -123,6 +123,10 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE bool to_unit(glm::
     return true;
 }
 }  // namespace detail
+// Finite, non-zero w, made unit in place (see detail::to_unit).
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE bool unit_direction(glm::vec<3, T>& w) {
+    return is_finite(w) && detail::to_unit(w);
+}
 // Finite, non-zero a and b, made unit in place (see detail::to_unit).
 template <typename T>
 HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE bool unit_directions(glm::vec<3, T>& a, glm::vec<3, T>& b) {

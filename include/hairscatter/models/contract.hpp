@@ -149,18 +149,18 @@ template <typename Fiber> class BoundFiber {
     // wo is normalised (any finite non-zero length); a non-finite or zero wo binds a valid
     // direction instead and marks the object empty: every call then gives 0 / no sample.
     HAIRSCATTER_HD BoundFiber(const Fiber& fiber, const V3& wo)
-        : fiber_(fiber), wo_(bound_direction(wo)), valid_(unit_ok(wo)), o_(fiber.template outgoing<true>(wo_)) {}
+        : fiber_(fiber), wo_(wo), valid_(unit_or_stand_in(wo_)), o_(fiber.template outgoing<true>(wo_)) {}
 
     HAIRSCATTER_HD V3 eval(V3 wi) const {
-        if (!(valid_ && unit_ok_in_place(wi))) return V3(Real(0));
+        if (!(valid_ && unit_direction(wi))) return V3(Real(0));
         return fiber_.template query<true, false>(o_, wo_, wi).f;
     }
     HAIRSCATTER_HD Real pdf(V3 wi) const {
-        if (!(valid_ && unit_ok_in_place(wi))) return Real(0);
+        if (!(valid_ && unit_direction(wi))) return Real(0);
         return fiber_.template query<false, true>(o_, wo_, wi).pdf;
     }
     HAIRSCATTER_HD HairEvalPdf<Real> eval_pdf(V3 wi) const {
-        if (!(valid_ && unit_ok_in_place(wi))) return HairEvalPdf<Real>{};
+        if (!(valid_ && unit_direction(wi))) return HairEvalPdf<Real>{};
         return fiber_.template query<true, true>(o_, wo_, wi);
     }
     HAIRSCATTER_HD HairSample<Real> sample(V4 u) const {
@@ -176,11 +176,13 @@ template <typename Fiber> class BoundFiber {
     HAIRSCATTER_HD V3 albedo() const { return albedo_of(0); }
 
   private:
-    // wo made unit, or (non-finite or zero) a valid direction to bind instead, the object
-    // then empty: every call gives 0 / no sample (see HairSample).
-    static HAIRSCATTER_HD V3 bound_direction(V3 wo) { return unit_ok_in_place(wo) ? wo : V3(Real(0), Real(1), Real(0)); }
-    static HAIRSCATTER_HD bool unit_ok(V3 w) { return unit_ok_in_place(w); }
-    static HAIRSCATTER_HD bool unit_ok_in_place(V3& w) { return is_finite(w) && detail::to_unit(w); }
+    // w made unit in place, or (non-finite or zero) replaced by a valid direction to bind
+    // instead, the object then empty: every call gives 0 / no sample (see HairSample).
+    static HAIRSCATTER_HD bool unit_or_stand_in(V3& w) {
+        if (unit_direction(w)) return true;
+        w = V3(Real(0), Real(1), Real(0));
+        return false;
+    }
 
     template <typename F = Fiber, typename O = typename F::Outgoing>
     HAIRSCATTER_HD auto albedo_of(int) const -> decltype(std::declval<const F&>().albedo_from(std::declval<const O&>())) {
