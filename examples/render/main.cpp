@@ -93,8 +93,19 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"two-stream", "improved", "zinke"}))
         ->capture_default_str();
     app.add_option("--dual-counts", dual_counts,
-                   "dual two-stream: fibers along a ray counted exactly on the hair, or drawn from the density grid")
-        ->check(CLI::IsMember({"exact", "grid"}))
+                   "dual two-stream: fibers along a ray counted exactly on the hair (a ray per count), drawn from the "
+                   "density grid (a march), or looked up in the directional count field (no ray)")
+        ->check(CLI::IsMember({"exact", "grid", "field"}))
+        ->capture_default_str();
+    int field_side = 12;
+    float field_spacing = 1.0f;
+    app.add_option("--field-side", field_side,
+                   "dual two-stream, field counts: the octahedral map's side, [2, 64] (side² directions)")
+        ->check(CLI::Range(2, 64))
+        ->capture_default_str();
+    app.add_option("--field-spacing", field_spacing,
+                   "dual two-stream, field counts: the field's lattice spacing in density-grid cells, [1, 64]")
+        ->check(CLI::Range(1.0f, 64.0f))
         ->capture_default_str();
     app.add_option("--d-f", d_f, "dual improved and zinke: forward density factor in [0, 1] (default 1 improved, 0.7 zinke)");
     app.add_option("--d-b", d_b, "dual improved and zinke: backward density factor in [0, 1] (default 1 improved, 0.7 zinke)");
@@ -154,7 +165,11 @@ int main(int argc, char** argv) {
         so.section = fiber.section;
         so.dual_scattering = ro.integrator == render::Integrator::kDual;
         so.two_stream = dual_formulation == "two-stream";
-        so.exact_counts = dual_counts == "exact";
+        so.counts = dual_counts == "exact" ? render::DualCounts::kExact
+                    : dual_counts == "grid"  ? render::DualCounts::kGrid
+                                             : render::DualCounts::kField;
+        so.field_side = field_side;
+        so.field_spacing = field_spacing;
         so.dual = dual_formulation == "zinke" ? hs::DualScatteringSettings<float>::zinke2008()
                                               : hs::DualScatteringSettings<float>::improved();
         if (app.count("--d-f")) so.dual.d_f = d_f;

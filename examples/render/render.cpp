@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -111,6 +112,7 @@ RenderResult render(const Scene& scene, const ShadingSetup& shading, const Rende
     const int tiles_x = (o.width + o.tile - 1) / o.tile, tiles_y = (o.height + o.tile - 1) / o.tile;
     std::atomic<std::uint64_t> samples{0}, dropped{0};
     std::atomic<std::size_t> hair_pixels{0};
+    std::atomic<std::int64_t> hair_ns{0};
     {
         Progress progress(std::size_t(o.width) * std::size_t(o.height), o.progress);
         char fork = 0, join = 0;  // TSan's sync objects (see tsan_release)
@@ -121,6 +123,7 @@ RenderResult render(const Scene& scene, const ShadingSetup& shading, const Rende
                 const int x1 = std::min(x0 + o.tile, o.width), y1 = std::min(y0 + o.tile, o.height);
                 std::uint64_t n = 0, bad = 0;
                 std::size_t hair = 0;
+                std::int64_t ns = 0;
                 for (int y = y0; y < y1; ++y)
                     for (int x = x0; x < x1; ++x) {
                         const std::size_t i = std::size_t(y) * std::size_t(o.width) + std::size_t(x);
@@ -132,6 +135,7 @@ RenderResult render(const Scene& scene, const ShadingSetup& shading, const Rende
                         if (o.hair_only && !on_hair) continue;
                         Pcg32 gen = pixel_rng(o.seed, x, y);
                         Sampler rng{gen};
+                        const auto pixel_start = std::chrono::steady_clock::now();
                         vec3 sum(0);
                         for (int k = 0; k < o.spp; ++k) {
                             const float jx = rng.u(), jy = rng.u();
@@ -141,11 +145,16 @@ RenderResult render(const Scene& scene, const ShadingSetup& shading, const Rende
                             else ++bad;
                             ++n;
                         }
+                        if (on_hair)
+                            ns += std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() -
+                                                                                       pixel_start)
+                                      .count();
                         for (int c = 0; c < 3; ++c) r.rgb[3 * i + std::size_t(c)] = sum[c] / float(o.spp);
                     }
                 samples += n;
                 dropped += bad;
                 hair_pixels += hair;
+                hair_ns += ns;
                 progress.add(std::size_t(x1 - x0) * std::size_t(y1 - y0));
             }
             tsan_release(&join);
@@ -166,6 +175,7 @@ RenderResult render(const Scene& scene, const ShadingSetup& shading, const Rende
     r.samples = samples;
     r.dropped = dropped;
     r.hair_pixels = hair_pixels;
+    r.hair_seconds = double(hair_ns.load()) * 1e-9;
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return r;
 }
@@ -186,15 +196,16 @@ std::string summary_line(const Scene& scene, const ShadingSetup& shading, const 
     if (o.integrator == Integrator::kDual) {
         const ShadingOptions& so = shading.options();
         s << " dual=" << (so.two_stream ? "two-stream" : so.dual.formulation == hairscatter::DualFormulation::kZinke2008 ? "zinke" : "improved");
-        if (so.two_stream) s << " counts=" << (so.exact_counts ? "exact" : "grid");
+        if (so.two_stream) s << " counts=" << to_string(so.counts);
     }
     s << " model=" << hairscatter_examples::to_string(shading.options().model)
       << " lobes=" << hairscatter_examples::lobes_to_string(shading.options().lobes) << " width=" << r.width
       << " height=" << r.height << " spp=" << o.spp << " seed=" << o.seed << " strands=" << st.strands
       << " segments=" << st.hair_segments << " time_s=" << r.seconds << " build_s=" << st.bvh_seconds + sh.seconds
       << " samples=" << r.samples << " dropped=" << r.dropped << " nonfinite_pixels=" << nonfinite
-      << " hair_pixels=" << r.hair_pixels << " embree_mb=" << st.embree_bytes * mb << " grid_mb=" << sh.grid_bytes * mb
+      << " hair_pixels=" << r.hair_pixels << " hair_us_per_sample=" << r.hair_us_per_sample(o.spp) << " embree_mb=" << st.embree_bytes * mb << " grid_mb=" << sh.grid_bytes * mb
       << " grid_res=" << sh.grid_resolution.x << "x" << sh.grid_resolution.y << "x" << sh.grid_resolution.z
+      << " field_mb=" << sh.field_bytes * mb << " field_s=" << sh.field_seconds
       << " tables_kb=" << sh.table_bytes / 1024.0 << " peak_rss_mb=" << peak_rss_bytes() * mb;
     // Mean radiance over the hair pixels (the mask), for quick comparisons of integrators.
     glm::dvec3 mean(0.0);

@@ -48,6 +48,13 @@ struct RenderResult {
     std::uint64_t samples = 0;           // camera samples taken
     std::uint64_t dropped = 0;           // samples discarded as non-finite (should be 0)
     std::size_t hair_pixels = 0;
+    // Time spent on the hair pixels' samples, summed over threads (per-pixel clock reads):
+    // the cost per sample where integrators differ, free of the background's.
+    double hair_seconds = 0;
+    // hair_seconds per sample of a hair pixel, in microseconds (0 without hair pixels).
+    double hair_us_per_sample(int spp) const {
+        return hair_pixels > 0 && spp > 0 ? hair_seconds * 1e6 / (double(hair_pixels) * double(spp)) : 0.0;
+    }
 };
 
 // Throws std::invalid_argument naming the first bad option (as its command-line flag).

@@ -1,6 +1,8 @@
 // render — building the shading setup.
 #include "shading.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -47,7 +49,7 @@ glm::ivec3 grid_resolution(const Hair& hair, float cell) {
 }
 
 float check_grid(const Hair& hair, const ShadingOptions& o) {
-    if (!o.dual_scattering || (o.two_stream && o.exact_counts) || hair.segment_count() == 0) return 0.0f;
+    if (!o.dual_scattering || (o.two_stream && o.counts == DualCounts::kExact) || hair.segment_count() == 0) return 0.0f;
     if (!(o.grid_cell >= 0) || !std::isfinite(o.grid_cell))
         throw std::invalid_argument("--grid-cell: " + std::to_string(o.grid_cell) + " is not a size >= 0");
     // A cell above the automatic one's largest (the hair's extent, or 4 radii) holds all
@@ -108,9 +110,31 @@ ShadingSetup::ShadingSetup(const Scene& scene, const ShadingOptions& options) : 
         stats_.grid_bytes = grid_->cells().size() * sizeof(hs::HairLengthTensor<float>);
         stats_.grid_resolution = grid_->resolution();
     }
+    if (needs_field() && grid_) {
+        // The field's directions are independent: built in parallel, each from the grid.
+        const auto t_field = Clock::now();
+        glm::ivec3 points;
+        for (int a = 0; a < 3; ++a)
+            points[a] = std::max(1, int(std::ceil(float(grid_->resolution()[a]) / o_.field_spacing))) + 1;
+        field_ = std::make_unique<hs::DirectionalCountField<float>>(grid_->box_min(), grid_->box_max(), points,
+                                                                     o_.field_side);
+        const hs::DensityGridView<float> view = grid_->view();
+        tbb::parallel_for(0, field_->direction_count(), [&](int k) { field_->build_direction(k, view); });
+        stats_.field_seconds = seconds_since(t_field);
+        stats_.field_bytes = field_->bytes();
+    }
     stats_.seconds = seconds_since(t0);
 }
 
 ShadingSetup::~ShadingSetup() = default;
+
+const char* to_string(DualCounts c) {
+    switch (c) {
+        case DualCounts::kExact: return "exact";
+        case DualCounts::kGrid: return "grid";
+        case DualCounts::kField: return "field";
+    }
+    return "?";
+}
 
 }  // namespace render

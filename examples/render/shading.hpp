@@ -18,6 +18,13 @@ namespace render {
 
 using hairscatter_examples::FiberModel;
 
+// How the two-stream estimator counts the fibers along a direction: exactly on the hair
+// (Embree: one ray per count, a sample of the count's distribution), from the density grid
+// (a march, and a hair ray for whether any fiber is in the way), or from the directional
+// count field (hairscatter/dual/count_field.hpp: a lookup, no ray).
+enum class DualCounts { kExact, kGrid, kField };
+const char* to_string(DualCounts c);
+
 struct ShadingOptions {
     FiberModel model = FiberModel::kChiang;
     unsigned lobes = hairscatter_examples::LobeBits::kAll;  // Chiang only
@@ -31,10 +38,13 @@ struct ShadingOptions {
     // (hairscatter/dual/two_stream.hpp, the default) or the dual-scattering BCSDF with the
     // tables' formulation (improved or Zinke 2008).
     bool two_stream = true;
-    // Two-stream: the fibers along a direction counted exactly on the hair (Embree, a
-    // sample of the count's distribution per ray) or drawn from the density grid's
-    // expectation (a Poisson count). The grid is built only where something reads it.
-    bool exact_counts = true;
+    // Two-stream: how the fibers along a direction are counted (DualCounts). The grid is
+    // built only where something reads it (grid and field counts), the field for field counts.
+    DualCounts counts = DualCounts::kExact;
+    // Field counts: the octahedral map's side (side² directions, docs/dual.md) and the
+    // lattice spacing in grid cells.
+    int field_side = 12;
+    float field_spacing = 1.0f;
     // Dual scattering's formulation and density factors: the tables are built with them
     // (their one owner); the integrator reads them back from the tables.
     hairscatter::DualScatteringSettings<float> dual{};
@@ -45,9 +55,9 @@ struct ShadingOptions {
 };
 
 struct ShadingStats {
-    std::size_t table_bytes = 0, grid_bytes = 0;
+    std::size_t table_bytes = 0, grid_bytes = 0, field_bytes = 0;
     glm::ivec3 grid_resolution{0};
-    double seconds = 0, table_seconds = 0, grid_seconds = 0;
+    double seconds = 0, table_seconds = 0, grid_seconds = 0, field_seconds = 0;
 };
 
 class ShadingSetup {
@@ -68,7 +78,10 @@ class ShadingSetup {
     // The density grid, or null when nothing reads it (no dual scattering, or the two-stream
     // estimator with exact counts).
     const hairscatter::DensityGrid<float>* grid() const { return grid_.get(); }
-    bool needs_grid() const { return o_.dual_scattering && !(o_.two_stream && o_.exact_counts); }
+    // The directional count field, or null unless the two-stream estimator reads field counts.
+    const hairscatter::DirectionalCountField<float>* field() const { return field_.get(); }
+    bool needs_grid() const { return o_.dual_scattering && !(o_.two_stream && o_.counts == DualCounts::kExact); }
+    bool needs_field() const { return o_.dual_scattering && o_.two_stream && o_.counts == DualCounts::kField; }
     const ShadingStats& stats() const { return stats_; }
 
   private:
@@ -76,6 +89,7 @@ class ShadingSetup {
     std::unique_ptr<hairscatter_examples::FiberModels<float>> models_;
     hairscatter::DualScatteringTables<float> tables_;
     std::unique_ptr<hairscatter::DensityGrid<float>> grid_;
+    std::unique_ptr<hairscatter::DirectionalCountField<float>> field_;
     ShadingStats stats_;
 };
 

@@ -104,13 +104,15 @@ render::SceneDescription block_scene(int hairs, const std::string& light, bool g
 render::ShadingOptions shading_options(const std::string& colour, const std::string& formulation = "two-stream") {
     render::ShadingOptions o;
     o.fiber.sigma_a = melanin_sigma_a(colour);
-    o.two_stream = formulation == "two-stream" || formulation == "two-stream-grid";
-    o.exact_counts = formulation != "two-stream-grid";
+    o.two_stream = formulation == "two-stream" || formulation == "two-stream-grid" || formulation == "two-stream-field";
+    o.counts = formulation == "two-stream-grid"    ? render::DualCounts::kGrid
+               : formulation == "two-stream-field" ? render::DualCounts::kField
+                                                   : render::DualCounts::kExact;
     if (formulation == "zinke") o.dual = hairscatter::DualScatteringSettings<float>::zinke2008();
     else if (formulation == "improved") o.dual = hairscatter::DualScatteringSettings<float>::improved();
     else if (!o.two_stream)
         throw std::invalid_argument("study: unknown formulation '" + formulation +
-                                    "' (two-stream | two-stream-grid | improved | zinke)");
+                                    "' (two-stream | two-stream-grid | two-stream-field | improved | zinke)");
     return o;
 }
 

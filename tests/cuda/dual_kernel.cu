@@ -46,6 +46,30 @@ __global__ void two_stream(hairscatter::DualTablesView<T> tables, hairscatter::D
     pdf[i] = s.pdf + k.pdf(a[i]);
 }
 
+// The same arrival with counts looked up in the directional count field (no march).
+template <typename T>
+__global__ void two_stream_field(hairscatter::DualTablesView<T> tables, hairscatter::DirectionalCountFieldView<T> field,
+                                 const glm::vec<3, T>* x, const glm::vec<3, T>* a, const glm::vec<4, T>* u,
+                                 glm::vec<3, T>* f, T* pdf, int n) {
+    const int i = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
+    if (i >= n) return;
+    const T fibers = hairscatter::poisson_fiber_count(field.fibers_crossed(x[i], a[i], hairscatter::kUnbounded<T>), u[i].x, false);
+    const T beyond = hairscatter::poisson_fiber_count(field.fibers_to_exit(x[i], -a[i]), u[i].y, false);
+    const hairscatter::DualSourceKernel<T> k(a[i], hairscatter::dual_streams(tables, a[i].x, fibers, beyond));
+    const auto s = k.sample(u[i]);
+    f[i] = k.eval(s.s);
+    pdf[i] = s.pdf + k.pdf(a[i]);
+}
+
+template __global__ void two_stream_field<float>(hairscatter::DualTablesView<float>,
+                                                 hairscatter::DirectionalCountFieldView<float>, const glm::vec<3, float>*,
+                                                 const glm::vec<3, float>*, const glm::vec<4, float>*,
+                                                 glm::vec<3, float>*, float*, int);
+template __global__ void two_stream_field<double>(hairscatter::DualTablesView<double>,
+                                                  hairscatter::DirectionalCountFieldView<double>,
+                                                  const glm::vec<3, double>*, const glm::vec<3, double>*,
+                                                  const glm::vec<4, double>*, glm::vec<3, double>*, double*, int);
+
 template __global__ void two_stream<float>(hairscatter::DualTablesView<float>, hairscatter::DensityGridView<float>,
                                            const glm::vec<3, float>*, const glm::vec<3, float>*,
                                            const glm::vec<4, float>*, glm::vec<3, float>*, float*, int);

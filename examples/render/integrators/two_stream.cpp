@@ -23,7 +23,10 @@ using glm::vec3;
 class TwoStreamIntegrator final : public PixelIntegrator {
   public:
     explicit TwoStreamIntegrator(const RenderContext& c)
-        : c_(c), tables_(c.shading.tables().view()), amplifies_(c.shading.options().fiber_extras.amplifies()) {}
+        : c_(c),
+          tables_(c.shading.tables().view()),
+          field_(c.shading.field() ? c.shading.field()->view() : hs::DirectionalCountFieldView<float>()),
+          amplifies_(c.shading.options().fiber_extras.amplifies()) {}
 
     vec3 radiance(const vec3& o, const vec3& d, Sampler& rng) const override {
         return at_hit(c_.scene.intersect(o, d, kInf), d, 0, 0.0f, rng);
@@ -74,14 +77,27 @@ class TwoStreamIntegrator final : public PixelIntegrator {
 
     // The fibers along d from the point up to `stop` (the first surface or light; a miss
     // is unbounded): counted on the hair up to `limit` (past which the stacks no longer
-    // change), or a Poisson draw from the grid's expectation given that a ray found hair.
-    float fibers(const ShadingPoint& sp, const vec3& d, const Hit& stop, std::uint32_t limit, Sampler& rng) const {
+    // change); a Poisson draw from the grid's expectation given that a ray found hair; or a
+    // Poisson draw from the count field's expectation (a lookup; given found_hair, at least 1).
+    // found_hair: a ray along d already found hair (field counts: the count is then ≥ 1).
+    float fibers(const ShadingPoint& sp, const vec3& d, const Hit& stop, std::uint32_t limit, bool found_hair,
+                 Sampler& rng) const {
         const float tmax = stop.kind == Hit::kMiss ? kInf : stop.t;
-        if (c_.shading.options().exact_counts) return float(c_.scene.count_hair(sp.p, d, tmax, sp.strand, limit));
-        const float u = rng.u();
-        if (!c_.scene.hair_occluded(sp.p, d, tmax, sp.strand)) return 0.0f;
-        const float mean = c_.shading.grid()->fibers_crossed(sp.p, d, std::isfinite(tmax) ? tmax : hs::kUnbounded<float>);
-        return hs::poisson_fiber_count(mean, u, true);
+        const float bound = std::isfinite(tmax) ? tmax : hs::kUnbounded<float>;
+        switch (c_.shading.options().counts) {
+            case DualCounts::kExact: return float(c_.scene.count_hair(sp.p, d, tmax, sp.strand, limit));
+            case DualCounts::kGrid: {
+                const float u = rng.u();
+                if (!c_.scene.hair_occluded(sp.p, d, tmax, sp.strand)) return 0.0f;
+                return hs::poisson_fiber_count(c_.shading.grid()->fibers_crossed(sp.p, d, bound), u, true);
+            }
+            case DualCounts::kField: {
+                // Along the arrival direction the caller's ray found hair (N ≥ 1); beyond the
+                // point the count is drawn whole (P(0) = e^{-mean}).
+                return hs::poisson_fiber_count(field_.fibers_crossed(sp.p, d, bound), rng.u(), found_hair);
+            }
+        }
+        return 0.0f;
     }
 
     vec3 hair(const ShadingPoint& sp, int depth, Sampler& rng) const {
@@ -107,10 +123,14 @@ class TwoStreamIntegrator final : public PixelIntegrator {
             ls = lights.sample(sp.p, u0, u1, u2);
             if (ls.pdf > 0) {
                 const float tmax = std::isfinite(ls.dist) ? ls.dist * kShadowShorten : kInf;
-                open = scene.intersect_opaque(sp.p, ls.wi, tmax).kind == Hit::kMiss;
-                if (open && !scene.hair_occluded(sp.p, ls.wi, tmax, sp.strand)) {
+                // One shadow ray through everything, as single scattering casts; only when it
+                // is blocked does a ray through the surfaces alone say whether hair blocked it.
+                if (!scene.occluded(sp.p, ls.wi, tmax, sp.strand)) {
+                    open = true;
                     const auto ep = bound.eval_pdf(sp.to_local(ls.wi));
                     L += ep.f * ls.Le * power_heuristic(ls.pdf, ep.pdf) / ls.pdf;
+                } else {
+                    open = scene.intersect_opaque(sp.p, ls.wi, tmax).kind == Hit::kMiss;
                 }
             }
         }
@@ -119,17 +139,24 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         const hs::HairSample<float> s = bound.sample(rng.u4());
         if (!(s.pdf > 0)) return L;
         const vec3 a = sp.to_world(s.wi);
+        if (c_.shading.options().counts == DualCounts::kField) {
+            // Field counts: whether any fiber is in the way is one closest-hit ray through
+            // everything (exact, as the light sample's shadow ray, so that the two halves of
+            // the direct light see the same hair); the counts are lookups.
+            const Hit first = scene.intersect(sp.p, a, kInf, sp.strand);
+            if (first.kind != Hit::kHair) return L + s.weight * at_hit(first, a, depth + 1, s.pdf, rng);
+        }
         const Hit source = scene.intersect_opaque(sp.p, a, kInf);
         const hs::DualScatteringEntry<float> entry = tables_.lookup(s.wi.x);
         // Exact counts stop past a depth where T_N < 1e-3 and R_N is within 1e-3 of R_∞ (more
         // fibers change nothing); grid counts cost the same at any depth.
-        const std::uint32_t limit = c_.shading.options().exact_counts
+        const std::uint32_t limit = c_.shading.options().counts == DualCounts::kExact
                                         ? std::uint32_t(std::ceil(hs::dual_count_limit(entry, 1e-3f)))
                                         : 0xffffffffu;
-        const float n = fibers(sp, a, source, limit, rng);
+        const float n = fibers(sp, a, source, limit, true, rng);
         if (n == 0) return L + s.weight * at_hit(source, a, depth + 1, s.pdf, rng);
 
-        const float m = fibers(sp, -a, scene.intersect_opaque(sp.p, -a, kInf), limit, rng);
+        const float m = fibers(sp, -a, scene.intersect_opaque(sp.p, -a, kInf), limit, false, rng);
         const hs::DualSourceKernel<float> kernel(s.wi, hs::dual_streams(entry, n, m));
         vec3 source_light(0);
         if (open) {
@@ -147,6 +174,7 @@ class TwoStreamIntegrator final : public PixelIntegrator {
 
     const RenderContext& c_;
     hs::DualTablesView<float> tables_;
+    hs::DirectionalCountFieldView<float> field_;
     bool amplifies_;
 };
 

@@ -234,8 +234,8 @@ TEST(Render, HairOnlyRendersExactlyTheMaskedPixels) {
 }  // namespace
 
 // Dual scattering by the two-stream estimator in the white furnace: its scattering orders
-// add up, so every hair pixel returns the environment on any geometry, with exact counts
-// and with grid counts — the study's dense block, a shell of fur with nothing inside (where
+// add up, so every hair pixel returns the environment on any geometry, with exact, grid and
+// field counts — the study's dense block, a shell of fur with nothing inside (where
 // hair is thick in some directions and thin in others), and a slab five fibers deep.
 // Tolerance 2 %, with the standard error asserted below 0.5 %.
 TEST(RenderDual, TwoStreamReturnsTheEnvironmentInAWhiteFurnace) {
@@ -253,10 +253,10 @@ TEST(RenderDual, TwoStreamReturnsTheEnvironmentInAWhiteFurnace) {
         d.light.reset();
         const std::string name = d.name;
         const Scene scene(std::move(d));
-        for (bool exact : {true, false}) {
+        for (DualCounts counts : {DualCounts::kExact, DualCounts::kGrid, DualCounts::kField}) {
             ShadingOptions so;
             so.fiber.sigma_a = glm::vec3(0.0f);
-            so.exact_counts = exact;
+            so.counts = counts;
             const ShadingSetup shading(scene, so);
             RenderOptions o;
             o.integrator = Integrator::kDual;
@@ -266,7 +266,7 @@ TEST(RenderDual, TwoStreamReturnsTheEnvironmentInAWhiteFurnace) {
             const HairMean m = hair_mean(render::render(scene, shading, o));
             ASSERT_GT(m.n, 20u) << name;
             std::printf("[ figures ] two-stream furnace, %s, %s counts: %.5f ± %.5f\n", name.c_str(),
-                        exact ? "exact" : "grid", m.mean, m.sem);
+                        to_string(counts), m.mean, m.sem);
             EXPECT_NEAR(m.mean, 1.0, 0.02) << name;
             EXPECT_LT(m.sem, 0.005) << name;
         }
