@@ -303,9 +303,14 @@ TEST(DualTwoStream, NoNaNAtExtremes) {
                     }
                     const glm::vec3 v = k.eval(s.s);
                     ASSERT_TRUE(hs::is_finite(v));
+                    // The sample's value and eval_pdf are eval and pdf, bit for bit.
+                    ASSERT_EQ(s.f, s.pdf > 0 ? v : glm::vec3(0));
                     for (const glm::vec3& q : arrivals) {
                         ASSERT_TRUE(hs::is_finite(k.eval(q)));
                         ASSERT_TRUE(std::isfinite(k.pdf(q)));
+                        const auto ep = k.eval_pdf(q);
+                        ASSERT_EQ(ep.f, k.eval(q));
+                        ASSERT_EQ(ep.pdf, k.pdf(q));
                     }
                 }
             }

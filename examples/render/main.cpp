@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--threads", ro.threads, "rendering threads (0: one per core; the image does not depend on it)")
         ->capture_default_str();
-    std::string dual_formulation = "two-stream", dual_counts = "exact";
+    std::string dual_formulation = "two-stream", dual_counts = "field";
     float d_f = -1, d_b = -1;
     app.add_option("--dual", dual_formulation,
                    "dual: two-stream (the default: two-stream transport at the arrival direction, surfaces "

@@ -40,7 +40,7 @@ struct ShadingOptions {
     bool two_stream = true;
     // Two-stream: how the fibers along a direction are counted (DualCounts). The grid is
     // built only where something reads it (grid and field counts), the field for field counts.
-    DualCounts counts = DualCounts::kExact;
+    DualCounts counts = DualCounts::kField;
     // Field counts: the octahedral map's side (side² directions, docs/dual.md) and the
     // lattice spacing in grid cells.
     int field_side = 12;
@@ -95,12 +95,19 @@ class ShadingSetup {
 
 // Throws std::invalid_argument (naming --grid-cell, with the reason and the smallest cell
 // that fits) when the dual-scattering density grid over this hair would exceed
-// options.max_grid_bytes; does nothing without dual_scattering. Returns the cell size.
+// options.max_grid_bytes, and as check_field for field counts; does nothing without
+// dual_scattering. Returns the cell size.
 float check_grid(const Hair& hair, const ShadingOptions& options);
 
 // The density grid's resolution for a cell size over the hair (one padding cell either
 // side, as DensityGrid::from_strands), and the cell the renderer picks for cell = 0.
 glm::ivec3 grid_resolution(const Hair& hair, float cell);
+// The count field's lattice over a grid of that resolution (spacing in grid cells), and the
+// check check_grid makes for field counts: std::invalid_argument naming --field-spacing
+// (with the spacing that fits) when the field would exceed options.max_grid_bytes, or naming
+// --field-side or --field-spacing when outside their ranges.
+glm::ivec3 field_points(const glm::ivec3& grid_resolution, float spacing);
+void check_field(const glm::ivec3& grid_resolution, const ShadingOptions& options);
 float automatic_grid_cell(const Hair& hair);
 
 // One shading point on a fiber: the frame, wo in it and h (hairscatter::FiberHit), the

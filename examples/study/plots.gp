@@ -56,6 +56,7 @@ do for [t in "block_blond_1500 fur-shell_blond_20000 fur-shell_blond_2000"] {
         set output dir."/time_to_error_".t.".png"
         set title "time to equal error, ".t.": relative RMSE over hair pixels against the converged reference"
         plot f skip 1 using 3:($4*sel("dual")) with linespoints pt 7 title "dual scattering (two-stream)", \
+             '' skip 1 using 3:($4*sel("dual_field")) with linespoints pt 9 title "dual scattering, field counts", \
              '' skip 1 using 3:($4*sel("path")) with linespoints pt 5 title "path tracing", \
              0.1 with lines dt 2 lc rgb "#888888" title "10 %", 0.05 with lines dt 3 lc rgb "#888888" title "5 %"
     }

@@ -268,6 +268,7 @@ HalvedReference path_reference(const Common& c, const render::Scene& scene, cons
     r.mean = r.a;
     for (std::size_t i = 0; i < r.mean.rgb.size(); ++i) r.mean.rgb[i] = 0.5f * (r.a.rgb[i] + r.b.rgb[i]);
     r.mean.seconds = r.a.seconds + r.b.seconds;
+    r.mean.hair_seconds = r.a.hair_seconds + r.b.hair_seconds;
     return r;
 }
 
@@ -278,7 +279,8 @@ int dual_vs_path(const Common& c, const std::string& kind, const std::vector<int
                  int path_spp) {
     const std::string tag = kind + "_" + c.lighting + (c.ground ? "" : "_noground");
     std::ofstream csv(c.out + "/dual_vs_path_" + tag + ".csv");
-    csv << "colour,hairs,integrator,spp,seconds,ms_per_spp,mean,rel_error_mean,mean_abs_pixel_rel_error,path_noise\n";
+    csv << "colour,hairs,integrator,spp,seconds,ms_per_spp,mean,rel_error_mean,mean_abs_pixel_rel_error,path_noise,"
+           "hair_us_per_sample\n";
     for (const std::string& colour : colours)
         for (int hairs : hair_counts) {
             const render::Scene scene(block_scene(hairs, c.lighting, c.ground, kind));
@@ -323,7 +325,8 @@ int dual_vs_path(const Common& c, const std::string& kind, const std::vector<int
                     pix += e / double(roi.pixels.size());
                 }
                 csv << colour << ',' << hairs << ',' << name << ',' << spp << ',' << r.seconds << ','
-                    << 1000 * r.seconds / spp << ',' << m / 3 << ',' << rel << ',' << pix << ',' << noise << '\n';
+                    << 1000 * r.seconds / spp << ',' << m / 3 << ',' << rel << ',' << pix << ',' << noise << ','
+                    << r.hair_us_per_sample(spp) << '\n';
                 csv.flush();
                 std::fprintf(stderr, "study: %-6s %6d hairs %-14s %5d spp %8.2f s  mean %.4f  rel. error of mean %+.3f\n",
                              colour.c_str(), hairs, name.c_str(), spp, r.seconds, m / 3, rel);
@@ -382,6 +385,7 @@ int furnace(const Common& c, const std::vector<std::string>& scenes, const std::
 int time_to_error(const Common& c, const std::string& kind, int reference_spp, int dual_max_spp, int path_max_spp) {
     const render::Scene scene(block_scene(c.hairs, c.lighting, c.ground, kind));
     const render::ShadingSetup shading(scene, shading_options(c.colour));
+    const render::ShadingSetup field_shading(scene, shading_options(c.colour, "two-stream-field"));
     const HalvedReference halves = path_reference(c, scene, shading, reference_spp, 1000003, 2000003);
     const render::RenderResult &ra = halves.a, &rb = halves.b, &ref = halves.mean;
     const Roi roi(ref);
@@ -393,11 +397,15 @@ int time_to_error(const Common& c, const std::string& kind, int reference_spp, i
     write_images(c.out + "/tte_" + tag + "_reference", ref, 1.0f);
     std::ofstream csv(c.out + "/time_to_error_" + tag + ".csv");
     csv << "integrator,spp,seconds,rel_rmse,reference_rel_rmse\n";
-    for (const auto& [name, integrator, max_spp] :
-         {std::tuple<const char*, render::Integrator, int>{"dual", render::Integrator::kDual, dual_max_spp},
-          {"path", render::Integrator::kPath, path_max_spp}}) {
+    // dual: the two-stream estimator with exact counts; dual_field: with field counts.
+    for (const auto& [name, integrator, max_spp, setup] :
+         {std::tuple<const char*, render::Integrator, int, const render::ShadingSetup*>{
+              "dual", render::Integrator::kDual, dual_max_spp, &shading},
+          {"dual_field", render::Integrator::kDual, dual_max_spp, &field_shading},
+          {"path", render::Integrator::kPath, path_max_spp, &shading}}) {
         for (int spp = 1; spp <= max_spp; spp *= 2) {
-            const render::RenderResult r = render::render(scene, shading, options(c, integrator, render::Sampling::kMis, spp, 17));
+            const render::RenderResult r =
+                render::render(scene, *setup, options(c, integrator, render::Sampling::kMis, spp, 17));
             const double rel = std::sqrt(roi.mse(r.rgb, ref.rgb).first) / mean_ref;
             csv << name << ',' << spp << ',' << r.seconds << ',' << rel << ',' << ref_rmse << '\n';
             csv.flush();
@@ -438,7 +446,7 @@ int main(int argc, char** argv) {
     common(dvp);
     std::vector<int> hair_counts{1500};
     std::vector<std::string> colours{"blond", "dark"};
-    std::vector<std::string> formulations{"two-stream", "improved", "zinke"};
+    std::vector<std::string> formulations{"two-stream", "two-stream-field", "improved", "zinke"};
     std::string kind = "block";
     int dual_spp = 64, path_spp = 256;
     dvp->add_option("--hair-counts", hair_counts, "block sizes")->capture_default_str();
@@ -448,7 +456,7 @@ int main(int argc, char** argv) {
                   "without it the difference is the hair's own multiple scattering");
     dvp->add_option("--colours", colours, "hair colours")->capture_default_str();
     dvp->add_option("--formulations", formulations,
-                    "dual-scattering formulations: two-stream, two-stream-grid, improved, zinke")
+                    "dual-scattering formulations: two-stream, two-stream-grid, two-stream-field, improved, zinke")
         ->capture_default_str();
     dvp->add_option("--scene", kind,
                     "block | scalp | fur | fur-shell | slab (--hair-counts: strands; the slab's depth in fibers)")
@@ -459,7 +467,8 @@ int main(int argc, char** argv) {
     CLI::App* furn = app.add_subcommand("furnace", "the white furnace: lossless hair under a uniform environment");
     common(furn);
     std::vector<std::string> furnace_scenes{"block:1500", "fur-shell:20000"};
-    std::vector<std::string> furnace_formulations{"two-stream", "two-stream-grid", "improved", "zinke"};
+    std::vector<std::string> furnace_formulations{"two-stream", "two-stream-grid", "two-stream-field", "improved",
+                                                  "zinke"};
     int furnace_dual_spp = 32, furnace_path_spp = 64;
     furn->add_option("--scenes", furnace_scenes, "kind:hairs (block, scalp, fur, fur-shell, slab: its depth)")
         ->capture_default_str();

@@ -139,14 +139,14 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         const hs::HairSample<float> s = bound.sample(rng.u4());
         if (!(s.pdf > 0)) return L;
         const vec3 a = sp.to_world(s.wi);
-        if (c_.shading.options().counts == DualCounts::kField) {
-            // Field counts: whether any fiber is in the way is one closest-hit ray through
-            // everything (exact, as the light sample's shadow ray, so that the two halves of
-            // the direct light see the same hair); the counts are lookups.
-            const Hit first = scene.intersect(sp.p, a, kInf, sp.strand);
-            if (first.kind != Hit::kHair) return L + s.weight * at_hit(first, a, depth + 1, s.pdf, rng);
-        }
         const Hit source = scene.intersect_opaque(sp.p, a, kInf);
+        if (c_.shading.options().counts == DualCounts::kField) {
+            // Field counts: whether any fiber is in the way is one any-hit ray through the hair
+            // (exact, as the light sample's shadow ray, so that the two halves of the direct
+            // light see the same hair); the counts are lookups.
+            if (!scene.hair_occluded(sp.p, a, source.kind == Hit::kMiss ? kInf : source.t, sp.strand))
+                return L + s.weight * at_hit(source, a, depth + 1, s.pdf, rng);
+        }
         const hs::DualScatteringEntry<float> entry = tables_.lookup(s.wi.x);
         // Exact counts stop past a depth where T_N < 1e-3 and R_N is within 1e-3 of R_∞ (more
         // fibers change nothing); grid counts cost the same at any depth.
@@ -160,14 +160,13 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         const hs::DualSourceKernel<float> kernel(s.wi, hs::dual_streams(entry, n, m));
         vec3 source_light(0);
         if (open) {
-            const vec3 wl = sp.to_local(ls.wi);
-            source_light += kernel.eval(wl) * ls.Le * power_heuristic(ls.pdf, kernel.pdf(wl)) / ls.pdf;
+            const auto kl = kernel.eval_pdf(sp.to_local(ls.wi));
+            source_light += kl.f * ls.Le * power_heuristic(ls.pdf, kl.pdf) / ls.pdf;
         }
         const auto ks = kernel.sample(rng.u4());
         if (ks.pdf > 0) {
             const vec3 d = sp.to_world(ks.s);
-            source_light +=
-                kernel.eval(ks.s) / ks.pdf * at_hit(scene.intersect_opaque(sp.p, d, kInf), d, depth + 1, ks.pdf, rng);
+            source_light += ks.f / ks.pdf * at_hit(scene.intersect_opaque(sp.p, d, kInf), d, depth + 1, ks.pdf, rng);
         }
         return L + s.weight * source_light;
     }

@@ -252,9 +252,20 @@ TEST(RenderCli, OversizedDensityGridIsRefusedWithTheReason) {
     EXPECT_NE(r.output.find("--grid-cell 0.0075: the density grid would be"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("use --grid-cell"), std::string::npos) << r.output;
     EXPECT_EQ(r.output.find("render: building"), std::string::npos) << r.output;
+    // Field counts (the default) read the grid too.
+    EXPECT_EQ(run("--grid-cell 0.0075" + kTiny + " -o " + out_base("grid_field")).status, 1);
     // Single scattering, the path tracer and exact counts build no grid: the same cell is no obstacle.
     EXPECT_EQ(run("--integrator single --grid-cell 0.0075" + kTiny + " -o " + out_base("grid_single")).status, 0);
-    EXPECT_EQ(run("--grid-cell 0.0075" + kTiny + " -o " + out_base("grid_exact")).status, 0);
+    EXPECT_EQ(run("--dual-counts exact --grid-cell 0.0075" + kTiny + " -o " + out_base("grid_exact")).status, 0);
+}
+
+TEST(RenderCli, OversizedCountFieldIsRefusedWithTheReason) {
+    // A grid that fits (about 25 MB) whose count field at 64² directions would not (about 17 GiB).
+    const Outcome r = run("--grid-cell 0.05 --field-side 64" + kTiny + " -o " + out_base("field"));
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_NE(r.output.find("--field-spacing 1: the count field would be"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("use --field-spacing"), std::string::npos) << r.output;
+    EXPECT_EQ(run("--grid-cell 0.05 --field-side 64 --field-spacing 16" + kTiny + " -o " + out_base("field_ok")).status, 0);
 }
 
 TEST(RenderCli, AHairFileWithoutHairSaysSo) {

@@ -186,7 +186,8 @@ HAIRSCATTER_HD DualStreams<T> dual_streams(const DualTablesView<T>& tables, T si
 // s the light came from (fiber frame), with eval (per channel, 1/sr), the mixture's pdf and a
 // sampler. A renderer estimates L̃ = ∫ eval(s) L(s) ds by light sampling, by sample(), or by
 // both with MIS, where L(s) is what lies outside the hair along s (a light, the
-// environment, another surface's radiance).
+// environment, another surface's radiance). eval_pdf and the sample's f save the second
+// evaluation of the kernels that separate eval and pdf calls would make.
 template <typename T> class DualSourceKernel {
   public:
     using V3 = glm::vec<3, T>;
@@ -195,6 +196,11 @@ template <typename T> class DualSourceKernel {
     struct Sample {
         V3 s{T(0)};
         T pdf = T(0);  // 0: no sample
+        V3 f{T(0)};    // eval(s), computed with the pdf (no second evaluation needed)
+    };
+    struct EvalPdf {
+        V3 f{T(0)};
+        T pdf = T(0);
     };
 
     HAIRSCATTER_HD DualSourceKernel(const V3& a, const DualStreams<T>& streams)
@@ -219,6 +225,15 @@ template <typename T> class DualSourceKernel {
         if (!densities(s, kf, kb)) return T(0);
         return p_f_ * kf + p_b_ * kb;
     }
+    // eval(s) and pdf(s) from one evaluation of the kernels (a light sample needs both).
+    HAIRSCATTER_HD EvalPdf eval_pdf(const V3& s) const {
+        EvalPdf r;
+        T kf, kb;
+        if (!densities(s, kf, kb)) return r;
+        r.f = c_f_ * kf + c_b_ * kb;
+        r.pdf = p_f_ * kf + p_b_ * kb;
+        return r;
+    }
     // u.x picks the side, (u.y, u.z) θs, u.w the azimuth within the half-circle.
     HAIRSCATTER_HD Sample sample(const V4& u) const {
         Sample r;
@@ -230,8 +245,9 @@ template <typename T> class DualSourceKernel {
         const T half = kPi<T> * (clamp(u.w, T(0), T(1)) - T(0.5));
         const T psi = forward ? half : (half >= T(0) ? kPi<T> - half : -kPi<T> - half);
         r.s = direction_from_azimuth(a_, clamp(sin_s, T(-1), T(1)), psi);
-        r.pdf = pdf(r.s);
-        if (!(r.pdf > T(0))) r.pdf = T(0);
+        const EvalPdf ep = eval_pdf(r.s);
+        r.pdf = ep.pdf > T(0) ? ep.pdf : T(0);
+        r.f = r.pdf > T(0) ? ep.f : V3(T(0));
         return r;
     }
     HAIRSCATTER_HD const V3& arrival() const { return a_; }
