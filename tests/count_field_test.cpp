@@ -277,3 +277,46 @@ TEST(CountField, ValidationNamesTheParameter) {
 }
 
 }  // namespace
+
+namespace {
+
+// Every query over extreme inputs, float and double: finite counts ≥ 0, never NaN or Inf.
+template <typename T> void extreme_sweep() {
+    using V = glm::vec<3, T>;
+    const T big = std::numeric_limits<T>::max(), tiny = std::numeric_limits<T>::denorm_min(),
+            inf = std::numeric_limits<T>::infinity(), nan = std::numeric_limits<T>::quiet_NaN(),
+            eps = std::numeric_limits<T>::epsilon();
+    Strands strands = block_strands();
+    std::vector<std::vector<V>> s;
+    for (const auto& st : strands) {
+        std::vector<V> p;
+        for (const V3& q : st) p.emplace_back(V(q));
+        s.push_back(p);
+    }
+    const auto grid = hs::DensityGrid<T>::from_strands(s, T(0.25), T(0.005));
+    const auto field = hs::DirectionalCountField<T>::from_grid(grid, 4);
+    const T values[] = {T(0), -T(0), tiny, -tiny, eps, T(1), T(2), T(4) + eps, T(-3), T(1e6), -T(1e6), big, -big, inf, -inf, nan};
+    const T distances[] = {T(0), tiny, eps, T(1), T(1e6), big, inf, -T(1), nan};
+    long long calls = 0;
+    for (T a : values)
+        for (T b : values) {
+            const V origins[] = {V(a, b, T(2)), V(T(2), a, b), V(b, T(2), a), V(a, a, a)};
+            const V dirs[] = {V(a, b, T(1)), V(T(1), a, b), V(b, a, tiny), V(a, b, a)};
+            for (const V& o : origins)
+                for (const V& d : dirs) {
+                    const T e = field.fibers_to_exit(o, d);
+                    ASSERT_TRUE(std::isfinite(e) && e >= T(0)) << o.x << " " << o.y << " " << o.z << " / " << d.x << " " << d.y << " " << d.z;
+                    for (T t : distances) {
+                        const T c = field.fibers_crossed(o, d, t);
+                        ASSERT_TRUE(std::isfinite(c) && c >= T(0)) << t;
+                        ++calls;
+                    }
+                }
+        }
+    EXPECT_EQ(calls, 16LL * 16 * 4 * 4 * 9);
+}
+
+}  // namespace
+
+TEST(CountField, ExtremeInputsGiveFiniteCountsFloat) { extreme_sweep<float>(); }
+TEST(CountField, ExtremeInputsGiveFiniteCountsDouble) { extreme_sweep<double>(); }
