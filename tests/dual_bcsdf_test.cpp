@@ -600,3 +600,73 @@ TEST(DualBcsdf, NonUnitDirectionsAreNormalised) {
     EXPECT_EQ(d.pdf(V3(0), wi), 0.0f);
     EXPECT_EQ(d.eval(wo, V3(0), l), V3(0));
 }
+
+// A path continues from a dual sample in one call: with the light state (fixed, or per
+// sampled direction through sample_with), the sample carries f = eval(wi, light) and
+// weight = f / pdf bit for bit, the direction and pdf are those of sample(u) alone, and
+// the light callback sees the sampled direction once. No sample, no call, zero weight.
+TEST(DualBcsdf, SampleCarriesItsWeightGivenTheLight) {
+    using V3 = glm::vec3;
+    hs::FiberParams<float> p;
+    p.sigma_a = V3(hs::sigma_a_from_melanin(0.3, 0.0));
+    const hs::ChiangMaterial<float> m(p);
+    hs::DualTableOptions<float> o;
+    o.theta_samples = 16;
+    const auto tables = hs::DualScatteringTables<float>::build<hs::ChiangFiber<float>>(m, o);
+    const hs::DualScatteringBcsdf<hs::ChiangFiber<float>> d(hs::ChiangFiber<float>(m, 0.3f), tables);
+    const auto at = d.at(glm::normalize(V3(0.3f, 0.8f, 0.2f)));
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+    int samples = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const glm::vec4 u(u01(rng), u01(rng), u01(rng), u01(rng));
+        hs::DualScatteringLight<float> light;
+        light.direct_fraction = u01(rng) < 0.5f ? 1.0f : 0.0f;
+        light.n = 4 * u01(rng);
+        light.beyond = 10 * u01(rng);
+        const hs::DualSample<float> plain = at.sample(u);
+        const hs::DualSample<float> fixed = at.sample(u, light);
+        int calls = 0;
+        V3 seen(0);
+        const hs::DualSample<float> with = at.sample_with(u, [&](const V3& wi) {
+            ++calls;
+            seen = wi;
+            return light;
+        });
+        ASSERT_EQ(plain.f, V3(0));
+        ASSERT_EQ(plain.weight, V3(0));
+        for (const auto* s : {&fixed, &with}) {
+            ASSERT_EQ(s->wi, plain.wi);
+            ASSERT_EQ(s->pdf, plain.pdf);
+            ASSERT_EQ(s->component, plain.component);
+            if (plain.pdf > 0) {
+                ASSERT_EQ(s->f, at.eval(plain.wi, light));
+                ASSERT_EQ(s->weight, at.eval(plain.wi, light) / plain.pdf);
+            } else {
+                ASSERT_EQ(s->weight, V3(0));
+            }
+        }
+        ASSERT_EQ(calls, plain.pdf > 0 ? 1 : 0);
+        if (plain.pdf > 0) {
+            ASSERT_EQ(seen, plain.wi);
+            ++samples;
+        }
+    }
+    EXPECT_GT(samples, 1900);
+    // The top-level call is the bound one.
+    hs::DualScatteringLight<float> l;
+    l.n = 2;
+    const glm::vec4 u(0.3f, 0.5f, 0.6f, 0.2f);
+    const auto s = d.sample(glm::normalize(V3(0.3f, 0.8f, 0.2f)), u, l);
+    EXPECT_EQ(s.weight, at.sample(u, l).weight);
+    // Non-finite u: no sample, no weight, no call.
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    bool called = false;
+    const auto none = at.sample_with(glm::vec4(nan), [&](const V3&) {
+        called = true;
+        return l;
+    });
+    EXPECT_EQ(none.pdf, 0.0f);
+    EXPECT_EQ(none.weight, V3(0));
+    EXPECT_FALSE(called);
+}

@@ -26,7 +26,12 @@ __global__ void shade_dual(const hairscatter::ChiangMaterial<T>* mat, hairscatte
     light.beyond = grid.fibers_crossed(x[i], -wi[i], hairscatter::kUnbounded<T>);
     const auto at = dual.at(wo[i], T(0.01));
     const auto s = at.sample(u[i]);
-    f[i] = at.eval(wi[i], light) + dual.eval(wo[i], wi[i], light);
+    // A path's continuation: the sample with its weight, the light state along the sampled
+    // direction from the grid (in the fiber frame here, for the compile check).
+    const auto w = at.sample_with(u[i], [&](const glm::vec<3, T>& d) {
+        return hairscatter::dual_light(grid, x[i], d, T(0));
+    });
+    f[i] = at.eval(wi[i], light) + dual.eval(wo[i], wi[i], light) + w.weight;
     pdf[i] = at.pdf(wi[i]) + s.pdf + dual.pdf(wo[i], s.wi);
 }
 

@@ -32,6 +32,11 @@ template <typename T> struct DualSample {
     glm::vec<3, T> wi{T(0)};
     T pdf = T(0);  // solid-angle density of the mixture; 0: no sample
     DualComponent component = DualComponent::kSingle;
+    // Filled by the samplers that take the light state (sample(u, light), sample_with(u,
+    // light_of)): f = eval(wi, light) and the path's throughput factor weight = f / pdf, as
+    // HairSample::weight; 0 from sample(u) alone, which cannot know the light state.
+    glm::vec<3, T> f{T(0)};
+    glm::vec<3, T> weight{T(0)};
 };
 
 // The light that reaches a shadowed point, and its spread σ̄²_f, from the count n toward the
@@ -260,6 +265,24 @@ template <typename Fiber> class DualScatteringBcsdf {
         }
         HAIRSCATTER_HD const V3& wo() const { return wo_; }
 
+        // The sample with its value and weight under a known light state (a path that
+        // continues along it): one call instead of sample, then eval.
+        HAIRSCATTER_HD DualSample<T> sample(const V4& u, const DualScatteringLight<T>& light) const {
+            return weighted(sample(u), light);
+        }
+        // The same where the light state depends on the sampled direction: light_of(wi)
+        // returns it for wi in the fiber frame (e.g. dual_light(grid, x, frame.to_world(wi),
+        // direct_fraction), with the renderer's shadow ray along wi for direct_fraction).
+        // Called once, and only when there is a sample.
+#if defined(__NVCC__)
+#pragma nv_exec_check_disable
+#endif
+        template <typename LightOf> HAIRSCATTER_HD DualSample<T> sample_with(const V4& u, LightOf&& light_of) const {
+            DualSample<T> r = sample(u);
+            if (!(r.pdf > T(0))) return r;
+            return weighted(r, light_of(r.wi));
+        }
+
         // u.x picks the component and, rescaled, the lobe inside it; (u.y, u.z) sample θi,
         // u.w the azimuth (and, rescaled, its sign).
         // Non-finite u (or wo) gives no sample (pdf 0).
@@ -322,6 +345,13 @@ template <typename Fiber> class DualScatteringBcsdf {
 
       private:
         friend class DualScatteringBcsdf;
+        HAIRSCATTER_HD DualSample<T> weighted(DualSample<T> r, const DualScatteringLight<T>& light) const {
+            if (!(r.pdf > T(0))) return r;
+            r.f = eval(r.wi, light);
+            r.weight = r.f / r.pdf;
+            if (!finite(r.weight)) r.f = r.weight = V3(T(0));
+            return r;
+        }
         HAIRSCATTER_HD bool improved() const { return t_.settings.formulation == DualFormulation::kImproved; }
         static HAIRSCATTER_HD T mean(const V3& v) { return (v.x + v.y + v.z) * T(1.0 / 3.0); }
         // Read from the bits (math/functions.hpp), so that -ffast-math cannot fold it away.
@@ -552,6 +582,9 @@ template <typename Fiber> class DualScatteringBcsdf {
     }
     HAIRSCATTER_HD T pdf(const V3& wo, const V3& wi) const { return at(wo).pdf(wi); }
     HAIRSCATTER_HD DualSample<T> sample(const V3& wo, const V4& u) const { return at(wo).sample(u); }
+    HAIRSCATTER_HD DualSample<T> sample(const V3& wo, const V4& u, const DualScatteringLight<T>& light) const {
+        return at(wo).sample(u, light);
+    }
     HAIRSCATTER_HD const Fiber& fiber() const { return fiber_; }
     HAIRSCATTER_HD const View& tables() const { return tables_; }
 
