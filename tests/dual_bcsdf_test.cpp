@@ -574,15 +574,31 @@ TEST(DualBcsdf, FiniteForGainsUpToTheLimit) {
 
 // Finite directions of any length are normalised, as the models do (models/contract.hpp);
 // a zero vector gives 0. Before, FLT_MAX components gave NaN.
+namespace {
+// Blond hair (melanin 0.3), tables of 16 inclinations, the BCSDF at h = 0.3 (built in place:
+// the fiber points to the material, the BCSDF views the tables).
+struct SmallDual {
+    static hs::FiberParams<float> params() {
+        hs::FiberParams<float> p;
+        p.sigma_a = glm::vec3(hs::sigma_a_from_melanin(0.3, 0.0));
+        return p;
+    }
+    static hs::DualTableOptions<float> options() {
+        hs::DualTableOptions<float> o;
+        o.theta_samples = 16;
+        return o;
+    }
+    const hs::ChiangMaterial<float> m{params()};
+    const hs::DualScatteringTables<float> tables =
+        hs::DualScatteringTables<float>::build<hs::ChiangFiber<float>>(m, options());
+    const hs::DualScatteringBcsdf<hs::ChiangFiber<float>> d{hs::ChiangFiber<float>(m, 0.3f), tables};
+};
+}  // namespace
+
 TEST(DualBcsdf, NonUnitDirectionsAreNormalised) {
     using V3 = glm::vec3;
-    hs::FiberParams<float> p;
-    p.sigma_a = V3(hs::sigma_a_from_melanin(0.3, 0.0));
-    const hs::ChiangMaterial<float> m(p);
-    hs::DualTableOptions<float> o;
-    o.theta_samples = 16;
-    const auto tables = hs::DualScatteringTables<float>::build<hs::ChiangFiber<float>>(m, o);
-    const hs::DualScatteringBcsdf<hs::ChiangFiber<float>> d(hs::ChiangFiber<float>(m, 0.3f), tables);
+    const SmallDual small;
+    const auto& d = small.d;
     hs::DualScatteringLight<float> l;
     l.direct_fraction = 0.5f;
     l.n = 3;
@@ -607,13 +623,8 @@ TEST(DualBcsdf, NonUnitDirectionsAreNormalised) {
 // the light callback sees the sampled direction once. No sample, no call, zero weight.
 TEST(DualBcsdf, SampleCarriesItsWeightGivenTheLight) {
     using V3 = glm::vec3;
-    hs::FiberParams<float> p;
-    p.sigma_a = V3(hs::sigma_a_from_melanin(0.3, 0.0));
-    const hs::ChiangMaterial<float> m(p);
-    hs::DualTableOptions<float> o;
-    o.theta_samples = 16;
-    const auto tables = hs::DualScatteringTables<float>::build<hs::ChiangFiber<float>>(m, o);
-    const hs::DualScatteringBcsdf<hs::ChiangFiber<float>> d(hs::ChiangFiber<float>(m, 0.3f), tables);
+    const SmallDual small;
+    const auto& d = small.d;
     const auto at = d.at(glm::normalize(V3(0.3f, 0.8f, 0.2f)));
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> u01(0.0f, 1.0f);
