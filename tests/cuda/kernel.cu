@@ -33,8 +33,13 @@ __global__ void evaluate_fiber(hairscatter::ChiangMaterial<T> mat, const glm::ve
     if (i >= n) {
         return;
     }
-    // Offset h in (-1, 1) across the fiber width.
-    const T h = T(2) * (T(i) + T(0.5)) / T(n) - T(1);
+    // Offset h in (-1, 1) across the fiber width, as a curve intersector's v (the hit helpers
+    // and the frame that faces the viewer are device code too).
+    const T v = (T(i) + T(0.5)) / T(n);
+    const glm::vec<3, T> tangent(T(1), T(0), T(0));
+    const hairscatter::FiberFrame<T> frame =
+        hairscatter::FiberFrame<T>::facing(tangent, glm::vec<3, T>(T(0), T(0), T(-1)), wo[i]);
+    const T h = hairscatter::FiberHit<T>::from_v(tangent, wo[i], v, frame.y).h;
     const hairscatter::ChiangFiber<T> fiber(mat, h);
 
     KernelOutput<T> r;

@@ -15,6 +15,12 @@ namespace hairscatter {
 // z = x × y. Build it from the world tangent and a reference direction that is not
 // parallel to it — usually wo, so that wo lies in the x–z plane and the offset h of a
 // hit is h = dot(hit - axis point, frame.y) / radius — or a ribbon's normal.
+//
+// The sign of h is the frame's: the models read h in a frame whose z lies on wo's side
+// (wo.z ≥ 0; wo.z > 0 with reference = wo). A reference facing away from the viewer (a
+// ribbon's back-facing normal) flips y and so mirrors h: a mirror image of the right
+// answer, which no furnace test shows. FiberFrame::facing(tangent, reference, wo) flips
+// such a reference first.
 template <typename T> struct FiberFrame {
     using V = glm::vec<3, T>;
     V x{T(1), T(0), T(0)}, y{T(0), T(1), T(0)}, z{T(0), T(0), T(1)};
@@ -30,6 +36,13 @@ template <typename T> struct FiberFrame {
         }
         z = glm::normalize(zr);
         y = glm::cross(z, x);
+    }
+
+    // The frame with z on wo's side: reference is used as is when it faces the viewer
+    // (dot(reference, wo) ≥ 0) and flipped when it faces away (a ribbon's normal seen from
+    // behind), so that h measured along its y has the sign the models expect.
+    static HAIRSCATTER_HD FiberFrame facing(const V& tangent, const V& reference, const V& wo) {
+        return FiberFrame(tangent, glm::dot(reference, wo) < T(0) ? -reference : reference);
     }
 
     HAIRSCATTER_HD V to_local(const V& w) const { return V(glm::dot(w, x), glm::dot(w, y), glm::dot(w, z)); }

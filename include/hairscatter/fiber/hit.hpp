@@ -26,6 +26,22 @@ HAIRSCATTER_HD T fiber_offset(const FiberFrame<T>& frame, const glm::vec<3, T>& 
     return h < T(-1) ? T(-1) : (h > T(1) ? T(1) : h);
 }
 
+// h from a curve intersector's coordinate v ∈ [0, 1] across the fiber (pbrt-v4's curves:
+// h = -1 + 2v; Embree's flat and normal-oriented curves report such a v), given `across`,
+// the world direction in which v grows at the hit (∂p/∂v, or any vector with its sign).
+// Intersectors differ in which way v runs, and a v read the wrong way mirrors h; this
+// takes the sign from dot(across, frame.y), so both ways give the same h. v is clamped to
+// [0, 1]; a NaN v, or an `across` with no component along frame.y (or not finite), gives 0.
+// Where the hit point and an axis point are known, fiber_offset needs no such care.
+template <typename T>
+HAIRSCATTER_HD T fiber_offset_from_v(const FiberFrame<T>& frame, T v, const glm::vec<3, T>& across) {
+    if (!(v == v)) return T(0);
+    const T h = T(2) * (v < T(0) ? T(0) : (v > T(1) ? T(1) : v)) - T(1);
+    const T s = glm::dot(across, frame.y);
+    if (!(s == s) || s == T(0)) return T(0);
+    return s > T(0) ? h : -h;
+}
+
 // Everything a shading point on a fiber needs, made once per hit: the frame (x = tangent,
 // wo in the x–z plane), wo in the frame, and h. The models take `wo` and `h` directly:
 //   const FiberHit<float> hit(p, axis_point, tangent, -ray_dir, radius);
@@ -42,6 +58,16 @@ template <typename T> struct FiberHit {
     // direction (root to tip, any length); wo_world: unit direction toward the viewer.
     HAIRSCATTER_HD FiberHit(const V& hit, const V& axis, const V& tangent, const V& wo_world, T radius)
         : frame(tangent, wo_world), wo(frame.to_local(wo_world)), h(fiber_offset(frame, hit, axis, radius)) {}
+
+    // From a curve intersector's v instead of the hit point (fiber_offset_from_v: `across`
+    // is the world direction in which v grows).
+    static HAIRSCATTER_HD FiberHit from_v(const V& tangent, const V& wo_world, T v, const V& across) {
+        FiberHit r;
+        r.frame = FiberFrame<T>(tangent, wo_world);
+        r.wo = r.frame.to_local(wo_world);
+        r.h = fiber_offset_from_v(r.frame, v, across);
+        return r;
+    }
 };
 
 }  // namespace hairscatter
