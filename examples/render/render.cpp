@@ -135,7 +135,8 @@ RenderResult render(const Scene& scene, const ShadingSetup& shading, const Rende
                         if (o.hair_only && !on_hair) continue;
                         Pcg32 gen = pixel_rng(o.seed, x, y);
                         Sampler rng{gen};
-                        const auto pixel_start = std::chrono::steady_clock::now();
+                        const auto pixel_start =
+                            on_hair ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point();
                         vec3 sum(0);
                         for (int k = 0; k < o.spp; ++k) {
                             const float jx = rng.u(), jy = rng.u();

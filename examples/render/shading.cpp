@@ -87,23 +87,19 @@ float check_grid(const Hair& hair, const ShadingOptions& o) {
     return cell;
 }
 
-glm::ivec3 field_points(const glm::ivec3& grid_resolution, float spacing) {
-    glm::ivec3 p;
-    for (int a = 0; a < 3; ++a) p[a] = std::max(1, int(std::ceil(float(grid_resolution[a]) / spacing))) + 1;
-    return p;
-}
-
 void check_field(const glm::ivec3& grid_res, const ShadingOptions& o) {
     if (!(o.field_spacing >= 1.0f && o.field_spacing <= 64.0f))
         throw std::invalid_argument("--field-spacing: " + std::to_string(o.field_spacing) + " is outside [1, 64]");
     if (o.field_side < 2 || o.field_side > 64)
         throw std::invalid_argument("--field-side: " + std::to_string(o.field_side) + " is outside [2, 64]");
     const double per_point = double(o.field_side) * double(o.field_side) * double(sizeof(float));
-    const glm::ivec3 p = field_points(grid_res, o.field_spacing);
+    const glm::ivec3 p = hs::DirectionalCountField<float>::points_over_grid(grid_res, o.field_spacing);
     const double bytes = cells_of(p) * per_point;
     if (bytes <= double(o.max_grid_bytes)) return;
     float ok = o.field_spacing;
-    while (ok < 64.0f && cells_of(field_points(grid_res, ok)) * per_point > double(o.max_grid_bytes)) ok *= 1.1f;
+    while (ok < 64.0f &&
+           cells_of(hs::DirectionalCountField<float>::points_over_grid(grid_res, ok)) * per_point > double(o.max_grid_bytes))
+        ok *= 1.1f;
     char msg[512];
     std::snprintf(msg, sizeof(msg),
                   "--field-spacing %g: the count field would be %d x %d x %d points x %d directions (%.1f GiB), above "
@@ -142,7 +138,8 @@ ShadingSetup::ShadingSetup(const Scene& scene, const ShadingOptions& options) : 
         // The field's directions are independent: built in parallel, each from the grid.
         const auto t_field = Clock::now();
         field_ = std::make_unique<hs::DirectionalCountField<float>>(
-            grid_->box_min(), grid_->box_max(), field_points(grid_->resolution(), o_.field_spacing), o_.field_side);
+            grid_->box_min(), grid_->box_max(),
+            hs::DirectionalCountField<float>::points_over_grid(grid_->resolution(), o_.field_spacing), o_.field_side);
         const hs::DensityGridView<float> view = grid_->view();
         tbb::parallel_for(0, field_->direction_count(), [&](int k) { field_->build_direction(k, view); });
         stats_.field_seconds = seconds_since(t_field);

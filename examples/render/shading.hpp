@@ -102,11 +102,10 @@ float check_grid(const Hair& hair, const ShadingOptions& options);
 // The density grid's resolution for a cell size over the hair (one padding cell either
 // side, as DensityGrid::from_strands), and the cell the renderer picks for cell = 0.
 glm::ivec3 grid_resolution(const Hair& hair, float cell);
-// The count field's lattice over a grid of that resolution (spacing in grid cells), and the
-// check check_grid makes for field counts: std::invalid_argument naming --field-spacing
+// The check check_grid makes for field counts (the field's lattice is
+// DirectionalCountField::points_over_grid): std::invalid_argument naming --field-spacing
 // (with the spacing that fits) when the field would exceed options.max_grid_bytes, or naming
 // --field-side or --field-spacing when outside their ranges.
-glm::ivec3 field_points(const glm::ivec3& grid_resolution, float spacing);
 void check_field(const glm::ivec3& grid_resolution, const ShadingOptions& options);
 float automatic_grid_cell(const Hair& hair);
 

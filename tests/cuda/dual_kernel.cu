@@ -35,52 +35,31 @@ __global__ void shade_dual(const hairscatter::ChiangMaterial<T>* mat, hairscatte
     pdf[i] = at.pdf(wi[i]) + s.pdf + dual.pdf(wo[i], s.wi);
 }
 
-// The two-stream estimator's per-arrival work: counts (one drawn from the grid's
-// expectation), the streams and the source kernel's eval, pdf and sample.
-template <typename T>
-__global__ void two_stream(hairscatter::DualTablesView<T> tables, hairscatter::DensityGridView<T> grid,
-                           const glm::vec<3, T>* x, const glm::vec<3, T>* a, const glm::vec<4, T>* u,
-                           glm::vec<3, T>* f, T* pdf, int n) {
+// The two-stream estimator's per-arrival work over any device-side density source (the
+// grid's march or the count field's lookup): counts drawn from the source's expectation,
+// the streams and the source kernel's eval, pdf and sample.
+template <typename T, typename Source>
+__global__ void two_stream(hairscatter::DualTablesView<T> tables, Source source, const glm::vec<3, T>* x,
+                           const glm::vec<3, T>* a, const glm::vec<4, T>* u, glm::vec<3, T>* f, T* pdf, int n) {
     const int i = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
     if (i >= n) return;
-    const T fibers = hairscatter::poisson_fiber_count(grid.fibers_crossed(x[i], a[i], hairscatter::kUnbounded<T>), u[i].x, true);
-    const T beyond = grid.fibers_crossed(x[i], -a[i], hairscatter::kUnbounded<T>);
+    const T fibers = hairscatter::poisson_fiber_count(source.fibers_crossed(x[i], a[i], hairscatter::kUnbounded<T>), u[i].x, true);
+    const T beyond = hairscatter::poisson_fiber_count(source.fibers_crossed(x[i], -a[i], hairscatter::kUnbounded<T>), u[i].y, false);
     const hairscatter::DualSourceKernel<T> k(a[i], hairscatter::dual_streams(tables, a[i].x, fibers, beyond));
     const auto s = k.sample(u[i]);
     f[i] = k.eval(s.s);
     pdf[i] = s.pdf + k.pdf(a[i]);
 }
 
-// The same arrival with counts looked up in the directional count field (no march).
-template <typename T>
-__global__ void two_stream_field(hairscatter::DualTablesView<T> tables, hairscatter::DirectionalCountFieldView<T> field,
-                                 const glm::vec<3, T>* x, const glm::vec<3, T>* a, const glm::vec<4, T>* u,
-                                 glm::vec<3, T>* f, T* pdf, int n) {
-    const int i = static_cast<int>(blockIdx.x * blockDim.x + threadIdx.x);
-    if (i >= n) return;
-    const T fibers = hairscatter::poisson_fiber_count(field.fibers_crossed(x[i], a[i], hairscatter::kUnbounded<T>), u[i].x, false);
-    const T beyond = hairscatter::poisson_fiber_count(field.fibers_to_exit(x[i], -a[i]), u[i].y, false);
-    const hairscatter::DualSourceKernel<T> k(a[i], hairscatter::dual_streams(tables, a[i].x, fibers, beyond));
-    const auto s = k.sample(u[i]);
-    f[i] = k.eval(s.s);
-    pdf[i] = s.pdf + k.pdf(a[i]);
-}
-
-template __global__ void two_stream_field<float>(hairscatter::DualTablesView<float>,
-                                                 hairscatter::DirectionalCountFieldView<float>, const glm::vec<3, float>*,
-                                                 const glm::vec<3, float>*, const glm::vec<4, float>*,
-                                                 glm::vec<3, float>*, float*, int);
-template __global__ void two_stream_field<double>(hairscatter::DualTablesView<double>,
-                                                  hairscatter::DirectionalCountFieldView<double>,
-                                                  const glm::vec<3, double>*, const glm::vec<3, double>*,
-                                                  const glm::vec<4, double>*, glm::vec<3, double>*, double*, int);
-
-template __global__ void two_stream<float>(hairscatter::DualTablesView<float>, hairscatter::DensityGridView<float>,
-                                           const glm::vec<3, float>*, const glm::vec<3, float>*,
-                                           const glm::vec<4, float>*, glm::vec<3, float>*, float*, int);
-template __global__ void two_stream<double>(hairscatter::DualTablesView<double>, hairscatter::DensityGridView<double>,
-                                            const glm::vec<3, double>*, const glm::vec<3, double>*,
-                                            const glm::vec<4, double>*, glm::vec<3, double>*, double*, int);
+#define HAIRSCATTER_TWO_STREAM(T, Source)                                                                       \
+    template __global__ void two_stream<T, Source>(hairscatter::DualTablesView<T>, Source, const glm::vec<3, T>*, \
+                                                   const glm::vec<3, T>*, const glm::vec<4, T>*, glm::vec<3, T>*, \
+                                                   T*, int);
+HAIRSCATTER_TWO_STREAM(float, hairscatter::DensityGridView<float>)
+HAIRSCATTER_TWO_STREAM(double, hairscatter::DensityGridView<double>)
+HAIRSCATTER_TWO_STREAM(float, hairscatter::DirectionalCountFieldView<float>)
+HAIRSCATTER_TWO_STREAM(double, hairscatter::DirectionalCountFieldView<double>)
+#undef HAIRSCATTER_TWO_STREAM
 
 template __global__ void shade_dual<float>(const hairscatter::ChiangMaterial<float>*, hairscatter::DualTablesView<float>,
                                            hairscatter::DensityGridView<float>, const glm::vec<3, float>*,

@@ -278,19 +278,26 @@ template <typename T> class DirectionalCountField {
         counts_.assign(v_.per_direction_ * std::size_t(octahedral_side) * std::size_t(octahedral_side), T(0));
     }
 
-    // The field over a grid's box, with its lattice spacing the grid's cell (points = cells
-    // + 1 per axis) times spacing_in_cells, built from the grid. Throws as the constructor.
+    // The lattice over a grid of that resolution whose spacing is spacing_in_cells (≥ 1)
+    // of its cells: ceil(cells / spacing) + 1 points per axis, corners on the box's.
+    static glm::ivec3 points_over_grid(const glm::ivec3& grid_resolution, T spacing_in_cells) {
+        glm::ivec3 pts;
+        for (int a = 0; a < 3; ++a) {
+            const T n = std::ceil(T(grid_resolution[a]) / spacing_in_cells);
+            pts[a] = int(n > T(1) ? n : T(1)) + 1;
+        }
+        return pts;
+    }
+
+    // The field over a grid's box on points_over_grid's lattice, built from the grid.
+    // Throws as the constructor, and for spacing_in_cells outside [1, inf).
     static DirectionalCountField from_grid(const DensityGrid<T>& grid, int octahedral_side = 12,
                                            T spacing_in_cells = T(1)) {
         if (!(spacing_in_cells >= T(1)) || !is_finite(spacing_in_cells))
             HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DirectionalCountField::from_grid: spacing_in_cells = " +
                                                     num(spacing_in_cells) + " is outside [1, inf)"));
-        glm::ivec3 pts;
-        for (int a = 0; a < 3; ++a) {
-            const T n = std::ceil(T(grid.resolution()[a]) / spacing_in_cells);
-            pts[a] = int(n > T(1) ? n : T(1)) + 1;
-        }
-        DirectionalCountField f(grid.box_min(), grid.box_max(), pts, octahedral_side);
+        DirectionalCountField f(grid.box_min(), grid.box_max(), points_over_grid(grid.resolution(), spacing_in_cells),
+                                octahedral_side);
         f.build(grid.view());
         return f;
     }
