@@ -1,0 +1,188 @@
+// Writes the physical fiber reference's cache (tests/data/physical_fiber.txt) and reports
+// Huang et al. 2022's fiber against it (the table of docs/models.md). Run by
+// scripts/physical-reference.sh; the tests read the cache.
+//
+//   physical_fiber_tool generate --rays N --threads T --out FILE
+//   physical_fiber_tool report --cache FILE [--quadrature default|fine]
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <hairscatter/models/huang.hpp>
+
+#include "support/physical_fiber_cases.hpp"
+
+namespace hs = hairscatter;
+using phys_fiber::CachedCase;
+
+namespace {
+
+hs::HuangParams<double> huang_params(const phys_fiber::Case& c, bool blond) {
+    hs::HuangParams<double> p;
+    p.eta = c.eta;
+    p.roughness = c.roughness;
+    p.alpha = c.tilt_deg * phys_fiber::kPi / 180;
+    p.aspect_ratio = c.aspect;
+    p.orientation = c.psi_deg * phys_fiber::kPi / 180;
+    p.sigma_a = blond ? glm::dvec3(phys_fiber::kBlond[0], phys_fiber::kBlond[1], phys_fiber::kBlond[2]) : glm::dvec3(0);
+    return p;
+}
+
+int report(const std::string& cache, const std::string& quadrature) {
+    const std::vector<CachedCase> cases = phys_fiber::read_cache(cache);
+    std::printf("| b/a | ψ | β | θo | lossless | blond (RGB mean) | noise | R energy model / ref | albedo ref |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|\n");
+    double worst = 0;
+    for (const CachedCase& c : cases) {
+        double err[2] = {0, 0};
+        double r_model = 0;
+        for (int blond = 0; blond < 2; ++blond) {
+            const hs::HuangParams<double> p = huang_params(c.c, blond != 0);
+            const hs::HuangQuadrature q = quadrature == "fine" ? hs::huang_scaled_quadrature(p.roughness) : hs::HuangQuadrature();
+            const hs::HuangMaterial<double> mat(p, q);
+            const hs::HuangFiber<double> fiber(mat);
+            const auto eval = [&](const glm::dvec3& wo, const glm::dvec3& wi) { return fiber.eval(wo, wi); };
+            for (int ch = blond ? 0 : 0; ch < (blond ? 3 : 1); ++ch) {
+                const std::vector<double> bins = phys_fiber::model_bins(c, eval, ch);
+                err[blond] += phys_fiber::compare(c, bins, blond ? ch + 1 : 0).l1 / (blond ? 3 : 1);
+            }
+            if (!blond) {
+                hs::LobeControls<double> only_r;
+                only_r.gain[1] = only_r.gain[2] = only_r.gain[3] = 0;
+                const hs::HuangMaterial<double> rmat(p, q, only_r);
+                const hs::HuangFiber<double> rfiber(rmat);
+                const auto reval = [&](const glm::dvec3& wo, const glm::dvec3& wi) { return rfiber.eval(wo, wi); };
+                const std::vector<double> rb = phys_fiber::model_bins(c, reval, 0);
+                r_model = phys_fiber::compare(c, rb, 0).energy_model;
+            }
+        }
+        double albedo = 0;
+        for (int l = 0; l < phys_fiber::kLobes; ++l) albedo += c.lobe_energy[l][0];
+        worst = std::max({worst, err[0], err[1]});
+        std::printf("| %.2g | %g° | %.2g | %g° | %.1f %% | %.1f %% | %.1f %% | %.4f / %.4f | %.4f |\n", c.c.aspect, c.c.psi_deg,
+                    c.c.roughness, c.c.theta_deg, 100 * err[0], 100 * err[1], 100 * c.noise_l1[0], r_model,
+                    c.lobe_energy[phys_fiber::kR][0], albedo);
+        std::fflush(stdout);
+    }
+    std::printf("\nworst: %.1f %%\n", 100 * worst);
+    return 0;
+}
+
+// Lossless lobe energies, model against reference, per case: where the energy goes.
+int lobes(const std::string& cache) {
+    const std::vector<CachedCase> cases = phys_fiber::read_cache(cache);
+    std::printf("| case | R model/ref | TT model/ref | TRT model/ref | ≥ TRRT (residual) model/ref |\n|---|---|---|---|---|\n");
+    for (const CachedCase& c : cases) {
+        std::printf("| %s |", c.c.name().c_str());
+        for (int p = 0; p < 4; ++p) {
+            hs::LobeControls<double> only;
+            for (int k = 0; k < 4; ++k) only.gain[k] = k == p ? 1 : 0;
+            const hs::HuangMaterial<double> mat(huang_params(c.c, false), hs::HuangQuadrature(), only);
+            const double e = hs::HuangFiber<double>(mat).albedo(c.c.wo()).x;
+            std::printf(" %.4f / %.4f |", e, c.lobe_energy[p][0]);
+        }
+        std::printf("\n");
+    }
+    return 0;
+}
+
+// Per-lobe contributions to the relative L1 (of the total energy) for a few cases, traced
+// afresh with the lobes kept apart: where the error comes from.
+int diagnose(long long rays, int threads, bool blond_only) {
+    const std::vector<phys_fiber::Case> all = phys_fiber::physical_cases();
+    std::printf("| case | ch | R | TT | TRT | residual vs ≥TRRT | total | R energy m/r | TT m/r | TRT m/r | res m/r |\n");
+    for (const phys_fiber::Case& c : all) {
+        const phys_fiber::Tracer tracer(c.fiber());
+        phys_fiber::Histogram h(24, 48);
+        std::vector<phys_fiber::Histogram> parts(std::size_t(threads), phys_fiber::Histogram(24, 48));
+        std::vector<std::thread> pool;
+        for (int t = 0; t < threads; ++t)
+            pool.emplace_back([&, t] { tracer.trace(c.wo(), rays / threads, 77 + std::uint64_t(t), parts[std::size_t(t)]); });
+        for (auto& th : pool) th.join();
+        for (const auto& p : parts) h.add(p);
+        CachedCase cc;
+        cc.c = c;
+        cc.n_u = 24;
+        cc.n_phi = 48;
+        for (int blond = blond_only ? 1 : 0; blond < 2; ++blond) {
+            const int ch = blond ? 2 : 0;
+            double l1[5] = {}, total_ref = 0, em[4] = {}, er[4] = {};
+            std::vector<double> sum_model(std::size_t(24 * 48), 0.0);
+            const double dw = h.bin_solid_angle();
+            for (int p = 0; p < 4; ++p) {
+                hs::LobeControls<double> only;
+                for (int k = 0; k < 4; ++k) only.gain[k] = k == p ? 1 : 0;
+                const hs::HuangMaterial<double> mat(huang_params(c, blond != 0), hs::HuangQuadrature(), only);
+                const hs::HuangFiber<double> fiber(mat);
+                const auto eval = [&](const glm::dvec3& wo, const glm::dvec3& wi) { return fiber.eval(wo, wi); };
+                const std::vector<double> m = phys_fiber::model_bins(cc, eval, blond ? 1 : 0);
+                for (int b = 0; b < 24 * 48; ++b) {
+                    const double r = h.f(b, ch, p);
+                    l1[p] += std::fabs(m[std::size_t(b)] - r) * dw;
+                    em[p] += m[std::size_t(b)] * dw;
+                    er[p] += r * dw;
+                    sum_model[std::size_t(b)] += m[std::size_t(b)];
+                }
+            }
+            for (int b = 0; b < 24 * 48; ++b) {
+                l1[4] += std::fabs(sum_model[std::size_t(b)] - h.f(b, ch)) * dw;
+                total_ref += h.f(b, ch) * dw;
+            }
+            std::printf("| %s | %d |", c.name().c_str(), ch);
+            for (double x : l1) std::printf(" %.1f %% |", 100 * x / total_ref);
+            for (int p = 0; p < 4; ++p) std::printf(" %.4f/%.4f |", em[p], er[p]);
+            std::printf("\n");
+            std::fflush(stdout);
+        }
+    }
+    return 0;
+}
+
+int generate(long long rays, int threads, const std::string& out, int n_u, int n_phi) {
+    std::vector<CachedCase> cases;
+    const auto t0 = std::chrono::steady_clock::now();
+    std::uint64_t seed = 1;
+    for (const phys_fiber::Case& c : phys_fiber::physical_cases()) {
+        cases.push_back(phys_fiber::trace_case(c, rays, n_u, n_phi, threads, seed++));
+        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::fprintf(stderr, "%s: noise %.2f %% (lossless), %.0f s\n", c.name().c_str(), 100 * cases.back().noise_l1[0], s);
+    }
+    char comment[160];
+    std::snprintf(comment, sizeof(comment), "%lld rays per case, %d x %d bins", rays, n_u, n_phi);
+    phys_fiber::write_cache(out, cases, comment);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        if (argc < 2) throw std::invalid_argument("usage: physical_fiber_tool generate|report [options]");
+        const std::string mode = argv[1];
+        long long rays = 20000000;
+        int threads = 2, n_u = 24, n_phi = 48;
+        std::string out = "physical_fiber.txt", cache = out, quadrature = "default";
+        for (int i = 2; i + 1 < argc; i += 2) {
+            const std::string k = argv[i], v = argv[i + 1];
+            if (k == "--rays") rays = std::atoll(v.c_str());
+            else if (k == "--threads") threads = std::atoi(v.c_str());
+            else if (k == "--out") out = v;
+            else if (k == "--cache") cache = v;
+            else if (k == "--quadrature") quadrature = v;
+            else if (k == "--bins-u") n_u = std::atoi(v.c_str());
+            else if (k == "--bins-phi") n_phi = std::atoi(v.c_str());
+            else throw std::invalid_argument("unknown option " + k);
+        }
+        if (mode == "generate") return generate(rays, threads, out, n_u, n_phi);
+        if (mode == "report") return report(cache, quadrature);
+        if (mode == "lobes") return lobes(cache);
+        if (mode == "diagnose") return diagnose(rays, threads, quadrature == "blond");
+        throw std::invalid_argument("unknown mode " + mode);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "physical_fiber_tool: %s\n", e.what());
+        return 1;
+    }
+}
