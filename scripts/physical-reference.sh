@@ -29,7 +29,7 @@ fi
 {
     echo "# Huang et al. 2022's fiber against a physical reference"
     echo
-    echo "Written by \`scripts/physical-reference.sh\` ($(date -u +%Y-%m-%d), $(git rev-parse --short HEAD 2>/dev/null || echo unknown))"
+    echo "Written by \`scripts/physical-reference.sh\` ($(date -u +%Y-%m-%d), $(git describe --always --dirty 2>/dev/null || echo unknown))"
     echo "from the cached reference \`tests/data/physical_fiber.txt\` ($(sed -n '1s/.*: //p' tests/data/physical_fiber.txt))."
     echo "What the reference models and what it leaves out: [models.md](models.md) (Huang 2022) and"
     echo "\`tests/support/physical_fiber.hpp\`. Errors are relative L1 over the sphere of outgoing"

@@ -93,14 +93,19 @@ std::vector<glm::dvec3> reference_values(const Case& c, const glm::dvec3& wo, co
 // eval against the brute-force reference, 10⁵ paths per direction, at the default
 // quadrature (auto: 21 offset nodes and 64 TT paths × 2 internal normals at β = 0.3; 42
 // and 128 × 2 at β = 0.15) and at 128 × 4. The reference's own noise, the L1 between two
-// independent runs over the 24 directions, is 0.4–1.5 %. Measured: default 4.8 % round,
-// 11.4 % at b/a = 0.5 (lossless: TRT carries much of f, and its internal reflections
-// focus), 2.7 % grazing; 128 × 4: 2.0 %, 5.9 %, 1.7 %. Tolerances 13 % and 8 %: a wrong
-// TT factor, chord or scale moves the error by more (the product rule over shared normals
-// this replaces measured 19 % at its default in docs/tradeoff.md's study).
+// independent runs over the 24 directions, is 0.4–1.5 %. This measures the lattices'
+// error only (the reference follows the model's definition; the physical fiber is
+// huang_physical_test's). Measured: default 13.8 % round, 15.1 % at b/a = 0.5 (lossless:
+// TRT carries much of f, and its internal reflections focus), 3.8 % grazing; 128 × 4:
+// 3.6 %, 8.6 %, 3.4 %. With shadowing in the definition an internal reflection whose
+// lattice normal sends it out of the fiber carries nothing (its path's other normal takes
+// the share), which raised the default's error from 4.8 / 11.4 / 2.7 % (and 128 × 4's from
+// 2.0 / 5.9 / 1.7 %). Tolerances 17 % and 10 %: a wrong TT factor, chord or scale moves the
+// error by more (the product rule over shared normals this replaced measured 19 % at its
+// default in docs/tradeoff.md's study).
 TEST(HuangReference, EvalMatchesBruteForce) {
-    const std::vector<std::pair<hs::HuangQuadrature, double>> settings = {{hs::HuangQuadrature(), 0.13},
-                                                                          {Spec::quadrature(0, 128, 4), 0.08}};
+    const std::vector<std::pair<hs::HuangQuadrature, double>> settings = {{hs::HuangQuadrature(), 0.17},
+                                                                          {Spec::quadrature(0, 128, 4), 0.10}};
     for (const Case& c : reference_cases()) {
         const glm::dvec3 wo = direction(c.theta_o_deg, 0.3);
         const hs::HuangMaterial<double> default_mat(c.params);

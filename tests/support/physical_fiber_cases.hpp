@@ -173,47 +173,55 @@ inline std::vector<CachedCase> read_cache(const std::string& path) {
     return cases;
 }
 
-// A model's f averaged over each bin of the cached case (an n × n Gauss–Legendre rule in
-// sin θ and φ per bin), for `eval(wo, wi)` returning RGB: channel ch of the result
-// (component 0 for a lossless model, whose channels are equal).
-struct ModelError {
-    double l1 = 0;        // relative L1: Σ |f_model − f_ref| / Σ f_ref over bins
-    double energy_model = 0, energy_ref = 0;  // ∫ f dω of each
-};
-template <typename Eval> std::vector<double> model_bins(const CachedCase& c, const Eval& eval, int channel, int n = 3) {
+// A model's f (RGB) averaged over each bin of the cached case, for `eval(wo, wi)` returning
+// RGB. Each bin is
+// integrated in θ (not sin θ: lobes near the poles are narrow in sin θ) by 3-point
+// Gauss–Legendre panels no wider than `panel` radians, and in φ by 3 points.
+template <typename Eval>
+std::vector<glm::dvec3> model_bins(const CachedCase& c, const Eval& eval, double panel = 0.05) {
     static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
     static const double gw[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
-    static const double g2x[2] = {-0.5773502691896258, 0.5773502691896258};
     const int bins = c.n_u * c.n_phi;
-    std::vector<double> out(std::size_t(bins), 0.0);
+    std::vector<glm::dvec3> out(std::size_t(bins), glm::dvec3(0.0));
     const glm::dvec3 wo = c.c.wo();
-    for (int b = 0; b < bins; ++b) {
-        const int iu = b / c.n_phi, ip = b % c.n_phi;
-        const double u0 = -1 + 2.0 * iu / c.n_u, du = 2.0 / c.n_u;
-        const double p0 = -kPi + 2 * kPi * ip / c.n_phi, dp = 2 * kPi / c.n_phi;
-        double acc = 0;
-        for (int i = 0; i < n; ++i)
-            for (int j = 0; j < n; ++j) {
-                const double xu = n == 3 ? gx[i] : g2x[i], xp = n == 3 ? gx[j] : g2x[j];
-                const double w = n == 3 ? gw[i] * gw[j] / 4 : 0.25;
-                const double u = u0 + 0.5 * du * (1 + xu), phi = p0 + 0.5 * dp * (1 + xp);
-                const double cu = std::sqrt(std::max(0.0, 1 - u * u));
-                const glm::dvec3 wi(u, cu * std::cos(phi), cu * std::sin(phi));
-                const glm::dvec3 f = eval(wo, wi);
-                acc += w * f[channel];
-            }
-        out[std::size_t(b)] = acc;
+    const double dp = 2 * kPi / c.n_phi, dw = (2.0 / c.n_u) * dp;
+    for (int iu = 0; iu < c.n_u; ++iu) {
+        const double t0 = std::asin(std::max(-1.0, -1 + 2.0 * iu / c.n_u));
+        const double t1 = std::asin(std::min(1.0, -1 + 2.0 * (iu + 1) / c.n_u));
+        const int panels = std::max(1, int(std::ceil((t1 - t0) / panel)));
+        const double width = (t1 - t0) / panels;
+        for (int ip = 0; ip < c.n_phi; ++ip) {
+            const double p0 = -kPi + dp * ip;
+            glm::dvec3 acc(0.0);
+            for (int k = 0; k < panels; ++k)
+                for (int i = 0; i < 3; ++i) {
+                    const double theta = t0 + width * (k + 0.5 * (1 + gx[i]));
+                    const double st = std::sin(theta), ct = std::cos(theta);
+                    for (int j = 0; j < 3; ++j) {
+                        const double phi = p0 + 0.5 * dp * (1 + gx[j]);
+                        const glm::dvec3 wi(st, ct * std::cos(phi), ct * std::sin(phi));
+                        const glm::dvec3 f = eval(wo, wi);
+                        acc += (0.5 * width * gw[i] * 0.5 * dp * gw[j] * ct) * f;  // dω = cos θ dθ dφ
+                    }
+                }
+            out[std::size_t(iu * c.n_phi + ip)] = acc / dw;
+        }
     }
     return out;
 }
-// Relative L1 of model bins against the cache's channel ch.
-inline ModelError compare(const CachedCase& c, const std::vector<double>& model, int ch) {
+struct ModelError {
+    double l1 = 0;                            // relative L1: Σ |f_model − f_ref| / Σ f_ref over bins
+    double energy_model = 0, energy_ref = 0;  // ∫ f dω of each
+};
+// Relative L1 of the model bins' channel mch against the cache's channel ch.
+inline ModelError compare(const CachedCase& c, const std::vector<glm::dvec3>& model, int mch, int ch) {
     ModelError e;
     double diff = 0;
     const double dw = (2.0 / c.n_u) * (2 * kPi / c.n_phi);
     for (int b = 0; b < c.n_u * c.n_phi; ++b) {
-        diff += std::fabs(model[std::size_t(b)] - c.at(b, ch));
-        e.energy_model += model[std::size_t(b)] * dw;
+        const double m = model[std::size_t(b)][mch];
+        diff += std::fabs(m - c.at(b, ch));
+        e.energy_model += m * dw;
         e.energy_ref += c.at(b, ch) * dw;
     }
     e.l1 = diff * dw / e.energy_ref;
@@ -221,3 +229,4 @@ inline ModelError compare(const CachedCase& c, const std::vector<double>& model,
 }
 
 }  // namespace phys_fiber
+

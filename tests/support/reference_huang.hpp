@@ -7,7 +7,11 @@
 //   microfacet normals drawn from D(h)(h·m) (not the visible-normal sampler) and weighted
 //   by G1(v) max(0, v·h) / ((v·m)(h·m)), so that their mean is the visible-normal
 //   average;
-//   the interfaces' reflectances by those random normals' Fresnel factors (no tables);
+//   each interface's single scattering shadowed as the model defines it (reflection by the
+//   height-correlated G2, transmission by the scattered direction's G1) and scaled to the
+//   interface's total with shadowed light scattered once more (the two-event rule of
+//   docs/theory.md §3.6), those totals by this file's own rule over normals drawn from
+//   D(h)(h·m) (not the model's visible-normal tables);
 //   chords by the quadratic of the ellipse x² + y²/b² = 1 in real space (not through the
 //   unit circle), normals by its gradient;
 //   R, TT and TRT's last interface by next-event evaluation at wi, M with Boost's I0.
@@ -16,7 +20,9 @@
 #pragma once
 
 #include <cmath>
+#include <memory>
 #include <random>
+#include <vector>
 
 #include <boost/math/special_functions/bessel.hpp>
 #include <glm/glm.hpp>
@@ -55,8 +61,116 @@ inline double fresnel(double cos_i, double n) {
     return 0.5 * (rs * rs + rp * rp);
 }
 
+// One interface's energies for light from v at cos c to its mean normal (c in [0, 1]),
+// relative index n = η_t/η_i: the shadowed single scattering and the two-event total
+// reflectance; E(c') for c' in [−1, 1] the mean reflectance of one event (seen from below the
+// horizon for c' < 0). Normals from D(h)(h·m) on a k × k grid of midpoints, weighted by
+// max(0, v·h)/(h·m) and normalised by the weights' sum: D_v for any v.
+struct InterfaceTables {
+    static constexpr int kCos = 257, kHit = 513, kGrid = 256;
+    std::vector<double> r_total, r_single, t_single;  // at c = i / (kCos - 1)
+    std::vector<double> hit;                          // at c' = -1 + 2 i / (kHit - 1)
+
+    static double lambda(double c, double a) {
+        const double c2 = c * c;
+        return 0.5 * (-1 + std::sqrt(1 + a * a * (1 - c2) / c2));
+    }
+    template <typename Visit> static void normals(double c, double a, Visit&& visit) {
+        const glm::dvec3 v(std::sqrt(std::max(0.0, 1 - c * c)), 0.0, c);
+        std::vector<std::pair<glm::dvec3, double>> hs;
+        double total = 0;
+        for (int i = 0; i < kGrid; ++i)
+            for (int j = 0; j < kGrid; ++j) {
+                const double u1 = (i + 0.5) / kGrid, u2 = (j + 0.5) / kGrid;
+                const double t2 = a * a * u1 / (1 - u1), cos_t = 1 / std::sqrt(1 + t2), sin_t = std::sqrt(t2) * cos_t;
+                const glm::dvec3 h(sin_t * std::cos(2 * kPi * u2), sin_t * std::sin(2 * kPi * u2), cos_t);
+                const double w = std::max(0.0, glm::dot(v, h)) / cos_t;
+                if (w > 0) hs.push_back({h, w});
+                total += w;
+            }
+        for (const auto& hw : hs) visit(v, hw.first, hw.second / total);
+    }
+    static double interpolate(const std::vector<double>& t, double x) {
+        const double y = std::min(1.0, std::max(0.0, x)) * double(t.size() - 1);
+        const int i = std::min(int(t.size()) - 2, int(y));
+        return t[std::size_t(i)] + (y - i) * (t[std::size_t(i) + 1] - t[std::size_t(i)]);
+    }
+    double e_hit(double c) const { return interpolate(hit, 0.5 * (c + 1)); }
+    double at(const std::vector<double>& t, double c) const { return interpolate(t, c); }
+
+    // Both sides at once: outside (n = η) needs inside's E for light shadowed below, and
+    // the other way round.
+    static void build(double a, double eta, InterfaceTables& out, InterfaceTables& in) {
+        for (InterfaceTables* t : {&out, &in}) {
+            const double n = t == &out ? eta : 1 / eta;
+            t->hit.resize(kHit);
+            for (int i = 0; i < kHit; ++i) {
+                double e = 0;
+                normals(-1 + 2.0 * i / (kHit - 1), a, [&](const glm::dvec3& v, const glm::dvec3& h, double w) {
+                    e += w * fresnel(glm::dot(v, h), n);
+                });
+                t->hit[std::size_t(i)] = e;
+            }
+        }
+        for (InterfaceTables* t : {&out, &in}) {
+            const double n = t == &out ? eta : 1 / eta;
+            const InterfaceTables& far = t == &out ? in : out;
+            t->r_total.assign(kCos, 0.0);
+            t->r_single.assign(kCos, 0.0);
+            t->t_single.assign(kCos, 0.0);
+            for (int i = 1; i < kCos; ++i) {
+                const double c = double(i) / (kCos - 1), lv = lambda(c, a);
+                normals(c, a, [&](const glm::dvec3& v, const glm::dvec3& h, double w) {
+                    const double vh = glm::dot(v, h), f = fresnel(vh, n);
+                    const glm::dvec3 o = 2 * vh * h - v;
+                    const double keep_r = o.z > 0 ? (1 + lv) / (1 + lv + lambda(o.z, a)) : 0.0;
+                    t->r_single[std::size_t(i)] += w * f * keep_r;
+                    t->r_total[std::size_t(i)] += w * f * (keep_r + (1 - keep_r) * t->e_hit(-o.z));
+                    if (f < 1) {
+                        const double e = 1 / n, ct = std::sqrt(std::max(0.0, 1 - e * e * (1 - vh * vh)));
+                        const glm::dvec3 tr = glm::normalize((e * vh - ct) * h - e * v);
+                        const double keep_t = tr.z < 0 ? 1 / (1 + lambda(-tr.z, a)) : 0.0;
+                        t->t_single[std::size_t(i)] += w * (1 - f) * keep_t;
+                        t->r_total[std::size_t(i)] += w * (1 - f) * (1 - keep_t) * (1 - far.e_hit(tr.z));
+                    }
+                });
+            }
+            // c = 0: the limit of the next cosine.
+            t->r_total[0] = t->r_total[1];
+            t->r_single[0] = t->r_single[1];
+            t->t_single[0] = t->t_single[1];
+        }
+    }
+};
+
 struct Reference {
     Params p;
+    // The interface tables, built on the first call of f.
+    mutable std::shared_ptr<const std::pair<InterfaceTables, InterfaceTables>> tables_{};
+    const InterfaceTables& outside() const { return ensure().first; }
+    const InterfaceTables& inside() const { return ensure().second; }
+    const std::pair<InterfaceTables, InterfaceTables>& ensure() const {
+        if (!tables_) {
+            auto t = std::make_shared<std::pair<InterfaceTables, InterfaceTables>>();
+            InterfaceTables::build(p.roughness, p.eta, t->first, t->second);
+            tables_ = t;
+        }
+        return *tables_;
+    }
+    double lambda(double c) const { return InterfaceTables::lambda(c, p.roughness); }
+    // Reflection from v to o (cosines to m): the height-correlated G2 / G1(v).
+    double keep_reflected(double cv, double co) const { return co > 0 ? (1 + lambda(cv)) / (1 + lambda(cv) + lambda(co)) : 0.0; }
+    // Transmission's shadowing: G1 of the scattered direction at cosine c to m.
+    double keep_transmitted(double c) const { return c > 0 ? 1 / (1 + lambda(c)) : 0.0; }
+    // The transmission lobe's scale leaving the fiber (model: exit_gain), with the nearest
+    // cosine's value where almost nothing transmits singly.
+    double transmit_gain(const InterfaceTables& t, double c) const {
+        for (double x = c; x <= 1.0; x += 1.0 / (InterfaceTables::kCos - 1)) {
+            const double single = t.at(t.t_single, x);
+            if (single > 1e-4) return (1 - t.at(t.r_total, x)) / single;
+        }
+        return 1.0;
+    }
 
     double ggx_d(double cos_h) const {
         if (cos_h <= 0) return 0;
@@ -105,7 +219,8 @@ struct Reference {
         const double hm = glm::dot(h, m), oh = glm::dot(o, h), vh = glm::dot(v, h), vm = glm::dot(v, m);
         if (!(hm > 0 && oh < 0 && vh > 0)) return 0;
         const double dv = g1(vm) * vh * ggx_d(hm) / vm;
-        return (1 - fresnel(vh, 1 / p.eta)) * dv * (-oh) / glm::dot(sum, sum);
+        return (1 - fresnel(vh, 1 / p.eta)) * dv * (-oh) / glm::dot(sum, sum) * keep_transmitted(-glm::dot(o, m)) *
+               transmit_gain(inside(), vm);
     }
     // The chord from the real-space point q along the unit 3D direction t: exit point and length.
     bool chord(const glm::dvec2& q, const glm::dvec3& t, glm::dvec2& exit, double& length) const {
@@ -150,14 +265,18 @@ struct Reference {
             glm::dvec3 path(0.0), res(0.0);
             // R: F D G1(v) / (4 v·m) at the half vector (= F D_v/(4 v·h)).
             const glm::dvec3 hr = glm::normalize(v + wi);
-            if (glm::dot(hr, m) > 0) path += glm::dvec3(fresnel(glm::dot(v, hr), p.eta) * ggx_d(glm::dot(hr, m)) * g1(vm) / (4 * vm));
+            const InterfaceTables& out = outside();
+            if (glm::dot(hr, m) > 0)
+                path += glm::dvec3(fresnel(glm::dot(v, hr), p.eta) * ggx_d(glm::dot(hr, m)) * g1(vm) / (4 * vm) *
+                                   keep_reflected(vm, glm::dot(wi, m)) * out.at(out.r_total, vm) / out.at(out.r_single, vm));
             // Into the fiber through a random normal.
             const Normal n1 = draw_normal(m, v, rng);
             if (n1.weight > 0) {
                 const double ci = glm::dot(v, n1.h), e = 1 / p.eta;
                 const double ct = std::sqrt(1 - e * e * (1 - ci * ci));
                 const glm::dvec3 t = glm::normalize((e * ci - ct) * n1.h - e * v);
-                const glm::dvec3 thr1(n1.weight * (1 - fresnel(ci, p.eta)));
+                const double t_gain = (1 - out.at(out.r_total, vm)) / out.at(out.t_single, vm);
+                const glm::dvec3 thr1(n1.weight * (1 - fresnel(ci, p.eta)) * keep_transmitted(-glm::dot(t, m)) * t_gain);
                 glm::dvec2 q2;
                 double len1;
                 if (!chord(q, t, q2, len1)) {
@@ -172,7 +291,10 @@ struct Reference {
                         path += at2 * exit_value(v2, m2, wi);
                         const Normal n2 = draw_normal(m2, v2, rng);
                         const glm::dvec3 r = glm::normalize(2 * glm::dot(v2, n2.h) * n2.h - v2);
-                        const glm::dvec3 thr2 = at2 * (n2.weight * fresnel(glm::dot(v2, n2.h), 1 / p.eta));
+                        const InterfaceTables& in = inside();
+                        const glm::dvec3 thr2 = at2 * (n2.weight * fresnel(glm::dot(v2, n2.h), 1 / p.eta) *
+                                                       keep_reflected(c2, glm::dot(r, m2)) * in.at(in.r_total, c2) /
+                                                       in.at(in.r_single, c2));
                         glm::dvec2 q3;
                         double len2;
                         if (n2.weight > 0 && !chord(q2, r, q3, len2)) {
@@ -185,9 +307,7 @@ struct Reference {
                                 res += at3;
                             } else {
                                 path += at3 * exit_value(v3, m3, wi);
-                                const Normal n3 = draw_normal(m3, v3, rng);
-                                const double r3 = n3.weight * fresnel(glm::dot(v3, n3.h), 1 / p.eta);
-                                const double rbar = fresnel(c3, 1 / p.eta);
+                                const double r3 = in.at(in.r_total, c3), rbar = r3;
                                 glm::dvec3 series;
                                 for (int ch = 0; ch < 3; ++ch) {
                                     const double a3 = std::sqrt(a1[ch] * a2[ch]), den = 1 - a3 * rbar;

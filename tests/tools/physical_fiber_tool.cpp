@@ -9,65 +9,65 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <hairscatter/models/huang.hpp>
 
-#include "support/physical_fiber_cases.hpp"
+#include "support/physical_fiber_huang.hpp"
 
 namespace hs = hairscatter;
 using phys_fiber::CachedCase;
 
 namespace {
 
-hs::HuangParams<double> huang_params(const phys_fiber::Case& c, bool blond) {
-    hs::HuangParams<double> p;
-    p.eta = c.eta;
-    p.roughness = c.roughness;
-    p.alpha = c.tilt_deg * phys_fiber::kPi / 180;
-    p.aspect_ratio = c.aspect;
-    p.orientation = c.psi_deg * phys_fiber::kPi / 180;
-    p.sigma_a = blond ? glm::dvec3(phys_fiber::kBlond[0], phys_fiber::kBlond[1], phys_fiber::kBlond[2]) : glm::dvec3(0);
-    return p;
+struct Row {
+    double err[2] = {0, 0}, r_model = 0;
+};
+Row report_row(const CachedCase& c, const std::string& quadrature) {
+    Row row;
+    for (int blond = 0; blond < 2; ++blond) {
+        const hs::HuangParams<double> p = phys_fiber::huang_params(c.c, blond != 0);
+        const hs::HuangQuadrature q = quadrature == "fine" ? hs::huang_scaled_quadrature(p.roughness) : hs::HuangQuadrature();
+        const hs::HuangMaterial<double> mat(p, q);
+        const hs::HuangFiber<double> fiber(mat);
+        const auto eval = [&](const glm::dvec3& wo, const glm::dvec3& wi) { return fiber.eval(wo, wi); };
+        const std::vector<glm::dvec3> bins = phys_fiber::model_bins(c, eval);
+        for (int ch = 0; ch < (blond ? 3 : 1); ++ch)
+            row.err[blond] += phys_fiber::compare(c, bins, ch, blond ? ch + 1 : 0).l1 / (blond ? 3 : 1);
+        if (!blond) {
+            hs::LobeControls<double> only_r;
+            only_r.gain[1] = only_r.gain[2] = only_r.gain[3] = 0;
+            const hs::HuangMaterial<double> rmat(p, q, only_r);
+            row.r_model = hs::HuangFiber<double>(rmat).albedo(c.c.wo()).x;
+        }
+    }
+    return row;
 }
 
-int report(const std::string& cache, const std::string& quadrature) {
+int report(const std::string& cache, const std::string& quadrature, int threads) {
     const std::vector<CachedCase> cases = phys_fiber::read_cache(cache);
+    std::vector<Row> rows(cases.size());
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t)
+        pool.emplace_back([&, t] {
+            for (std::size_t k = std::size_t(t); k < cases.size(); k += std::size_t(threads)) rows[k] = report_row(cases[k], quadrature);
+        });
+    for (auto& th : pool) th.join();
     std::printf("| b/a | ψ | β | θo | lossless | blond (RGB mean) | noise | R energy model / ref | albedo ref |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|\n");
-    double worst = 0;
-    for (const CachedCase& c : cases) {
-        double err[2] = {0, 0};
-        double r_model = 0;
-        for (int blond = 0; blond < 2; ++blond) {
-            const hs::HuangParams<double> p = huang_params(c.c, blond != 0);
-            const hs::HuangQuadrature q = quadrature == "fine" ? hs::huang_scaled_quadrature(p.roughness) : hs::HuangQuadrature();
-            const hs::HuangMaterial<double> mat(p, q);
-            const hs::HuangFiber<double> fiber(mat);
-            const auto eval = [&](const glm::dvec3& wo, const glm::dvec3& wi) { return fiber.eval(wo, wi); };
-            for (int ch = blond ? 0 : 0; ch < (blond ? 3 : 1); ++ch) {
-                const std::vector<double> bins = phys_fiber::model_bins(c, eval, ch);
-                err[blond] += phys_fiber::compare(c, bins, blond ? ch + 1 : 0).l1 / (blond ? 3 : 1);
-            }
-            if (!blond) {
-                hs::LobeControls<double> only_r;
-                only_r.gain[1] = only_r.gain[2] = only_r.gain[3] = 0;
-                const hs::HuangMaterial<double> rmat(p, q, only_r);
-                const hs::HuangFiber<double> rfiber(rmat);
-                const auto reval = [&](const glm::dvec3& wo, const glm::dvec3& wi) { return rfiber.eval(wo, wi); };
-                const std::vector<double> rb = phys_fiber::model_bins(c, reval, 0);
-                r_model = phys_fiber::compare(c, rb, 0).energy_model;
-            }
-        }
+    double worst = 0, mean = 0;
+    for (std::size_t k = 0; k < cases.size(); ++k) {
+        const CachedCase& c = cases[k];
         double albedo = 0;
         for (int l = 0; l < phys_fiber::kLobes; ++l) albedo += c.lobe_energy[l][0];
-        worst = std::max({worst, err[0], err[1]});
+        worst = std::max({worst, rows[k].err[0], rows[k].err[1]});
+        mean += (rows[k].err[0] + rows[k].err[1]) / (2.0 * double(cases.size()));
         std::printf("| %.2g | %g° | %.2g | %g° | %.1f %% | %.1f %% | %.1f %% | %.4f / %.4f | %.4f |\n", c.c.aspect, c.c.psi_deg,
-                    c.c.roughness, c.c.theta_deg, 100 * err[0], 100 * err[1], 100 * c.noise_l1[0], r_model,
-                    c.lobe_energy[phys_fiber::kR][0], albedo);
-        std::fflush(stdout);
+                    c.c.roughness, c.c.theta_deg, 100 * rows[k].err[0], 100 * rows[k].err[1], 100 * c.noise_l1[0],
+                    rows[k].r_model, c.lobe_energy[phys_fiber::kR][0], albedo);
     }
-    std::printf("\nworst: %.1f %%\n", 100 * worst);
+    std::printf("\nworst %.1f %%, mean %.1f %%\n", 100 * worst, 100 * mean);
     return 0;
 }
 
@@ -80,7 +80,7 @@ int lobes(const std::string& cache) {
         for (int p = 0; p < 4; ++p) {
             hs::LobeControls<double> only;
             for (int k = 0; k < 4; ++k) only.gain[k] = k == p ? 1 : 0;
-            const hs::HuangMaterial<double> mat(huang_params(c.c, false), hs::HuangQuadrature(), only);
+            const hs::HuangMaterial<double> mat(phys_fiber::huang_params(c.c, false), hs::HuangQuadrature(), only);
             const double e = hs::HuangFiber<double>(mat).albedo(c.c.wo()).x;
             std::printf(" %.4f / %.4f |", e, c.lobe_energy[p][0]);
         }
@@ -115,16 +115,16 @@ int diagnose(long long rays, int threads, bool blond_only) {
             for (int p = 0; p < 4; ++p) {
                 hs::LobeControls<double> only;
                 for (int k = 0; k < 4; ++k) only.gain[k] = k == p ? 1 : 0;
-                const hs::HuangMaterial<double> mat(huang_params(c, blond != 0), hs::HuangQuadrature(), only);
+                const hs::HuangMaterial<double> mat(phys_fiber::huang_params(c, blond != 0), hs::HuangQuadrature(), only);
                 const hs::HuangFiber<double> fiber(mat);
                 const auto eval = [&](const glm::dvec3& wo, const glm::dvec3& wi) { return fiber.eval(wo, wi); };
-                const std::vector<double> m = phys_fiber::model_bins(cc, eval, blond ? 1 : 0);
+                const std::vector<glm::dvec3> m = phys_fiber::model_bins(cc, eval);
                 for (int b = 0; b < 24 * 48; ++b) {
-                    const double r = h.f(b, ch, p);
-                    l1[p] += std::fabs(m[std::size_t(b)] - r) * dw;
-                    em[p] += m[std::size_t(b)] * dw;
+                    const double r = h.f(b, ch, p), x = m[std::size_t(b)][blond ? 1 : 0];
+                    l1[p] += std::fabs(x - r) * dw;
+                    em[p] += x * dw;
                     er[p] += r * dw;
-                    sum_model[std::size_t(b)] += m[std::size_t(b)];
+                    sum_model[std::size_t(b)] += x;
                 }
             }
             for (int b = 0; b < 24 * 48; ++b) {
@@ -177,7 +177,7 @@ int main(int argc, char** argv) {
             else throw std::invalid_argument("unknown option " + k);
         }
         if (mode == "generate") return generate(rays, threads, out, n_u, n_phi);
-        if (mode == "report") return report(cache, quadrature);
+        if (mode == "report") return report(cache, quadrature, threads);
         if (mode == "lobes") return lobes(cache);
         if (mode == "diagnose") return diagnose(rays, threads, quadrature == "blond");
         throw std::invalid_argument("unknown mode " + mode);

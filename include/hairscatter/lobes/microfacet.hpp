@@ -83,6 +83,21 @@ template <typename T> class Ggx {
         return T(1) / (cos_v + sqrt(a2_ * (T(1) - cos_v) * (T(1) + cos_v) + cos_v * cos_v));
     }
 
+    // Smith's G1 = 1 / (1 + Λ) at cos = w·m > 0: 2 cos · visible_scale(cos) (Heitz 2014
+    // eq. 86); 0 at or below the surface.
+    HAIRSCATTER_HD T g1(T cos_w) const { return cos_w > T(0) ? T(2) * cos_w * visible_scale(cos_w) : T(0); }
+    // Smith's Λ of GGX at cos = w·m > 0: (√(1 + α² tan²θ) − 1)/2 (Heitz 2014 eq. 72).
+    HAIRSCATTER_HD T lambda(T cos_w) const {
+        using std::sqrt;
+        return T(0.5) * (sqrt(a2_ * (T(1) - cos_w) * (T(1) + cos_w) + cos_w * cos_w) / cos_w - T(1));
+    }
+    // The share of light scattered from v toward o that no microfacet shadows on its way out,
+    // given v's G1 and o·m: for reflection (o on v's side) the height-correlated
+    // G2 / G1(v) = 1 / (1 + Λ(o) G1(v)) (Heitz 2014 eq. 99); 0 where o is behind the surface.
+    HAIRSCATTER_HD T unshadowed_reflection(T g1_v, T cos_o) const {
+        return cos_o > T(0) ? T(1) / (T(1) + lambda(cos_o) * g1_v) : T(0);
+    }
+
     // D_v(h) of the visible normals from v, given v·m (> 0), v·h and h·m.
     HAIRSCATTER_HD T visible(T cos_v, T v_dot_h, T cos_h) const {
         if (!(v_dot_h > T(0))) return T(0);

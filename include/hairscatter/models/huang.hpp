@@ -17,6 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -94,7 +95,7 @@ struct HuangQuadrature {
 
 // Everything that depends only on the parameters, the quadrature and the lobe controls,
 // built once on the host (the constructor throws std::invalid_argument naming a bad
-// parameter, count or control). Trivially copyable, ~48 KB in float: copy it to device
+// parameter, count or control). Trivially copyable, ~49 KB in float: copy it to device
 // memory once and pass the fiber a pointer.
 //
 // The offset integral: a far-field ray hits the section at h ∈ (-1, 1) uniformly
@@ -214,12 +215,7 @@ template <typename T> class HuangMaterial {
                 reflect_[i * per_tt_ + l] = normal_point(lattice(n, k, b[0]), lattice(n, k, b[1]));
             }
 
-        const GaussLegendre<double> table_rule(kTableRule);
-        for (int i = 0; i < kTableSize; ++i) {
-            const double cos_c = double(i) / (kTableSize - 1);
-            outside_[i] = T(mean_reflectance(double(params.roughness), cos_c, double(params.eta), table_rule));
-            inside_[i] = T(mean_reflectance(double(params.roughness), cos_c, 1 / double(params.eta), table_rule));
-        }
+        build_interface_tables();
     }
     // The lobe controls with the default quadrature.
     HuangMaterial(const HuangParams<T>& params, const LobeControls<T>& controls)
@@ -235,11 +231,22 @@ template <typename T> class HuangMaterial {
     static constexpr int kTableRule = 40;
     static constexpr int kKinkScan = 16;
     static double mean_reflectance(double roughness, double c, double n, const GaussLegendre<double>& gl) {
+        double e = 0;
+        visible_normal_rule(roughness, c, n, gl, [&](const glm::dvec3& v, const glm::dvec3& h, double w) {
+            e += w * fresnel_any(glm::dot(v, h), n);
+        });
+        return e;
+    }
+
+    // The product rule of mean_reflectance over D_v's unit square for v at cos c to m = z
+    // (c in [-1, 1]: a ray that bounces on the microsurface can meet it from below its
+    // horizon, where the spherical-cap sampler still draws D_v), calling visit(v, h, weight).
+    template <typename Visit>
+    static void visible_normal_rule(double roughness, double c, double n, const GaussLegendre<double>& gl, Visit&& visit) {
         const Ggx<double> ggx(roughness);
         const glm::dvec3 v(std::sqrt(std::max(0.0, 1 - c * c)), 0.0, c);
         const int k = int(gl.nodes.size());
         const double critical = n < 1 ? std::sqrt(1 - n * n) : -2.0;  // -2: no cut
-        double e = 0;
         for (int i = 0; i < k; ++i) {
             const double u1 = (i + 0.5) / k;
             const auto gap = [&](double u2) { return glm::dot(v, ggx.sample_visible_local(v, u1, u2)) - critical; };
@@ -268,12 +275,46 @@ template <typename T> class HuangMaterial {
                 const double a = cuts[piece], width = cuts[piece + 1] - a;
                 for (int j = 0; j < k; ++j) {
                     const double u2 = a + width * (0.5 + 0.5 * gl.nodes[std::size_t(j)]);
-                    const glm::dvec3 h = ggx.sample_visible_local(v, u1, u2);
-                    e += width * 0.5 * gl.weights[std::size_t(j)] / k * fresnel_any(glm::dot(v, h), n);
+                    visit(v, ggx.sample_visible_local(v, u1, u2), width * 0.5 * gl.weights[std::size_t(j)] / k);
                 }
             }
         }
-        return e;
+    }
+
+    // What one rough interface does with light from v at cos c to the mesonormal, n =
+    // η_t/η_i: the single-scattering reflection and transmission that no microfacet shadows
+    // (reflection with the height-correlated G2, transmission with the scattered direction's
+    // G1; Heitz 2014), and the total reflectance of the microsurface with the light that a
+    // microfacet shadows scattered once more (the two-event approximation of Heitz et al.
+    // 2016's random walk, docs/theory.md §3.6): a shadowed reflection meets the surface again
+    // from its own side and reflects with the mean reflectance E(−o·m) seen from there; a
+    // shadowed transmission meets it from the far side and comes back through with
+    // 1 − E'(t·m), E' the far side's. e_near(c') and e_far(c') give E for c' in [−1, 1].
+    struct InterfaceEnergies {
+        double reflect_single = 0, transmit_single = 0, reflect_total = 0;
+    };
+    template <typename ENear, typename EFar>
+    static InterfaceEnergies interface_energies(double roughness, double c, double n, const GaussLegendre<double>& gl,
+                                                const ENear& e_near, const EFar& e_far) {
+        InterfaceEnergies r;
+        const Ggx<double> ggx(roughness);
+        const double g1_v = ggx.g1(c);
+        visible_normal_rule(roughness, c, n, gl, [&](const glm::dvec3& v, const glm::dvec3& h, double w) {
+            const double vh = glm::dot(v, h);
+            const double f = fresnel_any(vh, n);
+            const glm::dvec3 o = 2 * vh * h - v;
+            const double keep_r = ggx.unshadowed_reflection(g1_v, o.z);
+            r.reflect_single += w * f * keep_r;
+            r.reflect_total += w * f * (keep_r + (1 - keep_r) * e_near(-o.z));
+            if (f < 1) {
+                const Refracted<double> t = refract_through(v, h, 1 / n);
+                if (!t.ok) return;
+                const double keep_t = ggx.g1(-t.o.z);
+                r.transmit_single += w * (1 - f) * keep_t;
+                r.reflect_total += w * (1 - f) * (1 - keep_t) * (1 - e_far(t.o.z));
+            }
+        });
+        return r;
     }
 
     // A visible normal's unit-square coordinates, u1 as its cosine and sine.
@@ -307,9 +348,22 @@ template <typename T> class HuangMaterial {
     // The l-th internal normal of TT path i (TRT point i + l N_TT).
     HAIRSCATTER_HD const NormalPoint& reflect_point(int i, int l) const { return reflect_[i * per_tt_ + l]; }
 
-    // E(c) outside and inside, linearly interpolated in c ∈ [0, 1].
+    // E(c) outside and inside, linearly interpolated in c ∈ [0, 1]: the mean reflectance of
+    // one microfacet event, shadowing ignored.
     HAIRSCATTER_HD T reflectance_outside(T c) const { return lookup(outside_, c); }
     HAIRSCATTER_HD T reflectance_inside(T c) const { return lookup(inside_, c); }
+    // The interface's total reflectance with shadowing (interface_energies), outside and
+    // inside: the share of the light that stays on its side.
+    HAIRSCATTER_HD T total_reflectance_outside(T c) const { return lookup(total_out_, c); }
+    HAIRSCATTER_HD T total_reflectance_inside(T c) const { return lookup(total_in_, c); }
+    // The lobes' scales: the reflection lobe from outside carries the total reflectance in
+    // the shape of its unshadowed single scattering (total / single), the transmission lobe
+    // leaving the fiber its total transmittance (1 − total_in) / transmit_single.
+    HAIRSCATTER_HD T reflection_gain_outside(T c) const { return lookup(gain_r_out_, c); }
+    HAIRSCATTER_HD T exit_gain(T c) const { return lookup(gain_t_in_, c); }
+    // The same for the light entering: (1 − total_out) / transmit_single, so that each
+    // offset passes its own total into the fiber (s_TT only corrects the rules' error).
+    HAIRSCATTER_HD T entry_gain(T c) const { return lookup(gain_t_out_, c); }
 
     // For the dual-scattering tables (dual/tables.hpp): lobe p peaks near θi = lobe_shift(p)
     // - θo, the first-order shifts of a tilted mesonormal (R 2α, TT -α, TRT -4α, as
@@ -425,7 +479,58 @@ template <typename T> class HuangMaterial {
     T h_[kMaxNodes] = {}, cos_gamma_[kMaxNodes] = {}, weight_[kMaxNodes] = {};
     EntryPoint tt_[kMaxTTPoints] = {};
     NormalPoint reflect_[kMaxTRTPoints] = {};
+    // The interface tables at kTableSize cosines in [0, 1]: E (one event), the totals with
+    // shadowing, and the lobes' gains (interface_energies). E seen from below the horizon,
+    // which the totals need, is tabulated only while building.
+    void build_interface_tables() {
+        const double rough = double(params_.roughness), eta = double(params_.eta);
+        const GaussLegendre<double> table_rule(kTableRule);
+        // E at c' in [0, 1] (the tables) and, coarser, at c' in [-1, 0]: light that a
+        // microfacet shadowed meets the surface again from below its horizon (a smooth
+        // function; kBelow + 1 cosines).
+        constexpr int kBelow = 32;
+        std::vector<double> below_out(kBelow + 1), below_in(kBelow + 1);
+        for (int i = 0; i <= kBelow; ++i) {
+            const double c = -1 + double(i) / kBelow;
+            below_out[std::size_t(i)] = mean_reflectance(rough, c, eta, table_rule);
+            below_in[std::size_t(i)] = mean_reflectance(rough, c, 1 / eta, table_rule);
+        }
+        for (int i = 0; i < kTableSize; ++i) {
+            const double c = double(i) / (kTableSize - 1);
+            outside_[i] = T(i == 0 ? below_out[kBelow] : mean_reflectance(rough, c, eta, table_rule));
+            inside_[i] = T(i == 0 ? below_in[kBelow] : mean_reflectance(rough, c, 1 / eta, table_rule));
+        }
+        const auto at = [](const std::vector<double>& below, const T* above, double c) {
+            if (c >= 0) {
+                const double x = std::min(1.0, c) * double(kTableSize - 1);
+                const int i = std::min(kTableSize - 2, int(x));
+                return double(above[i]) + (x - i) * double(above[i + 1] - above[i]);
+            }
+            const double x = (std::max(-1.0, c) + 1) * double(kBelow);
+            const int i = std::min(kBelow - 1, int(x));
+            return below[std::size_t(i)] + (x - i) * (below[std::size_t(i) + 1] - below[std::size_t(i)]);
+        };
+        const auto e_out = [&](double c) { return at(below_out, outside_, c); };
+        const auto e_in = [&](double c) { return at(below_in, inside_, c); };
+        double last_gain_t = 1, last_gain_in = 1;
+        for (int i = kTableSize - 1; i >= 0; --i) {
+            const double c = double(i) / (kTableSize - 1);
+            const InterfaceEnergies o = interface_energies(rough, c, eta, table_rule, e_out, e_in);
+            const InterfaceEnergies n = interface_energies(rough, c, 1 / eta, table_rule, e_in, e_out);
+            total_out_[i] = T(o.reflect_total);
+            total_in_[i] = T(n.reflect_total);
+            gain_r_out_[i] = T(o.reflect_single > 0 ? o.reflect_total / o.reflect_single : 1.0);
+            // At grazing c nothing transmits singly; the gain of the nearest cosine that does.
+            if (n.transmit_single > 1e-4) last_gain_t = (1 - n.reflect_total) / n.transmit_single;
+            gain_t_in_[i] = T(last_gain_t);
+            if (o.transmit_single > 1e-4) last_gain_in = (1 - o.reflect_total) / o.transmit_single;
+            gain_t_out_[i] = T(last_gain_in);
+        }
+    }
+
     T outside_[kTableSize] = {}, inside_[kTableSize] = {};
+    T total_out_[kTableSize] = {}, total_in_[kTableSize] = {};
+    T gain_r_out_[kTableSize] = {}, gain_t_in_[kTableSize] = {}, gain_t_out_[kTableSize] = {};
 };
 
 // A quadrature finer than the automatic one that scales with roughness as it does: the
@@ -575,6 +680,8 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         V3 prefix, energy;
         V3 v, m;
         T cos_v;
+        T gain;  // the lobe's scale: its total energy over its unshadowed single scattering
+        T g1_v;  // G1(v) (reflection's shadowing of the scattered direction depends on it)
     };
 
     // What a walk adds up besides its ends: the paths' weights y_i, what goes to the
@@ -583,6 +690,7 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         V3 residual{T(0)};
         T norm = T(0), transmitted = T(0);
     };
+
 
     static HAIRSCATTER_HD T mean(const V3& x) { return (x.x + x.y + x.z) * T(1.0 / 3.0); }
 
@@ -652,9 +760,10 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
                 s.residual += V3(w);
                 continue;
             }
-            const T e_out = mat_->reflectance_outside(g.cos_v);
+            const T e_out = mat_->total_reflectance_outside(g.cos_v);
             s.transmitted += w * (T(1) - e_out);
-            visit(End{0, V3(w), V3(w * e_out), o.v, g.m, g.cos_v});
+            visit(End{0, V3(w), V3(w * e_out), o.v, g.m, g.cos_v, mat_->reflection_gain_outside(g.cos_v),
+                      mat_->ggx().g1(g.cos_v)});
         }
     }
 
@@ -665,10 +774,13 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         if (!(g.beam > T(0) && g.cos_v > T(0))) return false;
         const T eta = mat_->params().eta;
         const V3 h = visible_normal(g.m, o.v, p.normal);
-        y = g.beam * (T(1) - fresnel_any(glm::dot(o.v, h), eta));
         const Refracted<T> r = refract_through(o.v, h, T(1) / eta);
         // Refraction into the denser side always exists; normalise away the rounding.
         t = r.ok ? glm::normalize(r.o) : -g.m;
+        // The share that leaves the microsurface downward unshadowed (G1 of −t); the rest of
+        // the interface's transmission follows the same directions (s_TT).
+        y = g.beam * (T(1) - fresnel_any(glm::dot(o.v, h), eta)) * mat_->ggx().g1(-glm::dot(t, g.m)) *
+            mat_->entry_gain(g.cos_v);
         return y > T(0);
     }
 
@@ -699,20 +811,29 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
                 s.residual += at_exit;
                 continue;
             }
-            const T e_in = mat_->reflectance_inside(cos2);
-            visit(End{1, at_exit, at_exit * (T(1) - e_in), v2, m_in, cos2});
+            const T e_in = mat_->total_reflectance_inside(cos2);
+            const T g1_2 = mat_->ggx().g1(cos2);
+            visit(End{1, at_exit, at_exit * (T(1) - e_in), v2, m_in, cos2, mat_->exit_gain(cos2), g1_2});
 
-            // F ≥ ((η - 1)/(η + 1))² > 0 at every normal, so the sum is > 0.
-            V3 h[Material::kMaxTrtPerTT];
+            // The internal reflection split over the path's normals ∝ F × the share no
+            // microfacet shadows; where every one is shadowed, the residual takes it.
+            V3 r_dir[Material::kMaxTrtPerTT];
             T f[Material::kMaxTrtPerTT], sum = T(0);
             for (int l = 0; l < m; ++l) {
-                h[l] = visible_normal(m_in, v2, mat_->reflect_point(i, l));
-                f[l] = fresnel_any(glm::dot(v2, h[l]), inv_eta);
+                const V3 h = visible_normal(m_in, v2, mat_->reflect_point(i, l));
+                r_dir[l] = glm::normalize(reflect_about(v2, h));
+                f[l] = fresnel_any(glm::dot(v2, h), inv_eta) *
+                       mat_->ggx().unshadowed_reflection(g1_2, glm::dot(r_dir[l], m_in));
                 sum += f[l];
             }
+            if (!(sum > T(0))) {
+                s.residual += at_exit * e_in;
+                continue;
+            }
             for (int l = 0; l < m; ++l) {
+                if (!(f[l] > T(0))) continue;
                 const V3 in2 = at_exit * (e_in * f[l] / sum);
-                const V3 r = glm::normalize(reflect_about(v2, h[l]));
+                const V3& r = r_dir[l];
                 const auto chord2 = mat_->section().chord(chord.c, V2(r.y, r.z));
                 if (!chord2.ok) {
                     s.residual += in2;
@@ -726,10 +847,12 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
                     s.residual += at_exit2;
                     continue;
                 }
-                const T e3 = mat_->reflectance_inside(cos3);
-                visit(End{2, at_exit2, at_exit2 * (T(1) - e3), -r, m3, cos3});
-                // Orders past TRT: A_3 Σ (A_3 R̄)^n (1 - R̄); its limit 1 where A_3 R̄ → 1.
-                const T r_bar = fresnel_any(cos3, inv_eta);
+                const T e3 = mat_->total_reflectance_inside(cos3);
+                visit(End{2, at_exit2, at_exit2 * (T(1) - e3), -r, m3, cos3, mat_->exit_gain(cos3), mat_->ggx().g1(cos3)});
+                // Orders past TRT: A_3 Σ (A_3 R̄)^n (1 - R̄), every later interface reflecting
+                // R̄ = the total internal reflectance at this one's angle; its limit 1 where
+                // A_3 R̄ → 1.
+                const T r_bar = e3;
                 V3 series;
                 for (int ch = 0; ch < 3; ++ch) {
                     using std::sqrt;
@@ -767,12 +890,15 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         LobeValue r{T(0), T(0)};
         if (e.p == 0) {
             const auto x = l.reflection(wi);
-            if (kF && x.q > T(0)) r.f = fresnel_any(x.v_dot_h, eta) * x.q;
+            if (kF && x.q > T(0))
+                r.f = fresnel_any(x.v_dot_h, eta) * x.q * e.gain *
+                      mat_->ggx().unshadowed_reflection(e.g1_v, glm::dot(wi, e.m));
             r.q = x.q;
             return r;
         }
         const auto x = l.refraction(wi, eta);
-        if (kF && x.q > T(0)) r.f = (T(1) - fresnel_any(x.v_dot_h, T(1) / eta)) * x.q;
+        if (kF && x.q > T(0))
+            r.f = (T(1) - fresnel_any(x.v_dot_h, T(1) / eta)) * x.q * e.gain * mat_->ggx().g1(-glm::dot(wi, e.m));
         if (kPdf) r.q = x.q + l.total_reflection(wi, eta);
         return r;
     }

@@ -1,0 +1,112 @@
+// HuangFiber against physics: the physical fiber reference (tests/support/physical_fiber.hpp,
+// ray tracing of a rough dielectric cylinder of elliptical section, every order, its
+// boundary a random walk on the Smith microsurface) and its cache, and the model's
+// interface totals against the microsurface walk itself. The figures are
+// docs/huang_physical.md's (scripts/physical-reference.sh).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include <hairscatter/models/huang.hpp>
+
+#include "support/physical_fiber_huang.hpp"
+
+namespace hs = hairscatter;
+namespace pf = phys_fiber;
+
+namespace {
+
+const std::vector<pf::CachedCase>& cache() {
+    static const std::vector<pf::CachedCase> c = pf::read_cache(HAIRSCATTER_TEST_DATA_DIR "/physical_fiber.txt");
+    return c;
+}
+
+}  // namespace
+
+// The interface's total reflectance (the two-event rule, docs/theory.md §3.6) against the
+// microsurface's random walk, which scatters until the light leaves: within 6 % (plus the
+// walk's noise) at roughness 0.1 and 0.3 from both sides, where one event without shadowing
+// (the model before) is off by up to 30 %. Measured: worst 4.6 % outside (β 0.3 near grazing)
+// and 2.4 % inside.
+TEST(HuangPhysical, InterfaceTotalsMatchTheMicrosurface) {
+    for (double beta : {0.1, 0.3}) {
+        hs::HuangParams<double> p;
+        p.roughness = beta;
+        const hs::HuangMaterial<double> mat(p, hs::HuangQuadrature{4, 1, 1});
+        double worst_total = 0, worst_single = 0;
+        for (const bool outside : {true, false}) {
+            for (double c : {1.0, 0.8, 0.6, 0.4, 0.2, 0.1}) {
+                const glm::dvec3 wi(std::sqrt(1 - c * c), 0, c);
+                pf::Rng rng(7);
+                const int n = 200000;
+                int reflected = 0;
+                for (int k = 0; k < n; ++k)
+                    if (!pf::interact(wi, beta, outside ? 1.55 : 1 / 1.55, pf::Interface::kRandomWalk, rng).transmitted)
+                        ++reflected;
+                const double walk = double(reflected) / n, sigma = std::sqrt(walk * (1 - walk) / n);
+                const double model = outside ? mat.total_reflectance_outside(c) : mat.total_reflectance_inside(c);
+                const double one_event = outside ? mat.reflectance_outside(c) : mat.reflectance_inside(c);
+                worst_total = std::max(worst_total, std::fabs(model - walk) / walk);
+                worst_single = std::max(worst_single, std::fabs(one_event - walk) / walk);
+                EXPECT_NEAR(model, walk, 0.06 * walk + 3 * sigma) << "β " << beta << (outside ? " outside" : " inside") << " c " << c;
+            }
+        }
+        std::printf("[ physical ] β %.1f: interface total vs walk worst %.3f (one event unshadowed: %.3f)\n", beta,
+                    worst_total, worst_single);
+        EXPECT_GT(worst_single, 2 * worst_total);  // the negative control: shadowing matters
+    }
+}
+
+// R alone: the light reflected without entering carries the energy the physical fiber's
+// does, within 6 % up to θo = 30° and 10 % at 75° (measured 0.1–5.3 % and 1.5–8.6 %: the
+// two-event totals run a few per cent high near grazing at β 0.3); the unshadowed surface
+// of the model before was 3–35 % too bright.
+TEST(HuangPhysical, ReflectionEnergyMatchesTheFiber) {
+    for (const pf::CachedCase& c : cache()) {
+        hs::LobeControls<double> only_r;
+        only_r.gain[1] = only_r.gain[2] = only_r.gain[3] = 0;
+        const hs::HuangMaterial<double> mat(pf::huang_params(c.c, false), hs::HuangQuadrature(), only_r);
+        const double model = hs::HuangFiber<double>(mat).albedo(c.c.wo()).x;
+        const double ref = c.lobe_energy[pf::kR][0];
+        EXPECT_NEAR(model, ref, (c.c.theta_deg < 60 ? 0.06 : 0.10) * ref) << c.c.name();
+    }
+}
+
+// f against the physical fiber over the sphere (relative L1 of bin averages, 24 cases,
+// lossless and blond, default quadrature): the figures of docs/huang_physical.md, printed.
+// The goal is 5 %; the model is not there (measured worst 21 %, mean 13 %: the residual's
+// shape, the lattices' error at the default and TT's exit near grazing). The bounds guard
+// what is reached: worst 23 %, mean 15 % (the model before this reference: 37 % and 19 %).
+TEST(HuangPhysical, AgainstThePhysicalFiber) {
+    const std::vector<pf::CachedCase>& cases = cache();
+    std::vector<double> lossless(cases.size()), blond(cases.size());
+    std::vector<std::thread> pool;
+    for (int t = 0; t < 2; ++t)
+        pool.emplace_back([&, t] {
+            for (std::size_t k = std::size_t(t); k < cases.size(); k += 2) {
+                for (int b = 0; b < 2; ++b) {
+                    const hs::HuangMaterial<double> mat(pf::huang_params(cases[k].c, b == 1));
+                    const hs::HuangFiber<double> fiber(mat);
+                    const std::vector<glm::dvec3> bins = pf::model_bins(
+                        cases[k], [&](const glm::dvec3& wo, const glm::dvec3& wi) { return fiber.eval(wo, wi); });
+                    double e = 0;
+                    for (int ch = 0; ch < (b ? 3 : 1); ++ch) e += pf::compare(cases[k], bins, ch, b ? ch + 1 : 0).l1;
+                    (b ? blond : lossless)[k] = b ? e / 3 : e;
+                }
+            }
+        });
+    for (auto& th : pool) th.join();
+    double worst = 0, mean = 0;
+    for (std::size_t k = 0; k < cases.size(); ++k) {
+        std::printf("[ physical ] %-28s lossless %5.1f %%  blond %5.1f %%  (reference noise %.1f %%)\n",
+                    cases[k].c.name().c_str(), 100 * lossless[k], 100 * blond[k], 100 * cases[k].noise_l1[0]);
+        worst = std::max({worst, lossless[k], blond[k]});
+        mean += (lossless[k] + blond[k]) / (2.0 * double(cases.size()));
+    }
+    std::printf("[ physical ] worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst, 100 * mean);
+    EXPECT_LT(worst, 0.23);
+    EXPECT_LT(mean, 0.15);
+}
