@@ -348,6 +348,14 @@ template <typename T> struct DualTablesView {
     }
 };
 
+namespace detail {
+// Whether a fiber offers lobe_windows(wo, n_psi): every centre's lobe_split at once.
+template <typename F, typename = void> struct has_lobe_windows : std::false_type {};
+template <typename F>
+struct has_lobe_windows<F, std::void_t<decltype(std::declval<const F&>().lobe_windows(std::declval<typename F::V3>(), 2))>>
+    : std::true_type {};
+}  // namespace detail
+
 template <typename T> class DualScatteringTables {
   public:
     using V3 = glm::vec<3, T>;
@@ -400,10 +408,13 @@ template <typename T> class DualScatteringTables {
         for (int i = 0; i < opt.theta_samples; ++i) {
             const T theta = View::node_theta(i, opt.theta_samples);
             const V3 wo(std::sin(theta), std::cos(theta), T(0));
-            for (int j = 0; j < opt.psi_samples; ++j) {
-                const T psi = kPi<T> * T(j) / T(opt.psi_samples - 1);
-                for (std::size_t k = 0; k < fibers.size(); ++k) {
-                    const auto split = fibers[k].lobe_split(wo, psi);
+            for (std::size_t k = 0; k < fibers.size(); ++k) {
+                // A fiber that splits every centre at once (lobe_windows) is asked once.
+                std::vector<decltype(fibers[k].lobe_split(wo, T(0)))> all;
+                if constexpr (detail::has_lobe_windows<Fiber>::value) all = fibers[k].lobe_windows(wo, opt.psi_samples);
+                for (int j = 0; j < opt.psi_samples; ++j) {
+                    const T psi = kPi<T> * T(j) / T(opt.psi_samples - 1);
+                    const auto split = all.empty() ? fibers[k].lobe_split(wo, psi) : all[std::size_t(j)];
                     for (int p = 0; p < L; ++p)
                         t.window_[v.window_index(i, p, j)] += h_weight[k] * kInvPi<T> * split.a[p] * split.backward[p];
                 }

@@ -657,6 +657,83 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         return r;
     }
 
+    // lobe_split(wo, ψ_j) for every centre ψ_j = π j / (n_psi - 1) at once, as the
+    // dual-scattering tables need them (dual/tables.hpp uses it when a fiber offers it):
+    // each path end's lobe is sampled through its own microfacet sampler at kWindowSamples
+    // points of a rank-1 lattice over the visible normal, weighted by f / q there (the
+    // Fresnel factor and the shadowing), and the end's energy is split between the halves
+    // in proportion. Energies are exact, as lobe_split's; a half's share differs from
+    // lobe_split's cubature by ~1e-2 at most (tests/huang_test.cpp). Host only; about 1 % of
+    // n_psi calls of lobe_split.
+    static constexpr int kWindowSamples = 256;
+    std::vector<LobeSplit> lobe_windows(const V3& wo, int n_psi) const {
+        std::vector<LobeSplit> out(std::size_t(n_psi > 1 ? n_psi : 1));
+        for (LobeSplit& r : out)
+            for (int p = 0; p <= kLobes; ++p) {
+                r.a[p] = V3(T(0));
+                r.backward[p] = T(0.5);
+            }
+        if (!is_finite(wo)) return out;
+        const Outgoing o = outgoing<false>(wo);
+        const Lobes e = lobes<false, false>(o, V3(T(0)), T(0));
+        const double pi = 3.14159265358979323846;
+        const T eta = mat_->params().eta;
+        std::vector<double> back(out.size() * kLobes, 0.0);
+        double total[kLobes] = {};
+        const auto visit = [&](const End& end) {
+            const double energy = double(mean(end.energy));
+            if (!(energy > 0)) return;
+            const TangentFrame<T> frame(end.m, end.v);
+            const V3 v_local = frame.to_local(end.v);
+            double w_sum = 0;
+            std::vector<std::pair<double, double>> samples;  // (φ, weight)
+            samples.reserve(kWindowSamples);
+            for (int k = 0; k < kWindowSamples; ++k) {
+                const T u1 = T((k + 0.5) / kWindowSamples);
+                const T u2 = T(std::fmod(k * 0.6180339887498949 + 0.5 / kWindowSamples, 1.0));
+                const V3 h = frame.to_world(mat_->ggx().sample_visible_local(v_local, u1, u2));
+                V3 dir;
+                double w;
+                if (end.p == 0) {
+                    dir = glm::normalize(reflect_about(end.v, h));
+                    w = double(fresnel_any(glm::dot(end.v, h), eta) *
+                               mat_->ggx().unshadowed_reflection(end.g1_v, glm::dot(dir, end.m)));
+                } else {
+                    const Refracted<T> r = refract_through(end.v, h, eta);
+                    if (!r.ok) continue;
+                    dir = glm::normalize(r.o);
+                    w = double((T(1) - fresnel_any(glm::dot(end.v, h), T(1) / eta)) * mat_->ggx().g1(-glm::dot(dir, end.m)));
+                }
+                if (!(w > 0)) continue;
+                const V3 wi = mat_->section().from_section(dir);
+                samples.push_back({double(relative_azimuth(wo, wi)), w});
+                w_sum += w;
+            }
+            if (!(w_sum > 0)) return;
+            total[end.p] += energy;
+            for (std::size_t j = 0; j < out.size(); ++j) {
+                const double centre = out.size() > 1 ? pi * double(j) / double(out.size() - 1) : 0.0;
+                double in = 0;
+                for (const auto& x : samples) {
+                    double d = std::fabs(x.first - centre);
+                    if (d > pi) d = 2 * pi - d;
+                    if (d < 0.5 * pi) in += x.second;
+                }
+                back[j * kLobes + std::size_t(end.p)] += energy * in / w_sum;
+            }
+        };
+        RuleTotals unused;
+        walk_r(o, unused, visit);
+        walk_paths(o, unused, visit);
+        for (std::size_t j = 0; j < out.size(); ++j)
+            for (int p = 0; p <= kLobes; ++p) {
+                out[j].a[p] = e.energy[p];
+                if (p < kLobes && total[p] > 0)
+                    out[j].backward[p] = T(std::min(1.0, std::max(0.0, back[j * kLobes + std::size_t(p)] / total[p])));
+            }
+        return out;
+    }
+
   private:
     friend class FiberModel<HuangFiber, T>;
     friend class BoundFiber<HuangFiber>;
