@@ -20,6 +20,8 @@ while [[ $# -gt 0 ]]; do
     esac
     shift
 done
+# Before anything is written: the output must not make the tree look modified.
+rev="$(git describe --always --dirty 2>/dev/null || echo unknown)"
 cmake -S . -B build/physical -DCMAKE_BUILD_TYPE=Release -DHAIRSCATTER_BUILD_TESTS=ON >/dev/null
 cmake --build build/physical -j "$(nproc)" --target physical_fiber_tool >/dev/null
 tool=build/physical/tests/physical_fiber_tool
@@ -29,7 +31,7 @@ fi
 {
     echo "# Huang et al. 2022's fiber against a physical reference"
     echo
-    echo "Written by \`scripts/physical-reference.sh\` ($(date -u +%Y-%m-%d), $(git describe --always --dirty 2>/dev/null || echo unknown))"
+    echo "Written by \`scripts/physical-reference.sh\` ($(date -u +%Y-%m-%d), $rev)"
     echo "from the cached reference \`tests/data/physical_fiber.txt\` ($(sed -n '1s/.*: //p' tests/data/physical_fiber.txt))."
     echo "What the reference models and what it leaves out: [models.md](models.md) (Huang 2022) and"
     echo "\`tests/support/physical_fiber.hpp\`. Errors are relative L1 over the sphere of outgoing"
