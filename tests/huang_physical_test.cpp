@@ -110,3 +110,34 @@ TEST(HuangPhysical, AgainstThePhysicalFiber) {
     EXPECT_LT(worst, 0.23);
     EXPECT_LT(mean, 0.15);
 }
+
+// The shadowing terms over extreme inputs (NaN, infinities, cosines outside [0, 1], every
+// roughness of the range): finite, in [0, 1] for G1 and the reflection's escape, ≥ 0 for Λ;
+// and against the reference's own Λ where the cosine is valid.
+TEST(HuangPhysical, ShadowingTermsAreFiniteEverywhere) {
+    const double nan = std::nan(""), inf = HUGE_VAL;
+    const double cosines[] = {nan, -inf, -1, -1e-30, 0, 1e-38, 1e-30, 1e-8, 0.3, 0.999999, 1, 1 + 1e-7, 2, inf};
+    for (double alpha : {0.02, 0.3, 1.0}) {
+        const hs::Ggx<double> g(alpha);
+        const hs::Ggx<float> gf{float(alpha)};
+        for (double c : cosines) {
+            for (double g1v : {0.0, 0.5, 1.0}) {
+                const double e = g.unshadowed_reflection(g1v, c);
+                const float ef = gf.unshadowed_reflection(float(g1v), float(c));
+                EXPECT_TRUE(std::isfinite(e) && e >= 0 && e <= 1) << alpha << " " << c;
+                EXPECT_TRUE(std::isfinite(ef) && ef >= 0 && ef <= 1) << alpha << " " << c;
+            }
+            const double l = g.lambda(c), g1 = g.g1(c);
+            const float lf = gf.lambda(float(c)), g1f = gf.g1(float(c));
+            EXPECT_TRUE(std::isfinite(l) && l >= 0) << alpha << " " << c;
+            EXPECT_TRUE(std::isfinite(lf) && lf >= 0) << alpha << " " << c;
+            EXPECT_TRUE(std::isfinite(g1) && g1 >= 0 && g1 <= 1 + 1e-12) << alpha << " " << c;
+            EXPECT_TRUE(std::isfinite(g1f) && g1f >= 0 && g1f <= 1 + 1e-6f) << alpha << " " << c;
+            if (c > 1e-6 && c <= 1) {
+                const glm::dvec3 w(std::sqrt(1 - c * c), 0, c);
+                EXPECT_NEAR(l, pf::lambda(w, alpha), 1e-9 * (1 + l));
+                EXPECT_NEAR(g1, 1 / (1 + l), 1e-12);
+            }
+        }
+    }
+}

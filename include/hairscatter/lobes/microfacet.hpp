@@ -84,12 +84,19 @@ template <typename T> class Ggx {
     }
 
     // Smith's G1 = 1 / (1 + Λ) at cos = w·m > 0: 2 cos · visible_scale(cos) (Heitz 2014
-    // eq. 86); 0 at or below the surface.
-    HAIRSCATTER_HD T g1(T cos_w) const { return cos_w > T(0) ? T(2) * cos_w * visible_scale(cos_w) : T(0); }
-    // Smith's Λ of GGX at cos = w·m > 0: (√(1 + α² tan²θ) − 1)/2 (Heitz 2014 eq. 72).
+    // eq. 86); 0 at or below the surface (and for NaN), cosines above 1 read as 1.
+    HAIRSCATTER_HD T g1(T cos_w) const {
+        if (!(cos_w > T(0))) return T(0);
+        const T c = cos_w < T(1) ? cos_w : T(1);
+        return T(2) * c * visible_scale(c);
+    }
+    // Smith's Λ of GGX at cos = w·m > 0: (√(1 + α² tan²θ) − 1)/2 (Heitz 2014 eq. 72); 1e30
+    // at or below the surface (and for NaN), where nothing escapes (finite in float).
     HAIRSCATTER_HD T lambda(T cos_w) const {
         using std::sqrt;
-        return T(0.5) * (sqrt(a2_ * (T(1) - cos_w) * (T(1) + cos_w) + cos_w * cos_w) / cos_w - T(1));
+        if (!(cos_w > T(1e-30))) return T(1e30);
+        const T c = cos_w < T(1) ? cos_w : T(1);
+        return T(0.5) * (sqrt(a2_ * (T(1) - c) * (T(1) + c) + c * c) / c - T(1));
     }
     // The share of light scattered from v toward o that no microfacet shadows on its way out,
     // given v's G1 and o·m: for reflection (o on v's side) the height-correlated

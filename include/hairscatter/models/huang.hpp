@@ -660,7 +660,7 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
     // lobe_split(wo, ψ_j) for every centre ψ_j = π j / (n_psi - 1) at once, as the
     // dual-scattering tables need them (dual/tables.hpp uses it when a fiber offers it):
     // each path end's lobe is sampled through its own microfacet sampler at kWindowSamples
-    // points of a rank-1 lattice over the visible normal, weighted by f / q there (the
+    // points of a golden-ratio lattice over the visible normal, weighted by f / q there (the
     // Fresnel factor and the shadowing), and the end's energy is split between the halves
     // in proportion. Energies are exact, as lobe_split's; a half's share differs from
     // lobe_split's cubature by ~1e-2 at most (tests/huang_test.cpp). Host only; about 1 % of
@@ -768,7 +768,6 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         T norm = T(0), transmitted = T(0);
     };
 
-
     static HAIRSCATTER_HD T mean(const V3& x) { return (x.x + x.y + x.z) * T(1.0 / 3.0); }
 
     HAIRSCATTER_HD V3 mesonormal(const V2& c) const {
@@ -854,8 +853,9 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         const Refracted<T> r = refract_through(o.v, h, T(1) / eta);
         // Refraction into the denser side always exists; normalise away the rounding.
         t = r.ok ? glm::normalize(r.o) : -g.m;
-        // The share that leaves the microsurface downward unshadowed (G1 of −t); the rest of
-        // the interface's transmission follows the same directions (s_TT).
+        // The share that leaves the microsurface downward unshadowed (G1 of −t), scaled to
+        // the interface's total transmission at this offset (entry_gain): the shadowed light
+        // that still gets in follows the same directions.
         y = g.beam * (T(1) - fresnel_any(glm::dot(o.v, h), eta)) * mat_->ggx().g1(-glm::dot(t, g.m)) *
             mat_->entry_gain(g.cos_v);
         return y > T(0);
