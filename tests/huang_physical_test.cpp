@@ -58,6 +58,22 @@ TEST(HuangPhysical, InterfaceTotalsMatchTheMicrosurface) {
                     worst_total, worst_single);
         EXPECT_GT(worst_single, 2 * worst_total);  // the negative control: shadowing matters
     }
+    // Reported, not asserted: the two-event rule's limit at a rougher surface (docs/theory.md
+    // §3.6 quotes it), outside at c = 0.1, 0.2 and 1.
+    hs::HuangParams<double> p;
+    p.roughness = 0.6;
+    const hs::HuangMaterial<double> mat(p, hs::HuangQuadrature{4, 1, 1});
+    for (double c : {0.1, 0.2, 1.0}) {
+        const glm::dvec3 wi(std::sqrt(1 - c * c), 0, c);
+        pf::Rng rng(9);
+        const int n = 200000;
+        int reflected = 0;
+        for (int k = 0; k < n; ++k)
+            if (!pf::interact(wi, 0.6, 1.55, pf::Interface::kRandomWalk, rng).transmitted) ++reflected;
+        std::printf("[ physical ] β 0.6 outside c %.1f: interface total %.4f, walk %.4f (%+.0f %%)\n", c,
+                    mat.total_reflectance_outside(c), double(reflected) / n,
+                    100 * (mat.total_reflectance_outside(c) / (double(reflected) / n) - 1));
+    }
 }
 
 // R alone: the light reflected without entering carries the energy the physical fiber's
