@@ -238,14 +238,6 @@ struct Histogram {
         const int ip = std::min(n_phi - 1, std::max(0, int((phi + kPi) / (2 * kPi) * n_phi)));
         return iu * n_phi + ip;
     }
-    // The centre-free bin bounds: sin θ in [u0, u1], φ in [p0, p1].
-    void bounds(int bin, double& u0, double& u1, double& p0, double& p1) const {
-        const int iu = bin / n_phi, ip = bin % n_phi;
-        u0 = -1 + 2.0 * iu / n_u;
-        u1 = -1 + 2.0 * (iu + 1) / n_u;
-        p0 = -kPi + 2 * kPi * ip / n_phi;
-        p1 = -kPi + 2 * kPi * (ip + 1) / n_phi;
-    }
     // f averaged over a bin (1/sr), channel c, every lobe or one.
     double f(int bin, int c, int lobe = -1) const {
         double e = 0;

@@ -620,11 +620,7 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
     // dual-scattering tables.
     static constexpr int kSplitNodes = 6;
     LobeSplit lobe_split(const V3& wo, T centre = T(0)) const {
-        LobeSplit r;
-        for (int p = 0; p <= kLobes; ++p) {
-            r.a[p] = V3(T(0));
-            r.backward[p] = T(0.5);
-        }
+        LobeSplit r = empty_split();
         if (!is_finite(wo)) return r;
         const Outgoing o = outgoing<false>(wo);
         const Lobes e = lobes<false, false>(o, V3(T(0)), T(0));
@@ -667,12 +663,7 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
     // n_psi calls of lobe_split.
     static constexpr int kWindowSamples = 256;
     std::vector<LobeSplit> lobe_windows(const V3& wo, int n_psi) const {
-        std::vector<LobeSplit> out(std::size_t(n_psi > 1 ? n_psi : 1));
-        for (LobeSplit& r : out)
-            for (int p = 0; p <= kLobes; ++p) {
-                r.a[p] = V3(T(0));
-                r.backward[p] = T(0.5);
-            }
+        std::vector<LobeSplit> out(std::size_t(n_psi > 1 ? n_psi : 1), empty_split());
         if (!is_finite(wo)) return out;
         const Outgoing o = outgoing<false>(wo);
         const Lobes e = lobes<false, false>(o, V3(T(0)), T(0));
@@ -736,6 +727,16 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
 
   private:
     friend class FiberModel<HuangFiber, T>;
+
+    // No energy, each lobe split evenly: what lobe_split and lobe_windows start from.
+    static LobeSplit empty_split() {
+        LobeSplit r;
+        for (int p = 0; p <= kLobes; ++p) {
+            r.a[p] = V3(T(0));
+            r.backward[p] = T(0.5);
+        }
+        return r;
+    }
     friend class BoundFiber<HuangFiber>;
 
     // The terms that depend on wo only: wo in the section frame, the far-field view and the
