@@ -19,6 +19,9 @@
 #   cuda      nvcc compile check of tests/cuda/*.cu (skipped without nvcc)
 #   example   build examples/ and bench/ with -Werror, run the lobe explorer and the renderer
 #             small, and the origin study at a tiny size (scripts/study.sh --tiny)
+#   python    the Python module: build at -O1 and run its pytest suite (bit-for-bit
+#             against C++, chi-square, the plots headless), install to a prefix and import
+#             it from there (scripts/python.sh --ci, build/test-python)
 #   fuzz      libFuzzer targets of fuzz/ (clang -fsanitize=fuzzer,address,undefined), each
 #             run repeatably (fuzz/run.sh --repeatable: a fixed input count from a fixed
 #             seed without address randomisation, 30–60 s each) from its committed corpus (skipped without a clang
@@ -34,7 +37,7 @@ cd "$ROOT"
 # shellcheck source=SCRIPTDIR/lib.sh
 source "$ROOT/scripts/lib.sh"
 
-ALL_STEPS=(gcc clang asan fastmath consumer cuda example fuzz)
+ALL_STEPS=(gcc clang asan fastmath consumer cuda example python fuzz)
 steps=("${ALL_STEPS[@]}")
 skip=()
 clang_ctest=1
@@ -262,6 +265,15 @@ step_consumer() {
 
 step_cuda() { bash "$ROOT/scripts/cuda-check.sh"; }
 
+step_python() {
+    if [[ "$install_deps" == 1 ]]; then bash "$ROOT/scripts/install-deps.sh" python; fi
+    local python=(bash "$ROOT/scripts/python.sh" --ci --no-deps --no-tests -j "$JOBS" --build "$ROOT/build/test-python")
+    "${python[@]}"
+    run_ctest build/test-python
+    rm -rf build/test-python/prefix
+    "${python[@]}" --install "$ROOT/build/test-python/prefix"
+}
+
 # The main example and the benchmarks must keep compiling (-Werror) even though CI runs
 # neither at full size: build both, and run the example small.
 step_example() {
@@ -345,5 +357,6 @@ run_step consumer "Install + downstream consumer (find_package, add_subdirectory
 run_step cuda     "CUDA compile check (nvcc -c tests/cuda/*.cu)"                   step_cuda
 finish_fuzz_in_background
 run_step example  "Example and benchmarks build (-Werror); the example runs small" step_example
+run_step python   "Python module: build (-O1), pytest, install and import (build/test-python)" step_python
 [[ $fuzz_in_background == 1 ]] ||
     run_step fuzz "libFuzzer targets, a fixed input count each (skipped without clang's libFuzzer)" step_fuzz
