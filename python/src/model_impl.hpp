@@ -18,6 +18,11 @@ template <typename Fiber> inline constexpr bool kNearField =
 
 template <typename Fiber> class ModelOf;
 
+// Whether offset h can be used: any for a far-field model (it has none), a finite one for a
+// near-field model. A NaN h would be clamped to -1 by the per-hit fiber; the module gives
+// such a row the contract's zeros instead, as for a non-finite direction.
+template <typename Fiber, typename T> bool usable_offset(T h) { return !kNearField<Fiber> || is_finite(h); }
+
 // Whether the module compiles the dual-scattering tables and BCSDF over Fiber: every model
 // but the Chiang fiber's lobe subsets (each would add seconds of build time, times 28).
 template <typename Fiber> inline constexpr bool kWithDual = has_lobe_split_v<Fiber>;
@@ -70,6 +75,7 @@ template <typename Fiber> class DualOf final : public DualModel {
         py::array_t<T> out = shape.result<T>(3);
         T* o = out.mutable_data();
         for_rows(shape.n(), [&](py::ssize_t i) {
+            if (!usable_offset<Fiber>(h.scalar(i))) return store3(o, i, glm::vec<3, T>(T(0)));
             store3(o, i, bcsdf(h.scalar(i)).eval(vec3_at(wo, i), vec3_at(wi, i), light(direct, n, beyond, i)));
         });
         return std::move(out);
@@ -83,7 +89,9 @@ template <typename Fiber> class DualOf final : public DualModel {
         py::array_t<T> out = shape.result<T>(0);
         T* o = out.mutable_data();
         for_rows(shape.n(), [&](py::ssize_t i) {
-            o[i] = bcsdf(h.scalar(i)).at(vec3_at(wo, i), spread.scalar(i)).pdf(vec3_at(wi, i));
+            o[i] = usable_offset<Fiber>(h.scalar(i))
+                       ? bcsdf(h.scalar(i)).at(vec3_at(wo, i), spread.scalar(i)).pdf(vec3_at(wi, i))
+                       : T(0);
         });
         return finish(out);
     }
@@ -101,9 +109,11 @@ template <typename Fiber> class DualOf final : public DualModel {
         T *wi_o = wi.mutable_data(), *f_o = f.mutable_data(), *w_o = weight.mutable_data(), *p_o = pdf.mutable_data();
         std::int8_t* c_o = component.mutable_data();
         for_rows(shape.n(), [&](py::ssize_t i) {
-            const DualSample<T> s = bcsdf(h.scalar(i))
-                                        .at(vec3_at(wo, i), spread.scalar(i))
-                                        .sample(vec4_at(u, i), light(direct, n, beyond, i));
+            const DualSample<T> s = usable_offset<Fiber>(h.scalar(i))
+                                        ? bcsdf(h.scalar(i))
+                                              .at(vec3_at(wo, i), spread.scalar(i))
+                                              .sample(vec4_at(u, i), light(direct, n, beyond, i))
+                                        : DualSample<T>{};
             store3(wi_o, i, s.wi);
             store3(f_o, i, s.f);
             store3(w_o, i, s.weight);
@@ -181,7 +191,9 @@ template <typename Fiber> class ModelOf final : public Model {
         std::int8_t* l_o = lobe.mutable_data();
         const Material& m = *mat_;
         for_rows(shape.n(), [&](py::ssize_t i) {
-            const HairSample<T> s = fiber_of(m, h.scalar(i)).sample(vec3_at(wo, i), vec4_at(u, i));
+            const HairSample<T> s = usable_offset<Fiber>(h.scalar(i))
+                                        ? fiber_of(m, h.scalar(i)).sample(vec3_at(wo, i), vec4_at(u, i))
+                                        : HairSample<T>{};
             store3(wi_o, i, s.wi);
             store3(w_o, i, s.weight);
             p_o[i] = s.pdf;
@@ -198,7 +210,10 @@ template <typename Fiber> class ModelOf final : public Model {
         py::array_t<T> out = shape.result<T>(3);
         T* o = out.mutable_data();
         const Material& m = *mat_;
-        for_rows(shape.n(), [&](py::ssize_t i) { store3(o, i, fiber_of(m, h.scalar(i)).albedo(vec3_at(wo, i))); });
+        for_rows(shape.n(), [&](py::ssize_t i) {
+            const V3 w = vec3_at(wo, i);
+            store3(o, i, usable(w, h.scalar(i)) ? fiber_of(m, h.scalar(i)).albedo(w) : V3(T(0)));
+        });
         return std::move(out);
     }
 
@@ -213,7 +228,11 @@ template <typename Fiber> class ModelOf final : public Model {
             T *a_o = a.mutable_data(), *b_o = backward.mutable_data();
             const Material& m = *mat_;
             for_rows(shape.n(), [&](py::ssize_t i) {
-                const auto s = fiber_of(m, h.scalar(i)).lobe_split(vec3_at(wo, i), centre.scalar(i));
+                const V3 w = vec3_at(wo, i);
+                typename Fiber::LobeSplit s;
+                for (int p = 0; p < kSplitLobes; ++p) s.a[p] = V3(T(0)), s.backward[p] = T(0);
+                if (usable(w, h.scalar(i)) && is_finite(centre.scalar(i)))
+                    s = fiber_of(m, h.scalar(i)).lobe_split(w, centre.scalar(i));
                 for (int p = 0; p < kSplitLobes; ++p) {
                     store3(a_o, i * kSplitLobes + p, s.a[p]);
                     b_o[i * kSplitLobes + p] = s.backward[p];
@@ -270,6 +289,12 @@ template <typename Fiber> class ModelOf final : public Model {
     py::dtype dtype() const override { return dtype_of<T>(); }
 
   private:
+    // albedo and lobe_split of a row with a non-finite or zero wo (or a non-finite h) are 0,
+    // as eval and pdf are by the contract; the C++ calls do not check wo (albedo(NaN) reads 1).
+    static bool usable(const V3& wo, T h) {
+        return is_finite(wo) && (wo.x != T(0) || wo.y != T(0) || wo.z != T(0)) && usable_offset<Fiber>(h);
+    }
+
     // The (N, 3) or (N,) result of query(fiber at h, wo, wi) per row: eval or pdf.
     template <typename Query>
     void per_pair(py::handle wo_, py::handle wi_, py::handle h_, py::array_t<T>& out, Query&& query) const {
@@ -279,7 +304,9 @@ template <typename Fiber> class ModelOf final : public Model {
         T* o = out.mutable_data();
         const Material& m = *mat_;
         for_rows(a.shape.n(), [&](py::ssize_t i) {
-            const R r = query(fiber_of(m, a.h.scalar(i)), vec3_at(a.wo, i), vec3_at(a.wi, i));
+            const R r = usable_offset<Fiber>(a.h.scalar(i))
+                            ? query(fiber_of(m, a.h.scalar(i)), vec3_at(a.wo, i), vec3_at(a.wi, i))
+                            : R(T(0));
             if constexpr (std::is_same_v<R, V3>)
                 store3(o, i, r);
             else
@@ -296,7 +323,9 @@ template <typename Fiber> class ModelOf final : public Model {
         T *f_o = f.mutable_data(), *p_o = pdf.mutable_data();
         const Material& m = *mat_;
         for_rows(a.shape.n(), [&](py::ssize_t i) {
-            const HairEvalPdf<T> e = query(fiber_of(m, a.h.scalar(i)), vec3_at(a.wo, i), vec3_at(a.wi, i));
+            const HairEvalPdf<T> e = usable_offset<Fiber>(a.h.scalar(i))
+                                         ? query(fiber_of(m, a.h.scalar(i)), vec3_at(a.wo, i), vec3_at(a.wi, i))
+                                         : HairEvalPdf<T>{};
             store3(f_o, i, e.f);
             p_o[i] = e.pdf;
         });

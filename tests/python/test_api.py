@@ -149,6 +149,30 @@ def test_non_finite_entries_give_the_contracts_zeros():
         assert s.pdf[0] == 0 and s.lobe[0] == 8 and np.all(s.wi[0] == 0) and s.pdf[3] > 0
 
 
+def test_a_non_finite_offset_or_outgoing_direction_gives_zeros_everywhere():
+    m = hs.Chiang(sigma_a=(0.5, 0.8, 1.2))
+    wo, wi = directions(4), directions(4)
+    h = np.array([0.2, np.nan, -np.inf, 0.7])
+    f, pdf = m.eval(wo, wi, h), m.pdf(wo, wi, h)
+    assert np.all(f[1:3] == 0) and np.all(pdf[1:3] == 0) and np.all(f[[0, 3]] > 0)
+    s = m.sample(wo, RNG.random((4, 4)), h)
+    assert np.all(s.pdf[1:3] == 0) and np.all(s.lobe[1:3] == 8) and np.all(s.pdf[[0, 3]] > 0)
+    assert np.all(m.albedo(wo, h)[1:3] == 0) and np.all(m.albedo(wo, h)[[0, 3]] > 0)
+    a, backward = m.lobe_split(wo, h)
+    assert np.all(a[1:3] == 0) and np.all(backward[1:3] == 0) and np.all(a[[0, 3]].sum(axis=1) > 0)
+    d = hs.DualScatteringBcsdf(m, m.dual_tables(theta_samples=16, psi_samples=9, h_nodes=8))
+    assert np.all(d.eval(wo, wi, h)[1:3] == 0) and np.all(d.pdf(wo, wi, h)[1:3] == 0)
+    assert np.all(d.sample(wo, RNG.random((4, 4)), h).pdf[1:3] == 0)
+    # albedo and lobe_split of a NaN, infinite or zero wo (the C++ calls read 1 for NaN).
+    for model, hh in [(m, 0.3), (hs.DeonFarField(sigma_a=(1, 1, 1)), None), (hs.Tabulated(preset="coarse", sigma_a=(1, 1, 1)), None)]:
+        bad = np.array([[np.nan, 1, 0], [0, 0, 0], [np.inf, 0, 1], [0, 1, 0]])
+        alb = model.albedo(bad, hh)
+        assert np.all(alb[:3] == 0) and np.all(alb[3] > 0)
+        a, backward = model.lobe_split(bad, hh)
+        assert np.all(a[:3] == 0) and np.all(backward[:3] == 0)
+        assert np.all(model.lobe_split([0, 1, 0], hh, centre=np.nan)[1] == 0)
+
+
 def test_lobe_subsets_and_lobe_split_add_up():
     wo, h = directions(5), RNG.uniform(-1, 1, 5)
     wi = directions(5)
