@@ -298,3 +298,29 @@ def test_dual_tables_build_save_load_and_drive_the_bcsdf(tmp_path):
     near = hs.Chiang()
     nd = hs.DualScatteringBcsdf(near, near.dual_tables(theta_samples=16, psi_samples=9, h_nodes=8, formulation="zinke2008"))
     assert nd.eval(wo, wi, RNG.uniform(-1, 1, 50)).shape == (50, 3)
+
+
+def test_a_long_call_releases_the_gil():
+    """Another Python thread runs while eval's C++ loop does: the main thread makes progress
+    in the middle of the call (impossible if the call held the GIL)."""
+    import threading
+    import time
+
+    m = hs.Chiang(sigma_a=(0.2, 0.4, 0.8))
+    n = 1_000_000
+    wo, wi, h = directions(n), directions(n), RNG.uniform(-1, 1, n)
+    span, ticks = {}, []
+
+    def call():
+        span["enter"] = time.perf_counter()
+        m.eval(wo, wi, h)
+        span["exit"] = time.perf_counter()
+
+    t = threading.Thread(target=call)
+    t.start()
+    while t.is_alive():
+        ticks.append(time.perf_counter())
+    t.join()
+    d = span["exit"] - span["enter"]
+    middle = [x for x in ticks if span["enter"] + 0.3 * d < x < span["exit"] - 0.3 * d]
+    assert d > 0.01 and middle, f"no progress of the main thread during the {1e3 * d:.0f} ms call"
