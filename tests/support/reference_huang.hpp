@@ -292,9 +292,15 @@ struct Reference {
                         const Normal n2 = draw_normal(m2, v2, rng);
                         const glm::dvec3 r = glm::normalize(2 * glm::dot(v2, n2.h) * n2.h - v2);
                         const InterfaceTables& in = inside();
-                        const glm::dvec3 thr2 = at2 * (n2.weight * fresnel(glm::dot(v2, n2.h), 1 / p.eta) *
-                                                       keep_reflected(c2, glm::dot(r, m2)) * in.at(in.r_total, c2) /
-                                                       in.at(in.r_single, c2));
+                        // F of the drawn normal (no masking of the reflected direction) in
+                        // units of the mean reflectance E, times the total reflectance; the
+                        // residual takes the difference from the total (zero on average).
+                        const double total2 = in.at(in.r_total, c2);
+                        const glm::dvec3 thr2 =
+                            glm::dot(r, m2) > 0
+                                ? at2 * (n2.weight * fresnel(glm::dot(v2, n2.h), 1 / p.eta) * total2 / in.e_hit(c2))
+                                : glm::dvec3(0.0);
+                        res += at2 * total2 - thr2;
                         glm::dvec2 q3;
                         double len2;
                         if (n2.weight > 0 && !chord(q2, r, q3, len2)) {

@@ -893,24 +893,40 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
             const T g1_2 = mat_->ggx().g1(cos2);
             visit(End{1, at_exit, at_exit * (T(1) - e_in), v2, m_in, cos2, mat_->exit_gain(cos2), g1_2});
 
-            // The internal reflection split over the path's normals ∝ F × the share no
-            // microfacet shadows; where every one is shadowed, the residual takes it.
+            // The internal reflection at m normals of the path, each carrying F / (m E) of
+            // the interface's total e_in (E the mean reflectance of one event, so the
+            // normals' share is unbiased whatever m is); the residual takes what the normals
+            // leave over (or gives back what they overdraw: zero on average). Light that a
+            // microfacet masks after reflecting inside meets the microsurface again near
+            // grazing, where total internal reflection sends nearly all of it on into the
+            // fiber close to the first reflection's direction, so F is not weighted by the
+            // unmasked share (docs/theory.md §3.6). A ratio F / ΣF over a path's own few
+            // normals handed all of e_in to the ordinary normals of the many paths that drew
+            // no totally reflecting one: TRT 40 % too bright at β 0.3 (docs/theory.md §3.6).
             V3 r_dir[Material::kMaxTrtPerTT];
             T f[Material::kMaxTrtPerTT], sum = T(0);
+            const T e_mean = mat_->reflectance_inside(cos2);
+            const T share = e_mean > T(0) ? e_in / (T(m) * e_mean) : T(0);
             for (int l = 0; l < m; ++l) {
                 const V3 h = visible_normal(m_in, v2, mat_->reflect_point(i, l));
                 r_dir[l] = glm::normalize(reflect_about(v2, h));
-                f[l] = fresnel_any(glm::dot(v2, h), inv_eta) *
-                       mat_->ggx().unshadowed_reflection(g1_2, glm::dot(r_dir[l], m_in));
+                f[l] = glm::dot(r_dir[l], m_in) > T(0) ? share * fresnel_any(glm::dot(v2, h), inv_eta) : T(0);
                 sum += f[l];
             }
-            if (!(sum > T(0))) {
-                s.residual += at_exit * e_in;
-                continue;
+            // What the normals leave over (or overdraw) crosses a chord like the first and
+            // leaves by the residual's series: energy kept exactly when lossless, and
+            // absorbed like the light it stands for.
+            {
+                V3 onward;
+                for (int ch = 0; ch < 3; ++ch) {
+                    const T den = T(1) - a1[ch] * e_in;
+                    onward[ch] = den > T(1e-6) ? a1[ch] * (T(1) - e_in) / den : T(1);
+                }
+                s.residual += at_exit * (e_in - sum) * onward;
             }
             for (int l = 0; l < m; ++l) {
                 if (!(f[l] > T(0))) continue;
-                const V3 in2 = at_exit * (e_in * f[l] / sum);
+                const V3 in2 = at_exit * f[l];
                 const V3& r = r_dir[l];
                 const auto chord2 = mat_->section().chord(chord.c, V2(r.y, r.z));
                 if (!chord2.ok) {
@@ -954,6 +970,8 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         sc.s_tt = paths.norm > T(0) ? r.transmitted / paths.norm : T(0);
         sc.residual = r.residual + sc.s_tt * paths.residual;
         if (!(paths.norm > T(0))) sc.residual += V3(r.transmitted);
+        // The internal reflections' overdraw is zero on average; never below zero.
+        sc.residual = glm::max(sc.residual, V3(T(0)));
         return sc;
     }
 
