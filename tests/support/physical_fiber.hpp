@@ -41,6 +41,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -218,19 +219,43 @@ inline Scatter interact(const glm::dvec3& wi, double alpha, double n, Interface 
     return s;
 }
 
+// One interaction of a ray travelling along dir with the fiber's boundary at a point of
+// outward normal n (x the fiber's axis), from inside or outside: the local frame and the
+// walk of `interact`. The returned direction is in the same frame. Empty when the ray grazes the
+// macro surface (measure zero).
+inline std::optional<Scatter> boundary_event(const glm::dvec3& dir, const glm::dvec3& n, bool inside, const Fiber& f, Rng& rng) {
+    // The microfacets' mean normal: n tilted toward the tip by the cuticle angle.
+    const glm::dvec3 m = glm::normalize(glm::dvec3(std::sin(f.tilt), std::cos(f.tilt) * n.y, std::cos(f.tilt) * n.z));
+    // The local frame's z faces the side the ray arrives from.
+    glm::dvec3 z = inside ? -m : m;
+    if (glm::dot(-dir, z) <= 0) z = inside ? -n : n;  // the tilt turned the facets away: untilted
+    if (glm::dot(-dir, z) <= 0) return std::nullopt;
+    glm::dvec3 x_axis = std::fabs(z.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+    x_axis = glm::normalize(x_axis - z * glm::dot(x_axis, z));
+    const glm::dvec3 y_axis = glm::cross(z, x_axis);
+    const glm::dvec3 wi_local(glm::dot(-dir, x_axis), glm::dot(-dir, y_axis), glm::dot(-dir, z));
+    const double rel = inside ? 1 / f.eta : f.eta;
+    Scatter s = interact(wi_local, f.roughness, rel, f.interface, rng);
+    s.dir = s.dir.x * x_axis + s.dir.y * y_axis + s.dir.z * z;
+    return s;
+}
+
 // ---- The fiber ----
 
-struct Histogram {
+// The exit directions' histogram for `Lobes` path classes.
+template <int Lobes>
+struct BasicHistogram {
+    static constexpr int kClasses = Lobes;
     int n_u = 0, n_phi = 0;
-    // Energy per bin, lobe and channel (0: lossless, 1–3: RGB with σa): [bin][lobe][4].
+    // Energy per bin, class and channel (0: lossless, 1–3: RGB with σa): [bin][class][4].
     std::vector<double> energy;
     double lost[4] = {0, 0, 0, 0};      // rays stopped by max_events or masked (kSmith), per channel
     double absorbed[4] = {0, 0, 0, 0};  // energy absorbed inside
-    double lobe_energy[kLobes][4] = {};
+    double lobe_energy[Lobes][4] = {};
     double rays = 0;
 
-    Histogram() = default;
-    Histogram(int nu, int nphi) : n_u(nu), n_phi(nphi), energy(std::size_t(nu * nphi * kLobes * 4), 0.0) {}
+    BasicHistogram() = default;
+    BasicHistogram(int nu, int nphi) : n_u(nu), n_phi(nphi), energy(std::size_t(nu * nphi * Lobes * 4), 0.0) {}
     double bin_solid_angle() const { return (2.0 / n_u) * (2 * kPi / n_phi); }
     int bin_of(const glm::dvec3& w) const {
         const int iu = std::min(n_u - 1, std::max(0, int((w.x + 1) * 0.5 * n_u)));
@@ -241,20 +266,21 @@ struct Histogram {
     // f averaged over a bin (1/sr), channel c, every lobe or one.
     double f(int bin, int c, int lobe = -1) const {
         double e = 0;
-        for (int l = 0; l < kLobes; ++l)
-            if (lobe < 0 || lobe == l) e += energy[std::size_t((bin * kLobes + l) * 4 + c)];
+        for (int l = 0; l < Lobes; ++l)
+            if (lobe < 0 || lobe == l) e += energy[std::size_t((bin * Lobes + l) * 4 + c)];
         return rays > 0 ? e / (rays * bin_solid_angle()) : 0.0;
     }
-    void add(const Histogram& o) {
+    void add(const BasicHistogram& o) {
         for (std::size_t i = 0; i < energy.size(); ++i) energy[i] += o.energy[i];
         for (int c = 0; c < 4; ++c) {
             lost[c] += o.lost[c];
             absorbed[c] += o.absorbed[c];
-            for (int l = 0; l < kLobes; ++l) lobe_energy[l][c] += o.lobe_energy[l][c];
+            for (int l = 0; l < Lobes; ++l) lobe_energy[l][c] += o.lobe_energy[l][c];
         }
         rays += o.rays;
     }
 };
+using Histogram = BasicHistogram<kLobes>;
 
 class Tracer {
   public:
@@ -287,20 +313,10 @@ class Tracer {
             int transmissions = 0, internal_reflections = 0;
             bool inside = false, done = false;
             for (int event = 0; event < f_.max_events; ++event) {
-                const glm::dvec3 n(0, normal(p));
-                // The microfacets' mean normal: n tilted toward the tip by the cuticle angle.
-                glm::dvec3 m = glm::normalize(glm::dvec3(std::sin(f_.tilt), std::cos(f_.tilt) * n.y, std::cos(f_.tilt) * n.z));
-                // The local frame's z faces the side the ray arrives from.
-                glm::dvec3 z = inside ? -m : m;
-                if (glm::dot(-dir, z) <= 0) z = inside ? -n : n;  // the tilt turned the facets away: untilted
-                if (glm::dot(-dir, z) <= 0) break;                // grazing the macro surface: stop (measure zero)
-                glm::dvec3 x_axis = std::fabs(z.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-                x_axis = glm::normalize(x_axis - z * glm::dot(x_axis, z));
-                const glm::dvec3 y_axis = glm::cross(z, x_axis);
-                const glm::dvec3 wi_local(glm::dot(-dir, x_axis), glm::dot(-dir, y_axis), glm::dot(-dir, z));
-                const double rel = inside ? 1 / f_.eta : f_.eta;
-                const Scatter s = interact(wi_local, f_.roughness, rel, f_.interface, rng);
-                const glm::dvec3 out = s.dir.x * x_axis + s.dir.y * y_axis + s.dir.z * z;
+                const std::optional<Scatter> hit = boundary_event(dir, glm::dvec3(0, normal(p)), inside, f_, rng);
+                if (!hit) break;  // grazing the macro surface: stop (measure zero)
+                const Scatter& s = *hit;
+                const glm::dvec3 out = s.dir;
                 for (int c = 0; c < 4; ++c) {
                     hist.lost[c] += w[c] * (1 - s.weight);
                     w[c] *= s.weight;
