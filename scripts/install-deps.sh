@@ -16,8 +16,9 @@ if [[ "${HAIRSCATTER_SKIP_DEPS:-0}" == 1 ]]; then
 fi
 
 # Packages per purpose. (libboost-math-dev brings the Boost headers and
-# BoostConfig.cmake; make is listed because cmake only recommends it.)
-tests_pkgs=(cmake make g++ clang libglm-dev libgtest-dev libgmock-dev libboost-math-dev)
+# BoostConfig.cmake; make is listed because cmake only recommends it; pkgconf is for the
+# consumer step's pkg-config build.)
+tests_pkgs=(cmake make g++ clang libglm-dev libgtest-dev libgmock-dev libboost-math-dev pkgconf)
 example_pkgs=(cmake make g++ libglm-dev libopenexr-dev libcli11-dev libstb-dev libpng-dev libembree-dev libtbb-dev libgtest-dev)
 bench_pkgs=(cmake make g++ libglm-dev libbenchmark-dev libboost-math-dev gnuplot-nox python3)
 # The Python module (scripts/python.sh): pybind11, numpy, pytest, matplotlib for the plots.

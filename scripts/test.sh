@@ -15,7 +15,7 @@
 #             statistical tests and integrations                (build/test-asan)
 #   fastmath  -ffast-math must stop at config.hpp's #error; with HAIRSCATTER_ALLOW_FAST_MATH
 #             the robustness tests pass under it (GCC Release -Werror, build/test-fastmath)
-#   consumer  install to build/prefix; consume via find_package and add_subdirectory
+#   consumer  install to build/prefix; consume via find_package, pkg-config and add_subdirectory
 #   cuda      nvcc compile check of tests/cuda/*.cu (skipped without nvcc)
 #   example   build examples/ and bench/ with -Werror, run the lobe explorer and the renderer
 #             small, and the origin study at a tiny size (scripts/study.sh --tiny)
@@ -235,9 +235,28 @@ step_fastmath() {
 # inputs is fuzz/run.sh without --repeatable.
 step_fuzz() { bash "$ROOT/fuzz/run.sh" --repeatable --build "$ROOT/build/fuzz" -j "$JOBS"; }
 
+# pkg_config_consumer INCLUDEDIR OUT: tests/consumer's two files built with nothing but
+# `pkg-config --cflags hairscatter` (the caller sets PKG_CONFIG_PATH) into OUT, then run;
+# the header must come from INCLUDEDIR, not from another install on the search path.
+pkg_config_consumer() {
+    local includedir="$1" out="$2" cflags header
+    cflags="$(pkg-config --cflags hairscatter)"
+    echo "+ g++ -std=c++17 $cflags tests/consumer/main.cpp tests/consumer/second_tu.cpp"
+    # shellcheck disable=SC2086 # the flags are split into words on purpose
+    header="$(g++ -std=c++17 $cflags -M tests/consumer/main.cpp | tr -s '\\[:space:]' '\n' |
+        grep -m 1 '/hairscatter/hairscatter\.hpp$' || true)"
+    if [[ "$(realpath -m "$header")" != "$(realpath -m "$includedir")/hairscatter/hairscatter.hpp" ]]; then
+        echo "pkg-config: hairscatter.hpp came from '$header', not $includedir" >&2; return 1
+    fi
+    mkdir -p "$(dirname "$out")"
+    # shellcheck disable=SC2086
+    g++ -std=c++17 -Wall -Wextra -Werror $cflags tests/consumer/main.cpp tests/consumer/second_tu.cpp -o "$out"
+    "$out"
+}
+
 step_consumer() {
     local prefix="$ROOT/build/prefix"
-    rm -rf "$prefix" build/consumer-find_package build/consumer-subdirectory
+    rm -rf "$prefix" build/consumer-find_package build/consumer-pkg-config build/consumer-subdirectory
 
     echo "+ install to build/prefix"
     cmake -S . -B build/install -DCMAKE_BUILD_TYPE=Release -DHAIRSCATTER_BUILD_TESTS=OFF -DHAIRSCATTER_INSTALL=ON
@@ -246,7 +265,7 @@ step_consumer() {
     for f in include/hairscatter/hairscatter.hpp include/hairscatter/config.hpp \
              share/cmake/hairscatter/hairscatterConfig.cmake \
              share/cmake/hairscatter/hairscatterConfigVersion.cmake \
-             share/cmake/hairscatter/hairscatterTargets.cmake; do
+             share/cmake/hairscatter/hairscatterTargets.cmake share/pkgconfig/hairscatter.pc; do
         [[ -f "$prefix/$f" ]] || { echo "consumer: missing installed file $f" >&2; return 1; }
     done
 
@@ -255,6 +274,9 @@ step_consumer() {
         -DCONSUMER_MODE=find_package -DCMAKE_PREFIX_PATH="$prefix"
     cmake --build build/consumer-find_package -j "$JOBS"
     build/consumer-find_package/consumer
+
+    echo "+ consumer via pkg-config (PKG_CONFIG_PATH=build/prefix/share/pkgconfig)"
+    PKG_CONFIG_PATH="$prefix/share/pkgconfig" pkg_config_consumer "$prefix/include" build/consumer-pkg-config/consumer
 
     echo "+ consumer via add_subdirectory(<repo root>)"
     cmake -S tests/consumer -B build/consumer-subdirectory -DCMAKE_BUILD_TYPE=Release \
