@@ -245,7 +245,6 @@ inline std::optional<Scatter> boundary_event(const glm::dvec3& dir, const glm::d
 // The exit directions' histogram for `Lobes` path classes.
 template <int Lobes>
 struct BasicHistogram {
-    static constexpr int kClasses = Lobes;
     int n_u = 0, n_phi = 0;
     // Energy per bin, class and channel (0: lossless, 1–3: RGB with σa): [bin][class][4].
     std::vector<double> energy;
