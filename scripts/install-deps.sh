@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Install the Debian/Ubuntu packages hairscatter needs, but only those missing.
 #
-#   scripts/install-deps.sh [tests|example|bench|python|all]...   (default: tests)
+#   scripts/install-deps.sh [tests|example|bench|python|package|all]...   (default: tests)
 #
 # Nothing is done (and no root is needed) when everything is already installed.
 # Set HAIRSCATTER_SKIP_DEPS=1 to skip this step entirely (e.g. on a machine
@@ -23,6 +23,9 @@ example_pkgs=(cmake make g++ libglm-dev libopenexr-dev libcli11-dev libstb-dev l
 bench_pkgs=(cmake make g++ libglm-dev libbenchmark-dev libboost-math-dev gnuplot-nox python3)
 # The Python module (scripts/python.sh): pybind11, numpy, pytest, matplotlib for the plots.
 python_pkgs=(cmake make g++ libglm-dev python3-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib)
+# The DEB packages (scripts/package.sh): CPack's DEB generator reads the module's library
+# dependencies with dpkg-shlibdeps (dpkg-dev) and file; pkgconf for the consumer check.
+package_pkgs=(cmake make g++ libglm-dev python3-dev python3-pybind11 python3-numpy dpkg-dev file pkgconf)
 
 [[ $# -eq 0 ]] && set -- tests
 wanted=()
@@ -32,7 +35,8 @@ for what in "$@"; do
         example | examples) wanted+=("${example_pkgs[@]}") ;;
         bench | benchmarks) wanted+=("${bench_pkgs[@]}") ;;
         python) wanted+=("${python_pkgs[@]}") ;;
-        all) wanted+=("${tests_pkgs[@]}" "${example_pkgs[@]}" "${bench_pkgs[@]}" "${python_pkgs[@]}") ;;
+        package) wanted+=("${package_pkgs[@]}") ;;
+        all) wanted+=("${tests_pkgs[@]}" "${example_pkgs[@]}" "${bench_pkgs[@]}" "${python_pkgs[@]}" "${package_pkgs[@]}") ;;
         -h | --help) hs_usage; exit 0 ;;
         *) hs_usage_error "unknown set '$what'" ;;
     esac

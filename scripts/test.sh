@@ -22,6 +22,10 @@
 #   python    the Python module: build at -O1 and run its pytest suite (bit-for-bit
 #             against C++, chi-square, the plots headless), install to a prefix and import
 #             it from there (scripts/python.sh --ci, build/test-python)
+#   package   the DEB packages (scripts/package.sh --ci, build/test-package): dpkg -i, a
+#             consumer through pkg-config and one through find_package against /usr, the
+#             module imported by /usr/bin/python3, then dpkg -r and every file gone (needs
+#             root or sudo; removes packages an earlier run left installed first)
 #   fuzz      libFuzzer targets of fuzz/ (clang -fsanitize=fuzzer,address,undefined), each
 #             run repeatably (fuzz/run.sh --repeatable: a fixed input count from a fixed
 #             seed without address randomisation, 30–60 s each) from its committed corpus (skipped without a clang
@@ -37,7 +41,7 @@ cd "$ROOT"
 # shellcheck source=SCRIPTDIR/lib.sh
 source "$ROOT/scripts/lib.sh"
 
-ALL_STEPS=(gcc clang asan fastmath consumer cuda example python fuzz)
+ALL_STEPS=(gcc clang asan fastmath consumer cuda example python package fuzz)
 steps=("${ALL_STEPS[@]}")
 skip=()
 clang_ctest=1
@@ -296,6 +300,75 @@ step_python() {
     "${python[@]}" --install "$ROOT/build/test-python/prefix"
 }
 
+# The DEB round trip: build the packages, install them with dpkg, build the consumer against
+# /usr through pkg-config and find_package, import the module with the system python3, then
+# remove both packages and check that every file they installed is gone.
+step_package() {
+    if [[ "$install_deps" == 1 ]]; then bash "$ROOT/scripts/install-deps.sh" package; fi
+    local build="$ROOT/build/test-package" pkgs=(python3-hairscatter libhairscatter-dev) sudo=() p
+    [[ "$(id -u)" -eq 0 ]] || sudo=(sudo)
+    # A run that stopped half-way may have left them installed: the round trip starts clean.
+    for p in "${pkgs[@]}"; do
+        if [[ "$(dpkg -s "$p" 2>/dev/null)" == *"Status: install ok installed"* ]]; then
+            echo "+ dpkg -r $p (left by an earlier run)"
+            "${sudo[@]}" dpkg -r "$p"
+        fi
+    done
+
+    bash "$ROOT/scripts/package.sh" --ci --no-deps -j "$JOBS" --build "$build"
+    local dev=("$build"/libhairscatter-dev_*_all.deb) py=("$build"/python3-hairscatter_*.deb)
+    [[ -f "${dev[0]}" && -f "${py[0]}" && ${#dev[@]} -eq 1 && ${#py[@]} -eq 1 ]] ||
+        { echo "package: expected one libhairscatter-dev and one python3-hairscatter .deb in $build" >&2; return 1; }
+    [[ "$(dpkg-deb --field "${dev[0]}" Depends)" == *libglm-dev* &&
+       "$(dpkg-deb --field "${py[0]}" Depends)" == *python3-numpy* ]] ||
+        { echo "package: a package lacks its dependency (libglm-dev, python3-numpy)" >&2; return 1; }
+
+    echo "+ dpkg -i ${dev[0]#"$ROOT"/} ${py[0]#"$ROOT"/}"
+    "${sudo[@]}" dpkg -i "${dev[0]}" "${py[0]}"
+    local files
+    files="$(dpkg -L "${pkgs[@]}")"
+    local f
+    for f in /usr/include/hairscatter/hairscatter.hpp /usr/share/cmake/hairscatter/hairscatterConfig.cmake \
+             /usr/share/pkgconfig/hairscatter.pc /usr/lib/python3/dist-packages/hairscatter/__init__.py; do
+        grep -qxF "$f" <<<"$files" || { echo "package: $f is in neither package" >&2; return 1; }
+    done
+
+    echo "+ consumer via pkg-config from /usr"
+    (unset PKG_CONFIG_PATH; pkg_config_consumer /usr/include "$build/consumer-pkg-config/consumer")
+
+    echo "+ consumer via find_package(hairscatter CONFIG) from /usr"
+    rm -rf "$build/consumer-find_package"
+    env -u CMAKE_PREFIX_PATH cmake -S tests/consumer -B "$build/consumer-find_package" -DCMAKE_BUILD_TYPE=Release \
+        -DCONSUMER_MODE=find_package
+    local found
+    found="$(sed -n 's/^hairscatter_DIR:PATH=//p' "$build/consumer-find_package/CMakeCache.txt")"
+    [[ "$found" == /usr/share/cmake/hairscatter ]] ||
+        { echo "package: find_package found hairscatter in '$found', not /usr/share/cmake/hairscatter" >&2; return 1; }
+    cmake --build "$build/consumer-find_package" -j "$JOBS"
+    "$build/consumer-find_package/consumer"
+
+    echo "+ import hairscatter with /usr/bin/python3 (from /)"
+    (cd / && env -u PYTHONPATH /usr/bin/python3 -c "
+import hairscatter
+assert hairscatter.__file__ == '/usr/lib/python3/dist-packages/hairscatter/__init__.py', hairscatter.__file__
+a = hairscatter.Chiang().albedo([0, 1, 0], 0.0)[0]
+assert abs(a - 1) < 1e-9, a
+print('installed:', hairscatter.__file__, hairscatter.__version__)")
+
+    echo "+ dpkg -r ${pkgs[*]}"
+    "${sudo[@]}" dpkg -r "${pkgs[@]}"
+    local left=()
+    while IFS= read -r f; do
+        [[ -f "$f" || -L "$f" ]] && left+=("$f")
+    done <<<"$files"
+    [[ ${#left[@]} -eq 0 ]] || { echo "package: left after dpkg -r: ${left[*]}" >&2; return 1; }
+    if pkg-config --exists hairscatter; then echo "package: pkg-config still finds hairscatter" >&2; return 1; fi
+    if (cd / && env -u PYTHONPATH /usr/bin/python3 -c "import hairscatter" 2>/dev/null); then
+        echo "package: python3 still imports hairscatter after dpkg -r" >&2; return 1
+    fi
+    echo "package: installed, used and removed cleanly"
+}
+
 # The main example and the benchmarks must keep compiling (-Werror) even though CI runs
 # neither at full size: build both, and run the example small.
 step_example() {
@@ -375,10 +448,11 @@ finish_fuzz_in_background() {
 
 start_fuzz_in_background
 run_step fastmath "-ffast-math: the #error, and the robustness tests under it (build/test-fastmath)" step_fastmath
-run_step consumer "Install + downstream consumer (find_package, add_subdirectory)" step_consumer
+run_step consumer "Install + downstream consumer (find_package, pkg-config, add_subdirectory)" step_consumer
 run_step cuda     "CUDA compile check (nvcc -c tests/cuda/*.cu)"                   step_cuda
 finish_fuzz_in_background
 run_step example  "Example and benchmarks build (-Werror); the example runs small" step_example
 run_step python   "Python module: build (-O1), pytest, install and import (build/test-python)" step_python
+run_step package  "DEB packages: build, dpkg -i, consumers against /usr, import, dpkg -r (build/test-package)" step_package
 [[ $fuzz_in_background == 1 ]] ||
     run_step fuzz "libFuzzer targets, a fixed input count each (skipped without clang's libFuzzer)" step_fuzz
