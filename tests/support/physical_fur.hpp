@@ -2,8 +2,8 @@
 // dielectric cortex around a scattering medulla, written independently of the library's
 // models, for tests and for docs/fur_physical.md. The geometry is Yan, Tseng, Jensen &
 // Ramamoorthi 2015 ("Physically-accurate fur reflectance: modeling, measurement and
-// rendering", §4) and Yan, Jensen & Ramamoorthi 2017 ("An efficient and practical near and
-// far field fur reflectance model", §3).
+// rendering") and Yan, Jensen & Ramamoorthi 2017 ("An efficient and practical near and far
+// field fur reflectance model").
 //
 // What it models:
 //   the cortex, an infinite round cylinder of radius 1 and relative index η, absorbing
@@ -74,7 +74,7 @@ struct Histogram : phys_fiber::BasicHistogram<kClasses> {
     }
 };
 
-// The Henyey–Greenstein phase function (Henyey & Greenstein 1941, eq. 3) of the cosine
+// The Henyey–Greenstein phase function (Henyey & Greenstein 1941) of the cosine
 // between the travel directions before and after scattering, per steradian.
 inline double hg_phase(double cos_t, double g) {
     return (1 - g * g) / (4 * kPi * std::pow(1 + g * g - 2 * g * cos_t, 1.5));
