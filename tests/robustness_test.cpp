@@ -483,6 +483,12 @@ template <typename T> void every_model_at_poles() {
 TEST(Poles, SampleAgreesWithPdfAndEvalFloat) { every_model_at_poles<float>(); }
 TEST(Poles, SampleAgreesWithPdfAndEvalDouble) { every_model_at_poles<double>(); }
 
+// Whether a model offers lobe_split(wo, centre) (Marschner's does not).
+template <typename F, typename = void> constexpr bool kHasLobeSplit = false;
+template <typename F>
+constexpr bool kHasLobeSplit<F, std::void_t<decltype(std::declval<const F&>().lobe_split(
+                                    std::declval<glm::vec<3, typename F::Real>>(), typename F::Real(0)))>> = true;
+
 // Finite but not unit directions are normalised (the contract above HairSample): the
 // largest finite components, tiny ones and any other length give the unit direction's
 // values, and a zero vector gives 0 / no sample. Before, FLT_MAX components gave NaN in every
@@ -523,6 +529,23 @@ template <typename T, typename Fiber> void expect_normalised(const Fiber& fiber,
     EXPECT_EQ(fiber.pdf(wo, zero), T(0)) << name;
     EXPECT_EQ(fiber.eval(wo, zero), V3(T(0))) << name;
     EXPECT_EQ(fiber.sample(zero, u).pdf, T(0)) << name;
+    // albedo and lobe_split follow the same rule: a scaled wo gives the unit one's values,
+    // a zero or non-finite one no energy (Chiang, the far field and the table returned an
+    // albedo of exactly 1 for a NaN wo, and a finite albedo for a zero one).
+    const V3 ref_a = fiber.albedo(wo);
+    ASSERT_GT(ref_a.x, T(0)) << name;
+    const T nan = std::numeric_limits<T>::quiet_NaN(), inf = std::numeric_limits<T>::infinity();
+    for (T scale : {big / T(3), T(3), T(1e-3)}) {
+        const V3 so = wo * (scale / std::max({std::abs(wo.x), std::abs(wo.y), std::abs(wo.z)}));
+        EXPECT_TRUE(close(double(fiber.albedo(so).x), double(ref_a.x))) << name << " albedo at scale " << scale;
+    }
+    for (const V3& bad : {zero, V3(nan, T(0), T(1)), V3(T(0), inf, T(1))}) {
+        EXPECT_EQ(fiber.albedo(bad), V3(T(0))) << name << " albedo of (" << bad.x << ", " << bad.y << ", " << bad.z << ")";
+        if constexpr (kHasLobeSplit<Fiber>) {
+            const auto split = fiber.lobe_split(bad, T(0));
+            EXPECT_EQ(hs::split_albedo(split), V3(T(0))) << name << " lobe_split of a bad wo";
+        }
+    }
 }
 
 template <typename T> void every_model_normalises() {

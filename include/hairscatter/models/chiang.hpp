@@ -117,7 +117,10 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     // azimuths |φ - centre| < π/2 (centre 0: the backward half). M_p integrates to 1, so
     // ∫ over that half of f_p = A_p · backward; the dual-scattering tables integrate these
     // (dual/tables.hpp: a_b at centre 0, a_f at centre π, the window W_p at every centre).
-    HAIRSCATTER_HD LobeSplit lobe_split(const V3& wo, T centre = T(0)) const {
+    // A non-finite or zero wo gives no energy (empty_lobe_split); any other length is
+    // normalised, in albedo too.
+    HAIRSCATTER_HD LobeSplit lobe_split(V3 wo, T centre = T(0)) const {
+        if (!unit_direction(wo)) return empty_lobe_split<T, kLobes>();
         const Outgoing o = outgoing<false>(wo);
         LobeSplit r;
         for (int p = 0; p <= kLobes; ++p) {
@@ -136,7 +139,10 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
 
     // Σ_p A_p(wo) over the kept lobes, each times its lobe_weight(p) (gain × tint): the
     // directional albedo, exact for this model because every M_p and N_p is normalised.
-    HAIRSCATTER_HD V3 albedo(const V3& wo) const { return albedo_from(outgoing<false>(wo)); }
+    HAIRSCATTER_HD V3 albedo(V3 wo) const {
+        if (!unit_direction(wo)) return V3(T(0));
+        return albedo_from(outgoing<false>(wo));
+    }
 
   private:
     friend class FiberModel<BasicChiangFiber, T>;

@@ -248,6 +248,16 @@ template <typename T, int kLobes> struct LobeSplit {
     T backward[kLobes + 1];
 };
 
+// No energy, each lobe split evenly: what lobe_split returns for a non-finite or zero wo.
+template <typename T, int kLobes> HAIRSCATTER_HD LobeSplit<T, kLobes> empty_lobe_split() {
+    LobeSplit<T, kLobes> r;
+    for (int p = 0; p <= kLobes; ++p) {
+        r.a[p] = glm::vec<3, T>(T(0));
+        r.backward[p] = T(0.5);
+    }
+    return r;
+}
+
 // Σ_p a[p]: the albedo a lobe split accounts for.
 template <typename T, int kLobes>
 HAIRSCATTER_HD glm::vec<3, T> split_albedo(const LobeSplit<T, kLobes>& split) {

@@ -115,12 +115,19 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
 
     // ½ ∫ Σ_p A_p(h) dh by the same quadrature: the directional albedo, exact for this
     // model because every M_p and D is normalised.
-    HAIRSCATTER_HD V3 albedo(const V3& wo) const { return split_albedo(split<false>(wo)); }
+    // A non-finite or zero wo gives 0 (and lobe_split no energy); other lengths are normalised.
+    HAIRSCATTER_HD V3 albedo(V3 wo) const {
+        if (!unit_direction(wo)) return V3(T(0));
+        return split_albedo(split<false>(wo));
+    }
 
     // Per lobe: ½ ∫ A_p(h) dh and the part of N_p in the backward half |φ| < π/2, each
     // node's wrapped Gaussian weighted by the channel sum of its A_p(h_j).
     // centre: the mass on |φ - centre| < π/2 instead (the dual-scattering window).
-    HAIRSCATTER_HD LobeSplit lobe_split(const V3& wo, T centre = T(0)) const { return split<true>(wo, centre); }
+    HAIRSCATTER_HD LobeSplit lobe_split(V3 wo, T centre = T(0)) const {
+        if (!unit_direction(wo)) return empty_lobe_split<T, kLobes>();
+        return split<true>(wo, centre);
+    }
 
 
   private:

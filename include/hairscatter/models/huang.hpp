@@ -603,8 +603,9 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
 
     // Σ of every path end's energy: the directional albedo, exact up to the reflectance
     // tables' interpolation (each lobe integrates to its end's energy).
-    HAIRSCATTER_HD V3 albedo(const V3& wo) const {
-        if (!is_finite(wo)) return V3(T(0));
+    // A non-finite or zero wo gives 0; any other length is normalised.
+    HAIRSCATTER_HD V3 albedo(V3 wo) const {
+        if (!unit_direction(wo)) return V3(T(0));
         const Lobes e = lobes<false, false>(outgoing<false>(wo), V3(T(0)), T(0));
         return e.energy[0] + e.energy[1] + e.energy[2] + e.energy[3];
     }
@@ -619,9 +620,9 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
     // (tests/huang_test.cpp). Host only; 4320 evaluations of the lobes per call, for the
     // dual-scattering tables.
     static constexpr int kSplitNodes = 6;
-    LobeSplit lobe_split(const V3& wo, T centre = T(0)) const {
+    LobeSplit lobe_split(V3 wo, T centre = T(0)) const {
         LobeSplit r = empty_split();
-        if (!is_finite(wo)) return r;
+        if (!unit_direction(wo)) return r;
         const Outgoing o = outgoing<false>(wo);
         const Lobes e = lobes<false, false>(o, V3(T(0)), T(0));
         static const GaussLegendre<double> gl(kSplitNodes);
@@ -729,14 +730,7 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
     friend class FiberModel<HuangFiber, T>;
 
     // No energy, each lobe split evenly: what lobe_split and lobe_windows start from.
-    static LobeSplit empty_split() {
-        LobeSplit r;
-        for (int p = 0; p <= kLobes; ++p) {
-            r.a[p] = V3(T(0));
-            r.backward[p] = T(0.5);
-        }
-        return r;
-    }
+    static LobeSplit empty_split() { return empty_lobe_split<T, kLobes>(); }
     friend class BoundFiber<HuangFiber>;
 
     // The terms that depend on wo only: wo in the section frame, the far-field view and the

@@ -244,7 +244,9 @@ template <typename T> class MarschnerFiber : public FiberModel<MarschnerFiber<T>
     // (Korobov, generator 1, a, a², a³ mod N), so the estimate is deterministic and, since
     // E[weight] = ∫ f dωi for any valid sampler, unbiased in the limit. A host-side or
     // occasional query (4096 samples), not one for the inner loop.
-    HAIRSCATTER_HD V3 albedo(const V3& wo) const {
+    // A non-finite or zero wo gives 0; any other length is normalised.
+    HAIRSCATTER_HD V3 albedo(V3 wo) const {
+        if (!unit_direction(wo)) return V3(T(0));
         const Outgoing o = outgoing<true>(wo);
         constexpr unsigned kN = unsigned(kAlbedoPoints), kA = 1487u;
         const unsigned g[4] = {1u, kA, (kA * kA) % kN, (((kA * kA) % kN) * kA) % kN};

@@ -90,7 +90,9 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
     // Per lobe: Ã_p(wo) and the part of the interpolated Ñ_p in |φ - centre| < π/2 (centre 0:
     // the backward half), from each row's φ CDF (exact for the piecewise-linear table: a
     // quadratic within the cell). The table holds |φ| ∈ [0, π] of a density symmetric in φ.
-    HAIRSCATTER_HD LobeSplit lobe_split(const V3& wo, T centre = T(0)) const {
+    // A non-finite or zero wo gives no energy (so albedo 0); other lengths are normalised.
+    HAIRSCATTER_HD LobeSplit lobe_split(V3 wo, T centre = T(0)) const {
+        if (!unit_direction(wo)) return empty_lobe_split<T, kLobes>();
         const Outgoing o = outgoing<false>(wo);
         const T* a = v_->row_terms(o.row);
         const T* b = v_->row_terms(o.row + 1);
