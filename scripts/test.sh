@@ -181,6 +181,9 @@ ASAN_SKIPPED_TESTS+="|EntriesMatchMonteCarlo|IntegratesToOneFloat|FarFieldAndTab
 # The physical fiber reference: its cache check traces millions of rays (3 s in Release), and
 # Huang against it integrates eval over the sphere 48 times (60 s in Release; gcc runs it).
 ASAN_SKIPPED_TESTS+="|CacheIsWhatTheTracerComputes|AgainstThePhysicalFiber"
+# The physical fur reference's own checks (tests/support code, not the library's; 26 s in
+# Release, millions of traced rays): gcc runs them.
+ASAN_SKIPPED_TESTS+="|PhysicalFur"
 
 
 step_deps() { bash "$ROOT/scripts/install-deps.sh" tests; }
@@ -196,9 +199,10 @@ step_clang() {
     # The statistical tests exercise the same code paths with millions of samples; the gcc
     # step runs them. Here every other test checks Clang's code generation.
     # Huang against the physical fiber and its lattice study against the brute force (a
-    # minute and two and a half of the same eval the other Huang tests run): gcc runs them.
+    # minute and two and a half of the same eval the other Huang tests run) and the physical
+    # fur reference's checks (test code, half a minute): gcc runs them.
     if [[ "$clang_ctest" == 1 ]]; then
-        run_ctest build/test-clang -E "$STATISTICAL_TESTS|AgainstThePhysicalFiber|HuangReference"
+        run_ctest build/test-clang -E "$STATISTICAL_TESTS|AgainstThePhysicalFiber|HuangReference|PhysicalFur"
     fi
 }
 
