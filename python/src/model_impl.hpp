@@ -210,9 +210,10 @@ template <typename Fiber> class ModelOf final : public Model {
         py::array_t<T> out = shape.result<T>(3);
         T* o = out.mutable_data();
         const Material& m = *mat_;
+        // A bad wo is the C++ call's to refuse (0); a row with a non-finite h is 0 too.
         for_rows(shape.n(), [&](py::ssize_t i) {
-            const V3 w = vec3_at(wo, i);
-            store3(o, i, usable(w, h.scalar(i)) ? fiber_of(m, h.scalar(i)).albedo(w) : V3(T(0)));
+            const T hh = h.scalar(i);
+            store3(o, i, usable_offset<Fiber>(hh) ? fiber_of(m, hh).albedo(vec3_at(wo, i)) : V3(T(0)));
         });
         return std::move(out);
     }
@@ -227,12 +228,13 @@ template <typename Fiber> class ModelOf final : public Model {
             py::array_t<T> a = shape.result<T>({kSplitLobes, 3}), backward = shape.result<T>({kSplitLobes});
             T *a_o = a.mutable_data(), *b_o = backward.mutable_data();
             const Material& m = *mat_;
+            // A bad wo is the C++ call's to refuse (no energy, each half 1/2); a row with a
+            // non-finite h or centre gets the same empty split.
             for_rows(shape.n(), [&](py::ssize_t i) {
-                const V3 w = vec3_at(wo, i);
-                typename Fiber::LobeSplit s;
-                for (int p = 0; p < kSplitLobes; ++p) s.a[p] = V3(T(0)), s.backward[p] = T(0);
-                if (usable(w, h.scalar(i)) && is_finite(centre.scalar(i)))
-                    s = fiber_of(m, h.scalar(i)).lobe_split(w, centre.scalar(i));
+                const T hh = h.scalar(i), c = centre.scalar(i);
+                const typename Fiber::LobeSplit s = usable_offset<Fiber>(hh) && is_finite(c)
+                                                        ? fiber_of(m, hh).lobe_split(vec3_at(wo, i), c)
+                                                        : empty_lobe_split<T, Fiber::kLobes>();
                 for (int p = 0; p < kSplitLobes; ++p) {
                     store3(a_o, i * kSplitLobes + p, s.a[p]);
                     b_o[i * kSplitLobes + p] = s.backward[p];
@@ -289,12 +291,6 @@ template <typename Fiber> class ModelOf final : public Model {
     py::dtype dtype() const override { return dtype_of<T>(); }
 
   private:
-    // albedo and lobe_split of a row with a non-finite or zero wo (or a non-finite h) are 0,
-    // as eval and pdf are by the contract; the C++ calls do not check wo (albedo(NaN) reads 1).
-    static bool usable(const V3& wo, T h) {
-        return is_finite(wo) && (wo.x != T(0) || wo.y != T(0) || wo.z != T(0)) && usable_offset<Fiber>(h);
-    }
-
     // The (N, 3) or (N,) result of query(fiber at h, wo, wi) per row: eval or pdf.
     template <typename Query>
     void per_pair(py::handle wo_, py::handle wi_, py::handle h_, py::array_t<T>& out, Query&& query) const {

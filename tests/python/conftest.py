@@ -14,9 +14,9 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 BUILD = ROOT / "build" / "python" / "python"
 
-try:
-    import hairscatter  # noqa: F401
-except ImportError:
+# By hand, the build tree's module comes first (not one an interrupted package run left in
+# /usr); under CTest, PYTHONPATH already names the tree it built.
+if "HAIRSCATTER_PYTHON_REFERENCE" not in os.environ and BUILD.is_dir():
     sys.path.insert(0, str(BUILD))
 
 
