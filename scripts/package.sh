@@ -55,7 +55,8 @@ flags=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=/usr -DHAIRSCATTER_INST
        -DCMAKE_SKIP_INSTALL_ALL_DEPENDENCY=ON)
 if [[ $python == ON ]]; then
     flags+=(-DPython3_EXECUTABLE=/usr/bin/python3 -DHAIRSCATTER_PYTHON_INSTALL_DIR=lib/python3/dist-packages)
-    [[ $ci == 1 ]] && flags+=("-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG")
+    # Always set: a directory configured once with --ci must not keep -O1 for a release build.
+    if [[ $ci == 1 ]]; then flags+=("-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG"); else flags+=("-DCMAKE_CXX_FLAGS_RELEASE=-O3 -DNDEBUG"); fi
 fi
 echo "+ cmake -S . -B $build ${flags[*]}"
 cmake -S . -B "$build" "${flags[@]}"

@@ -54,7 +54,8 @@ fi
 
 flags=(-DCMAKE_BUILD_TYPE=Release -DHAIRSCATTER_BUILD_TESTS=OFF -DHAIRSCATTER_BUILD_PYTHON=ON
        -DHAIRSCATTER_WERROR=ON "-DPython3_EXECUTABLE=$PYTHON")
-[[ $ci == 1 ]] && flags+=("-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG")
+# Always set: a directory configured once with --ci must not keep -O1 for a release build.
+if [[ $ci == 1 ]]; then flags+=("-DCMAKE_CXX_FLAGS_RELEASE=-O1 -DNDEBUG"); else flags+=("-DCMAKE_CXX_FLAGS_RELEASE=-O3 -DNDEBUG"); fi
 echo "+ cmake -S . -B $build ${flags[*]}"
 cmake -S . -B "$build" "${flags[@]}"
 echo "+ cmake --build $build -j $jobs"

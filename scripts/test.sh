@@ -310,11 +310,18 @@ step_python() {
 step_package() {
     if [[ "$install_deps" == 1 ]]; then bash "$ROOT/scripts/install-deps.sh" package; fi
     local build="$ROOT/build/test-package" pkgs=(python3-hairscatter libhairscatter-dev) sudo=() p
-    [[ "$(id -u)" -eq 0 ]] || sudo=(sudo)
+    if [[ "$(id -u)" -ne 0 ]]; then
+        # dpkg needs root: without it (or a sudo that asks no password) the step cannot run.
+        if ! sudo -n true 2>/dev/null; then
+            echo "package: skipped (dpkg -i needs root or password-less sudo)"
+            return 0
+        fi
+        sudo=(sudo -n)
+    fi
     # A run that stopped half-way may have left them installed: the round trip starts clean.
     for p in "${pkgs[@]}"; do
         if [[ "$(dpkg -s "$p" 2>/dev/null)" == *"Status: install ok installed"* ]]; then
-            echo "+ dpkg -r $p (left by an earlier run)"
+            echo "+ dpkg -r $p (installed before this step)"
             "${sudo[@]}" dpkg -r "$p"
         fi
     done
@@ -329,9 +336,36 @@ step_package() {
 
     echo "+ dpkg -i ${dev[0]#"$ROOT"/} ${py[0]#"$ROOT"/}"
     "${sudo[@]}" dpkg -i "${dev[0]}" "${py[0]}"
-    local files
+    local files rc=0
     files="$(dpkg -L "${pkgs[@]}")"
-    local f
+    # The checks run in a subshell of their own so that the packages are removed whether
+    # they pass or not (errexit is off for a subshell on the left of || or in an if).
+    set +e
+    (set -e; package_checks "$build" "$files")
+    rc=$?
+    set -e
+
+    echo "+ dpkg -r ${pkgs[*]}"
+    "${sudo[@]}" dpkg -r "${pkgs[@]}"
+    [[ $rc -eq 0 ]] || { echo "package: the installed packages failed their checks (above)" >&2; return 1; }
+    local left=() f
+    while IFS= read -r f; do
+        [[ -f "$f" || -L "$f" ]] && left+=("$f")
+    done <<<"$files"
+    [[ ${#left[@]} -eq 0 ]] || { echo "package: left after dpkg -r: ${left[*]}" >&2; return 1; }
+    if (unset PKG_CONFIG_PATH; pkg-config --exists hairscatter); then
+        echo "package: pkg-config still finds hairscatter" >&2; return 1
+    fi
+    if (cd / && env -u PYTHONPATH /usr/bin/python3 -c "import hairscatter" 2>/dev/null); then
+        echo "package: python3 still imports hairscatter after dpkg -r" >&2; return 1
+    fi
+    echo "package: installed, used and removed cleanly"
+}
+
+# What step_package checks while the packages are installed: their files, a consumer built
+# against /usr through pkg-config and through find_package, the module from /usr/bin/python3.
+package_checks() {
+    local build="$1" files="$2" f
     for f in /usr/include/hairscatter/hairscatter.hpp /usr/share/cmake/hairscatter/hairscatterConfig.cmake \
              /usr/share/pkgconfig/hairscatter.pc /usr/lib/python3/dist-packages/hairscatter/__init__.py; do
         grep -qxF "$f" <<<"$files" || { echo "package: $f is in neither package" >&2; return 1; }
@@ -358,19 +392,6 @@ assert hairscatter.__file__ == '/usr/lib/python3/dist-packages/hairscatter/__ini
 a = hairscatter.Chiang().albedo([0, 1, 0], 0.0)[0]
 assert abs(a - 1) < 1e-9, a
 print('installed:', hairscatter.__file__, hairscatter.__version__)")
-
-    echo "+ dpkg -r ${pkgs[*]}"
-    "${sudo[@]}" dpkg -r "${pkgs[@]}"
-    local left=()
-    while IFS= read -r f; do
-        [[ -f "$f" || -L "$f" ]] && left+=("$f")
-    done <<<"$files"
-    [[ ${#left[@]} -eq 0 ]] || { echo "package: left after dpkg -r: ${left[*]}" >&2; return 1; }
-    if pkg-config --exists hairscatter; then echo "package: pkg-config still finds hairscatter" >&2; return 1; fi
-    if (cd / && env -u PYTHONPATH /usr/bin/python3 -c "import hairscatter" 2>/dev/null); then
-        echo "package: python3 still imports hairscatter after dpkg -r" >&2; return 1
-    fi
-    echo "package: installed, used and removed cleanly"
 }
 
 # The main example and the benchmarks must keep compiling (-Werror) even though CI runs
