@@ -93,9 +93,10 @@ TEST(HuangPhysical, ReflectionEnergyMatchesTheFiber) {
 
 // f against the physical fiber over the sphere (relative L1 of bin averages, 24 cases,
 // lossless and blond, default quadrature): the figures of docs/huang_physical.md, printed.
-// The goal is 5 %; the model is not there (measured worst 21 %, mean 13 %: the residual's
-// shape, the lattices' error at the default and TT's exit near grazing). The bounds guard
-// what is reached: worst 23 %, mean 15 % (the model before this reference: 38 % and 19 %).
+// The goal is 5 %; the model is not there (measured worst 20.4 %, mean 12.8 %: the TT
+// lattice's shape at the default, the residual's shape and TT's exit near grazing). The
+// bounds guard what is reached: worst 22 %, mean 14 % (the model before this reference:
+// 38 % and 19 %; before the unbiased internal reflection: 21.1 % and 13.2 %).
 TEST(HuangPhysical, AgainstThePhysicalFiber) {
     const std::vector<pf::CachedCase>& cases = cache();
     std::vector<double> lossless(cases.size()), blond(cases.size());
@@ -123,8 +124,8 @@ TEST(HuangPhysical, AgainstThePhysicalFiber) {
         mean += (lossless[k] + blond[k]) / (2.0 * double(cases.size()));
     }
     std::printf("[ physical ] worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst, 100 * mean);
-    EXPECT_LT(worst, 0.23);
-    EXPECT_LT(mean, 0.15);
+    EXPECT_LT(worst, 0.22);
+    EXPECT_LT(mean, 0.14);
 }
 
 // The shadowing terms over extreme inputs (NaN, infinities, cosines outside [0, 1], every

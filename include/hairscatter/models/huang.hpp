@@ -888,15 +888,11 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
             visit(End{1, at_exit, at_exit * (T(1) - e_in), v2, m_in, cos2, mat_->exit_gain(cos2), g1_2});
 
             // The internal reflection at m normals of the path, each carrying F / (m E) of
-            // the interface's total e_in (E the mean reflectance of one event, so the
-            // normals' share is unbiased whatever m is); the residual takes what the normals
-            // leave over (or gives back what they overdraw: zero on average). Light that a
-            // microfacet masks after reflecting inside meets the microsurface again near
-            // grazing, where total internal reflection sends nearly all of it on into the
-            // fiber close to the first reflection's direction, so F is not weighted by the
-            // unmasked share (docs/theory.md §3.6). A ratio F / ΣF over a path's own few
-            // normals handed all of e_in to the ordinary normals of the many paths that drew
-            // no totally reflecting one: TRT 40 % too bright at β 0.3 (docs/theory.md §3.6).
+            // the interface's total e_in, E the mean reflectance of one event: a share
+            // unbiased whatever m is (a ratio F / ΣF over the path's own few normals made
+            // TRT 40 % too bright against the physical fiber). The reflected direction is
+            // not weighted by its masking, which measured further from the physical fiber
+            // (docs/theory.md §3.6).
             V3 r_dir[Material::kMaxTrtPerTT];
             T f[Material::kMaxTrtPerTT], sum = T(0);
             const T e_mean = mat_->reflectance_inside(cos2);
