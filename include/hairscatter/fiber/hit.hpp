@@ -27,7 +27,9 @@ HAIRSCATTER_HD T fiber_offset(const FiberFrame<T>& frame, const glm::vec<3, T>& 
 }
 
 // h from a curve intersector's coordinate v ∈ [0, 1] across the fiber (pbrt-v4's curves:
-// h = -1 + 2v; Embree's flat and normal-oriented curves report such a v), given `across`,
+// h = -1 + 2v; Embree 3's normal-oriented curves report such a v, its flat curves one in
+// [-1, 1]: pass (v + 1) / 2; its round and linear curves report v = 0: use fiber_offset
+// with the hit point instead), given `across`,
 // the world direction in which v grows at the hit (∂p/∂v, or any vector with its sign).
 // Intersectors differ in which way v runs, and a v read the wrong way mirrors h; this
 // takes the sign from dot(across, frame.y), so both ways give the same h. v is clamped to
