@@ -26,6 +26,9 @@
 #             consumer through pkg-config and one through find_package against /usr, the
 #             module imported by /usr/bin/python3, then dpkg -r and every file gone (needs
 #             root or sudo; removes packages an earlier run left installed first)
+#   long      not run by default (--only long): the lattice studies that integrate Huang's
+#             eval against its brute-force definition (3 minutes of one core), whose
+#             figures docs/models.md quotes; built in build/test-gcc
 #   fuzz      libFuzzer targets of fuzz/ (clang -fsanitize=fuzzer,address,undefined), each
 #             run repeatably (fuzz/run.sh --repeatable: a fixed input count from a fixed
 #             seed without address randomisation, 30–60 s each) from its committed corpus (skipped without a clang
@@ -41,8 +44,9 @@ cd "$ROOT"
 # shellcheck source=SCRIPTDIR/lib.sh
 source "$ROOT/scripts/lib.sh"
 
-ALL_STEPS=(gcc clang asan fastmath consumer cuda example python package fuzz)
-steps=("${ALL_STEPS[@]}")
+ALL_STEPS=(gcc clang asan fastmath consumer cuda example python package fuzz long)
+# Every step but `long` runs by default (what CI runs).
+steps=(gcc clang asan fastmath consumer cuda example python package fuzz)
 skip=()
 clang_ctest=1
 install_deps=1
@@ -167,6 +171,12 @@ build_and_test() {
     fi
 }
 
+# The long step's tests, left out of every other step: Huang's lattices against the
+# brute-force evaluation of the model's own definition (2 and 1 minutes in Release). They
+# measure quadrature error only and print docs/models.md's error-against-cost figures; the
+# model against physics (HuangPhysical.AgainstThePhysicalFiber) stays in the gcc step.
+LONG_TESTS='HuangReference'
+
 # ctest -E pattern of the long statistical tests (see step_clang, step_asan).
 STATISTICAL_TESTS='Chi2|Furnace'
 # ...and of the long integrations that the asan step also leaves to the gcc and clang steps:
@@ -176,7 +186,7 @@ STATISTICAL_TESTS='Chi2|Furnace'
 # the dual tables against Monte Carlo, 5 s and 92 s; float M_p's normalisation by adaptive
 # quadrature, 5 s and 80 s; far-field and tabulated dual tables, 15 s and 40 s), code that
 # the contract suite's other checks and the other dual tests run under ASan/UBSan too.
-ASAN_SKIPPED_TESTS="$STATISTICAL_TESTS|LobeSplitAddsUp|HuangReference|HuangDual"
+ASAN_SKIPPED_TESTS="$STATISTICAL_TESTS|LobeSplitAddsUp|$LONG_TESTS|HuangDual"
 ASAN_SKIPPED_TESTS+="|EntriesMatchMonteCarlo|IntegratesToOneFloat|FarFieldAndTabulatedModels"
 # The physical fiber reference: its cache check traces millions of rays (3 s in Release), and
 # Huang against it integrates eval over the sphere 48 times (60 s in Release; gcc runs it).
@@ -188,9 +198,15 @@ ASAN_SKIPPED_TESTS+="|PhysicalFur"
 
 step_deps() { bash "$ROOT/scripts/install-deps.sh" tests; }
 
+gcc_flags=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=g++ -DHAIRSCATTER_WERROR=ON)
 step_gcc() {
-    build_and_test build/test-gcc 1 \
-        -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=g++ -DHAIRSCATTER_WERROR=ON
+    build_and_test build/test-gcc 0 "${gcc_flags[@]}"
+    run_ctest build/test-gcc -E "$LONG_TESTS"
+}
+
+step_long() {
+    build_and_test build/test-gcc 0 "${gcc_flags[@]}"
+    run_ctest build/test-gcc -R "$LONG_TESTS"
 }
 
 step_clang() {
@@ -202,7 +218,7 @@ step_clang() {
     # minute and two and a half of the same eval the other Huang tests run) and the physical
     # fur reference's checks (test code, half a minute): gcc runs them.
     if [[ "$clang_ctest" == 1 ]]; then
-        run_ctest build/test-clang -E "$STATISTICAL_TESTS|AgainstThePhysicalFiber|HuangReference|PhysicalFur"
+        run_ctest build/test-clang -E "$STATISTICAL_TESTS|AgainstThePhysicalFiber|$LONG_TESTS|PhysicalFur"
     fi
 }
 
@@ -481,3 +497,4 @@ run_step python   "Python module: build (-O1), pytest, install and import (build
 run_step package  "DEB packages: build, dpkg -i, consumers against /usr, import, dpkg -r (build/test-package)" step_package
 [[ $fuzz_in_background == 1 ]] ||
     run_step fuzz "libFuzzer targets, a fixed input count each (skipped without clang's libFuzzer)" step_fuzz
+run_step long     "Huang's lattices against their brute force (build/test-gcc; not run by default)" step_long
