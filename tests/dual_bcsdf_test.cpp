@@ -174,6 +174,39 @@ TEST(DualBcsdf, TransmittanceIsConditionedOnTheShadowRay) {
     }
 }
 
+// An exact count (a renderer that counts its shadow ray's fibers) is used as it is: n = 2
+// attenuates by a_f², not by a_f^(2 / (1 − e^-2)); a count below one fiber still reads as
+// one (the ray was blocked); Zinke's formulation ignores the flag. The BCSDF's value follows.
+TEST(DualBcsdf, ExactCountsAreNotConditionedAgain) {
+    const HairSetup s(kHairs[1]);
+    const auto e = s.tables.lookup(0.2);
+    hs::DualScatteringLight<double> exact = shadowed(2);
+    exact.exact_count = true;
+    const auto f2 = hs::dual_forward(exact, e, hs::DualFormulation::kImproved);
+    const auto z2 = hs::dual_forward(exact, e, hs::DualFormulation::kZinke2008);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(f2.transmittance[c], std::pow(e.a_f[c], 2.0), 1e-12);
+        EXPECT_NEAR(z2.transmittance[c], std::pow(e.a_f[c], 2.0), 1e-12);
+    }
+    hs::DualScatteringLight<double> below_one = shadowed(0.25);
+    below_one.exact_count = true;
+    const auto f1 = hs::dual_forward(below_one, e, hs::DualFormulation::kImproved);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(f1.transmittance[c], e.a_f[c], 1e-12);
+    // The BCSDF: an exact count of 2 equals the expectation whose conditioned mean is 2
+    // (x / (1 − e^-x) = 2 at x = 1.5936…, by Newton's method).
+    double x = 1.5;
+    for (int k = 0; k < 50; ++k) {
+        const double q = -std::expm1(-x), g = x / q - 2, dg = (q - x * std::exp(-x)) / (q * q);
+        x -= g / dg;
+    }
+    const hs::ChiangFiber<double> fiber(s.material, 0.3);
+    const Dual dual(fiber, s.tables);
+    const dvec3 wo = direction(20, 0.4), wi = direction(-10, 2.5);
+    const dvec3 a = dual.eval(wo, wi, exact), b = dual.eval(wo, wi, shadowed(x));
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 1e-9 * std::max(1.0, b[c])) << c;
+    EXPECT_GT(mean(a), 0.0);
+}
+
 // The conditioned count against exact intersection counts on generated blocks: fibers
 // (radius 1) placed as a Poisson process in the cross-section (eight blocks), shadow rays
 // of length L from points outside every fiber. The expected count a density source reports

@@ -130,13 +130,20 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T dual_count_given
     const T q = -elem::expm1(-n);  // P(N ≥ 1)
     return q > T(1e-6) ? n / q : T(1);
 }
+// The count of fibers in front of a shadowed point that the improved formulation uses: an
+// expectation conditioned on the blocked shadow ray, or an exact count as it is (at least 1:
+// the ray was blocked).
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T dual_shadowed_count(const DualScatteringLight<T>& light) {
+    const T n = dual_count(light);
+    return light.exact_count ? (n > T(1) ? n : T(1)) : dual_count_given_hit(n);
+}
 template <typename T>
 HAIRSCATTER_HD glm::vec<3, T> dual_below_reflectance(const DualScatteringEntry<T>& e, T beyond) {
     return dual_below_reflectance(dual_layers(e), beyond);
 }
 // below_R: R_{m+1} of dual_below_reflectance (improved only; computed here if negative);
 // layers: the entry's dual_layers (computed here if null); above: the stack of depth
-// dual_count_given_hit(dual_count(light)) of those layers (computed here if null).
+// dual_shadowed_count(light) of those layers (computed here if null).
 template <typename T>
 HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DualForward<T>
 dual_forward(const DualScatteringLight<T>& light, const DualScatteringEntry<T>& e, DualFormulation formulation,
@@ -159,7 +166,7 @@ dual_forward(const DualScatteringLight<T>& light, const DualScatteringEntry<T>& 
         r.spread = n0 * beta2;
         return r;
     }
-    const T n = dual_count_given_hit(n0);
+    const T n = dual_shadowed_count(light);
     glm::vec<3, T> above_R, above_T;
     if (above && below_R.x >= T(0)) {
         above_R = above->R;
@@ -509,7 +516,7 @@ template <typename Fiber> class DualScatteringBcsdf {
                 layers = dual_layers(ei);
                 if (shadowed && !light.use_transmittance) {
                     // The stacks above (dual_forward's) and below as one batch.
-                    layers.stacks(dual_count_given_hit(dual_count(light)), dual_below_depth(light.beyond), above.R,
+                    layers.stacks(dual_shadowed_count(light), dual_below_depth(light.beyond), above.R,
                                   above.T_, below_R);
                     have_above = true;
                 } else {

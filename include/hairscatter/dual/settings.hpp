@@ -46,6 +46,10 @@ template <typename T> struct DualScatteringLight {
     // density source reports it (unconditional; the improved formulation conditions it on
     // the shadow ray having been blocked).
     T n = T(0);
+    // n is one ray's exact count (a renderer that counts the fibers its shadow ray crosses),
+    // not an expectation: the improved formulation uses it as it is. Conditioning an exact
+    // count again would read one fiber as 1.58 (E[N | N ≥ 1] of a Poisson mean of 1).
+    bool exact_count = false;
     // The expected number of fibers beyond the point along the light's direction of travel
     // (a density query along -wi): how much hair is there to scatter light back. Only the
     // improved formulation reads it; kUnbounded means a deep volume.
