@@ -307,11 +307,13 @@ TEST(FurMaterial, TablesBuildWithinASecond) {
 // The model, averaged over the offset h (a far-field beam, as the reference traces), against
 // the physical fur reference's bins: relative L1 over the sphere per case, lossless and blond
 // (the RGB mean), of the whole f and of the light scattered in the medulla alone (the
-// reference's scattered class against eval_scattered). The reference's cortex is a
-// GGX-rough dielectric of roughness 0.3, the model's Chiang's with β_m = β_n = 0.3: the
-// whole f carries the Chiang lobes' distance from that rough cylinder (κ = 0: 72 %), the
-// scattered light measures the medulla's lobe. The figures of docs/models.md, printed; the
-// bounds guard what is reached (the goal, 5 %, is not: see docs/models.md).
+// reference's scattered class against eval_scattered). With the rough cortex (GGX 0.3; the
+// model's Chiang lobes at β_m = β_n = 0.3) the whole f carries the Chiang lobes' distance
+// from that rough cylinder (κ = 0: 72 %), and so does the scattered light's energy, which
+// the cortex's paths feed; the nearly smooth cortex (GGX 0.02, the light scattered in the
+// medulla only) measures the medulla's lobe where the model's smooth-cylinder paths hold.
+// The figures of docs/models.md, printed; the bounds guard what is reached (the goal, 5 %,
+// is not reached everywhere: see docs/models.md).
 TEST(FurPhysical, AgainstThePhysicalFur) {
     const std::vector<phys_fur::FurCached> cases = phys_fur::read_fur_cache(HAIRSCATTER_TEST_DATA_DIR "/physical_fur.txt");
     constexpr int kH = 48;  // midpoint offsets over [-1, 1]
@@ -329,7 +331,8 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
                     const hs::FurMaterial<double> mat(fur_params<double>(fc.kappa, fc.sigma_s, fc.g, sa));
                     std::vector<hs::FurFiber<double>> fibers;
                     for (int i = 0; i < kH; ++i) fibers.emplace_back(mat, -1 + (i + 0.5) * 2.0 / kH);
-                    for (int part = 0; part < (fc.kappa > 0 ? 2 : 1); ++part) {
+                    const bool smooth = fc.roughness < 0.1;
+                    for (int part = smooth ? 1 : 0; part < (fc.kappa > 0 ? 2 : 1); ++part) {
                         const auto eval = [&](const glm::dvec3& wo, const glm::dvec3& wi) {
                             glm::dvec3 f(0.0);
                             for (const auto& fiber : fibers) f += part ? fiber.eval_scattered(wo, wi) : fiber.eval(wo, wi);
@@ -349,25 +352,29 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
             }
         });
     for (auto& th : pool) th.join();
-    double worst_all = 0, worst_scattered = 0, mean_scattered = 0;
-    int n_scattered = 0;
+    double worst_all = 0, worst[2] = {0, 0}, mean[2] = {0, 0};  // scattered: [rough, smooth]
+    int n[2] = {0, 0};
     for (std::size_t k = 0; k < cases.size(); ++k) {
         const Row& r = rows[k];
-        std::printf("[ physical ] %-22s f: lossless %5.1f %% blond %5.1f %% | scattered: lossless %5.1f %% blond %5.1f %%"
+        const int smooth = cases[k].fur.roughness < 0.1;
+        std::printf("[ physical ] %-26s f: lossless %5.1f %% blond %5.1f %% | scattered: lossless %5.1f %% blond %5.1f %%"
                     " (energy lossless %.3f/%.3f, blond G %.3f/%.3f)\n",
                     cases[k].fur.name().c_str(), 100 * r.all[0], 100 * r.all[1], 100 * r.scattered[0], 100 * r.scattered[1],
                     r.energy[0][0], r.energy[0][1], r.energy[1][0], r.energy[1][1]);
         worst_all = std::max({worst_all, r.all[0], r.all[1]});
         if (cases[k].fur.kappa > 0) {
-            worst_scattered = std::max({worst_scattered, r.scattered[0], r.scattered[1]});
-            mean_scattered += r.scattered[0] + r.scattered[1];
-            n_scattered += 2;
+            worst[smooth] = std::max({worst[smooth], r.scattered[0], r.scattered[1]});
+            mean[smooth] += r.scattered[0] + r.scattered[1];
+            n[smooth] += 2;
         }
     }
-    mean_scattered /= std::max(1, n_scattered);
-    std::printf("[ physical ] f: worst %.1f %%; scattered: worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst_all,
-                100 * worst_scattered, 100 * mean_scattered);
+    for (int sm = 0; sm < 2; ++sm) mean[sm] /= std::max(1, n[sm]);
+    std::printf("[ physical ] rough cortex: f worst %.1f %%; scattered worst %.1f %%, mean %.1f %%\n", 100 * worst_all,
+                100 * worst[0], 100 * mean[0]);
+    std::printf("[ physical ] smooth cortex: scattered worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst[1], 100 * mean[1]);
     EXPECT_LT(worst_all, 1.10);
-    EXPECT_LT(worst_scattered, 0.37);
-    EXPECT_LT(mean_scattered, 0.18);
+    EXPECT_LT(worst[0], 0.37);
+    EXPECT_LT(mean[0], 0.18);
+    EXPECT_LT(worst[1], 0.19);
+    EXPECT_LT(mean[1], 0.10);
 }

@@ -386,7 +386,7 @@ template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& 
 
 // Everything that depends only on the fur parameters, computed once per material on the
 // host (validated: the constructor throws std::invalid_argument naming the bad parameter;
-// the medulla's tables take a few tenths of a second, docs/models.md). Trivially copyable.
+// docs/models.md gives the medulla tables' build time). Trivially copyable.
 // Its d'Eon ingredients (longitudinal(p), tilt()) are DeonLobes', as ChiangMaterial's.
 template <typename T> class FurMaterial : public DeonLobes<T> {
   public:
