@@ -1,5 +1,5 @@
 // Benchmarks of hairscatter's Chiang model: ns per call of eval, pdf, eval_pdf and sample
-// in float and double, the per-hit ChiangFiber and per-material ChiangMaterial
+// in float and double (and the fur fibre's eval and sample next to them), the per-hit ChiangFiber and per-material ChiangMaterial
 // constructors, each at β_m ∈ {0.05, 0.3, 1.0} (argument bm = index); next to them
 // bench_ref::HairBxDF (reference/pbrt_style.hpp, pbrt-v4's algorithm) and the calibration
 // loop body that the speed goal is stated in. scripts/bench.sh runs it and writes the
@@ -295,6 +295,45 @@ template <typename T> void BM_ControlsSample(benchmark::State& state) {
     state.SetLabel("beta_m=0.30, gains");
 }
 
+// The fur fibre (models/fur.hpp) on the same inputs: the cortex of β_m index 1 (0.3) around
+// a medulla of κ 0.6, σs^m 10, g 0.3, its tables built once. To compare with BM_Eval and
+// BM_Sample at bm = 1 (the goal: within 3× of Chiang's, in the same run).
+template <typename T> std::vector<hairscatter::FurFiber<T>> fur_fibers() {
+    const auto& in = inputs<T>();
+    hairscatter::FurParams<T> p;
+    p.cortex = in.materials[1].params();
+    p.kappa = T(0.6);
+    p.sigma_s = T(10);
+    p.g = T(0.3);
+    static const hairscatter::FurMaterial<T> material(p);
+    std::vector<hairscatter::FurFiber<T>> f;
+    for (std::size_t i = 0; i < bench_ref::kInputs; ++i) f.emplace_back(material, in.h[i]);
+    return f;
+}
+
+template <typename T> void BM_FurEval(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto fibers = fur_fibers<T>();
+    const auto& wi = in.wi[state.range(0)][1];
+    std::size_t i = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(fibers[i].eval(in.wo[i], wi[i]));
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel(state.range(0) ? "beta_m=0.30 wi=sampled, fur" : "beta_m=0.30 wi=uniform, fur");
+}
+
+template <typename T> void BM_FurSample(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const auto fibers = fur_fibers<T>();
+    std::size_t i = 0;
+    for (auto _ : state) {
+        benchmark::DoNotOptimize(fibers[i].sample(in.wo[i], in.u[i]));
+        i = (i + 1) & kMask;
+    }
+    state.SetLabel("beta_m=0.30, fur");
+}
+
 }  // namespace
 
 BENCHMARK_TEMPLATE(BM_Calib, float);
@@ -328,6 +367,10 @@ BENCHMARK_TEMPLATE(BM_LobesSample, float, LobeSet::kPrimary);
 BENCHMARK_TEMPLATE(BM_LobesSample, float, LobeSet::kAll);
 BENCHMARK_TEMPLATE(BM_LobesEval, double, LobeSet::kR);
 BENCHMARK_TEMPLATE(BM_LobesEval, double, LobeSet::kAll);
+BENCHMARK_TEMPLATE(BM_FurEval, float)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_FurEval, double)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_FurSample, float);
+BENCHMARK_TEMPLATE(BM_FurSample, double);
 BENCHMARK_TEMPLATE(BM_ControlsEval, float);
 BENCHMARK_TEMPLATE(BM_ControlsSample, float);
 BENCHMARK_TEMPLATE(BM_FiberCtor, float)->Apply(beta_args);

@@ -29,3 +29,4 @@
 #include "models/tabulated.hpp"
 #include "models/marschner.hpp"
 #include "models/huang.hpp"
+#include "models/fur.hpp"

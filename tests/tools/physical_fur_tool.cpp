@@ -1,8 +1,10 @@
 // Writes docs/fur_physical.md: where the physical fur reference (tests/support/
 // physical_fur.hpp) sends the light, per path class, over a grid of medullas, for a lossless
-// and a blond cortex.
+// and a blond cortex; and the cache of its histograms that tests/fur_test.cpp compares the
+// fur model with (the cases of tests/support/physical_fur_cases.hpp).
 //
 //   physical_fur_tool [--rays N] [--threads T] > docs/fur_physical.md
+//   physical_fur_tool cache [--rays N] [--threads T] [--out tests/data/physical_fur.txt]
 #include <atomic>
 #include <cstdio>
 #include <cstdlib>
@@ -13,6 +15,7 @@
 
 #include "support/physical_fiber_cases.hpp"
 #include "support/physical_fur.hpp"
+#include "support/physical_fur_cases.hpp"
 
 namespace {
 
@@ -78,16 +81,34 @@ void print_header(long long rays) {
         rays, phys_fiber::kBlond[0], phys_fiber::kBlond[1], phys_fiber::kBlond[2], std::sqrt(0.25 / double(rays)));
 }
 
+// The cache of histograms (16 × 32 bins, equal solid angle), one case after another, each
+// on every thread.
+int write_cache(long long rays, int threads, const std::string& out) {
+    std::vector<phys_fur::FurCached> cached;
+    for (const phys_fur::FurCase& c : phys_fur::fur_cases()) {
+        cached.push_back(phys_fur::trace_fur_case(c, rays, 16, 32, threads, 1 + cached.size()));
+        std::fprintf(stderr, "%s: noise %.4f (lossless), %.4f (blond G)\n", c.name().c_str(), cached.back().bins.noise_l1[0],
+                     cached.back().bins.noise_l1[2]);
+    }
+    phys_fur::write_fur_cache(out, cached, std::to_string(rays) + " rays per case, 16 x 32 bins");
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     long long rays = 200000;
     int threads = int(std::max(1u, std::thread::hardware_concurrency()));
-    for (int i = 1; i + 1 < argc; i += 2) {
-        if (!std::strcmp(argv[i], "--rays")) rays = std::atoll(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
+    const bool cache = argc > 1 && !std::strcmp(argv[1], "cache");
+    std::string out = "tests/data/physical_fur.txt";
+    if (cache) rays = 4000000;
+    for (int i = cache ? 2 : 1; i < argc; i += 2) {
+        if (i + 1 < argc && !std::strcmp(argv[i], "--rays")) rays = std::atoll(argv[i + 1]);
+        else if (i + 1 < argc && !std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
+        else if (cache && i + 1 < argc && !std::strcmp(argv[i], "--out")) out = argv[i + 1];
         else {
-            std::fprintf(stderr, "usage: physical_fur_tool [--rays N] [--threads T]\n");
+            std::fprintf(stderr, "usage: physical_fur_tool [--rays N] [--threads T]\n"
+                                 "       physical_fur_tool cache [--rays N] [--threads T] [--out FILE]\n");
             return 2;
         }
     }
@@ -95,6 +116,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "physical_fur_tool: --rays and --threads must be positive\n");
         return 2;
     }
+    if (cache) return write_cache(rays, threads, out);
     const std::vector<Case> cases = grid();
     std::vector<phys_fur::Histogram> hist(cases.size(), phys_fur::Histogram(4, 4));
     std::atomic<std::size_t> next{0};

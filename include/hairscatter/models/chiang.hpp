@@ -95,20 +95,14 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
 
     // Cheap, device-callable: h is clamped into [-1, 1] (hit offsets round slightly out).
     HAIRSCATTER_HD BasicChiangFiber(const Material& material, T h) : mat_(&material) {
-        h_ = h > T(1) ? T(1) : (h >= T(-1) ? h : T(-1));
-        if (!is_finite(h_)) h_ = T(-1);  // NaN (read from the bits: -ffast-math keeps it)
+        h_ = clamped_offset(h);
         gamma_o_ = elem::asin(h_);
         cos_gamma_o_ = cos_from_sin(h_);
     }
     BasicChiangFiber(const Material&&, T) = delete;
 
     // Host: the fiber at h, which must lie in [-1, 1] (throws std::invalid_argument).
-    static BasicChiangFiber checked(const Material& material, T h) {
-        if (!(is_finite(h) && h >= T(-1) && h <= T(1)))  // (the bits: -ffast-math keeps NaN out)
-            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: h = " + std::to_string(double(h)) +
-                                                    " is outside its range [-1, 1]"));
-        return BasicChiangFiber(material, h);
-    }
+    static BasicChiangFiber checked(const Material& material, T h) { return BasicChiangFiber(material, checked_offset(h)); }
 
     HAIRSCATTER_HD T h() const { return h_; }
     HAIRSCATTER_HD const Material& material() const { return *mat_; }

@@ -21,6 +21,8 @@
 // and lobe_variance(p).
 #pragma once
 
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 #include <utility>
 
@@ -79,6 +81,20 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE HairSample<T> make_sample(const glm::vec
 }
 
 template <typename Fiber> class BoundFiber;
+
+// The offset h ∈ [-1, 1] across the fiber, as a near-field model stores it: clamped (hit
+// offsets round slightly out), NaN made -1 (read from the bits: -ffast-math keeps it).
+template <typename T> HAIRSCATTER_HD T clamped_offset(T h) {
+    h = h > T(1) ? T(1) : (h >= T(-1) ? h : T(-1));
+    return is_finite(h) ? h : T(-1);
+}
+// Host: h itself, which must lie in [-1, 1] (throws std::invalid_argument).
+template <typename T> T checked_offset(T h) {
+    if (!(is_finite(h) && h >= T(-1) && h <= T(1)))  // (the bits: -ffast-math keeps NaN out)
+        HAIRSCATTER_THROW(std::invalid_argument("hairscatter: h = " + std::to_string(double(h)) +
+                                                " is outside its range [-1, 1]"));
+    return h;
+}
 
 // The shared front of every model (CRTP). A model M derives from FiberModel<M, T>,
 // befriends it and BoundFiber<M>, and writes three private pieces once:

@@ -1,0 +1,589 @@
+// hairscatter — fur: a fibre whose cortex surrounds a scattering medulla, after Yan, Tseng,
+// Jensen & Ramamoorthi 2015 ("Physically-accurate fur reflectance: modeling, measurement
+// and rendering", ACM TOG 34(6)) and Yan, Jensen & Ramamoorthi 2017 ("An efficient and
+// practical near and far field fur reflectance model", ACM TOG 36(4)).
+//
+// The fibre is a double cylinder: a dielectric cortex of radius 1 (index η, absorption σa^c
+// per unit radius) around a concentric, index-matched medulla of radius κ that scatters
+// (σs^m, Henyey–Greenstein g) and absorbs (σa^m). Light that crosses the medulla without
+// scattering forms Chiang et al. 2016's lobes R, TT, TRT and the residual, each chord now
+// attenuated by the cortex and the medulla in turn (Yan et al. 2015 §4); light that
+// scatters there leaves as one broad lobe, whose energy follows from the same extinction
+// integrals and whose azimuthal shape is tabulated per material by a small simulation of
+// the double cylinder (docs/models.md, "Fur with a medulla").
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "../config.hpp"
+#include "../fiber/frame.hpp"
+#include "../fiber/params.hpp"
+#include "../lobes/attenuation.hpp"
+#include "../lobes/azimuthal.hpp"
+#include "../lobes/deon_lobes.hpp"
+#include "../math/constants.hpp"
+#include "../math/distributions.hpp"
+#include "../math/elementary.hpp"
+#include "../math/functions.hpp"
+#include "contract.hpp"
+
+namespace hairscatter {
+
+// The fur fibre's parameters: the cortex as a hair fibre's, and the medulla.
+template <typename T> struct FurParams {
+    FiberParams<T> cortex;                  // η, β_m, β_n, α and the cortex's σa^c (per unit radius)
+    T kappa = T(0);                         // medulla radius over the fibre's, [0, 1)
+    T sigma_s = T(0);                       // σs^m per unit fibre radius, ≥ 0
+    glm::vec<3, T> sigma_a_medulla{T(0)};   // σa^m per unit fibre radius, RGB, ≥ 0
+    T g = T(0);                             // Henyey–Greenstein anisotropy of the medulla, (-1, 1)
+};
+
+// Every field checked (the cortex by validate(FiberParams)); an empty string when valid,
+// else one message per bad field naming it, its value and its range. Never throws.
+template <typename T> std::string validate(const FurParams<T>& p) {
+    using detail::in_range;
+    const T inf = std::numeric_limits<T>::max();
+    detail::Complaints bad;
+    const std::string cortex = validate(p.cortex);
+    if (!cortex.empty()) bad.add_text(cortex);
+    if (!(in_range(p.kappa, T(0), T(1)) && p.kappa < T(1))) bad.add("kappa", double(p.kappa), "[0, 1)");
+    if (!in_range(p.sigma_s, T(0), inf)) bad.add("sigma_s", double(p.sigma_s), "[0, inf) (finite)");
+    const char* channel[3] = {"sigma_a_medulla.r", "sigma_a_medulla.g", "sigma_a_medulla.b"};
+    for (int c = 0; c < 3; ++c)
+        if (!in_range(p.sigma_a_medulla[c], T(0), inf))
+            bad.add(channel[c], double(p.sigma_a_medulla[c]), "[0, inf) (finite)");
+    if (!(in_range(p.g, T(-1), T(1)) && p.g > T(-1) && p.g < T(1))) bad.add("g", double(p.g), "(-1, 1)");
+    return bad.str();
+}
+
+template <typename T> void require_valid(const FurParams<T>& p) { detail::throw_if_invalid(validate(p), "fur parameters"); }
+
+template <typename T> const FurParams<T>& validated(const FurParams<T>& p) {
+    require_valid(p);
+    return p;
+}
+
+// The medulla-scattered lobe's tables: per bin of |θo|, the azimuthal density of the
+// scattered light's exit over |φ| (relative azimuth, symmetric) and the fraction of the
+// light scattered in the medulla that leaves the fibre, per channel (the rest is absorbed on
+// its way out). Trivially copyable.
+template <typename T> struct MedullaTables {
+    static constexpr int kThetaBins = 6;   // |θo| in [0, π/2), equal widths
+    static constexpr int kPhiBins = 32;    // |φ| in [0, π], equal widths
+    T density[kThetaBins][kPhiBins];       // q(|φ|), ∫_0^π q = 1 (N_s(φ) = q(|φ|) / 2)
+    T cdf[kThetaBins][kPhiBins + 1];       // its integral at the bins' edges (0 … 1)
+    T escape[kThetaBins][3];               // a_esc per channel, in [0, 1]
+
+    HAIRSCATTER_HD static int theta_bin(T abs_sin_o) {
+        const T theta = elem::asin(clamp(abs_sin_o, T(0), T(1)));
+        const int k = int(theta * (T(2) * kInvPi<T>) * T(kThetaBins));
+        return k < 0 ? 0 : (k < kThetaBins ? k : kThetaBins - 1);
+    }
+    // N_s(φ), per radian over φ ∈ [-π, π].
+    HAIRSCATTER_HD T azimuthal_pdf(int t, T phi) const {
+        const int k = phi_bin(abs_value(phi));
+        return T(0.5) * density[t][k];
+    }
+    // φ from u ∈ [0, 1]: the sign from which half u falls in, |φ| by inverting the cdf.
+    HAIRSCATTER_HD T sample_azimuth(int t, T u) const {
+        const T sign = u < T(0.5) ? T(-1) : T(1);
+        const T v = clamp(abs_value(T(2) * u - T(1)), T(0), T(1));
+        int lo = 0, hi = kPhiBins;  // cdf[t][lo] ≤ v < cdf[t][hi]
+        while (hi - lo > 1) {
+            const int mid = (lo + hi) / 2;
+            if (cdf[t][mid] <= v) lo = mid;
+            else hi = mid;
+        }
+        while (lo > 0 && !(density[t][lo] > T(0))) --lo;  // (never land in an empty bin)
+        const T width = kPi<T> / T(kPhiBins);
+        const T mass = cdf[t][lo + 1] - cdf[t][lo];
+        const T frac = mass > T(0) ? clamp((v - cdf[t][lo]) / mass, T(0), T(1)) : T(0.5);
+        return sign * (T(lo) + frac) * width;
+    }
+    // The mass of N_s in the arc |φ - centre| < π/2.
+    HAIRSCATTER_HD T arc_mass(int t, T centre) const {
+        const T a = wrap_pi(centre - kHalfPi<T>);
+        const T b = a + kPi<T>;  // may pass π: the rest wraps to -π
+        return b <= kPi<T> ? signed_cdf(t, b) - signed_cdf(t, a)
+                           : (T(1) - signed_cdf(t, a)) + signed_cdf(t, b - kTwoPi<T>);
+    }
+
+  private:
+    HAIRSCATTER_HD static int phi_bin(T abs_phi) {
+        const int k = int(abs_phi * kInvPi<T> * T(kPhiBins));
+        return k < 0 ? 0 : (k < kPhiBins ? k : kPhiBins - 1);
+    }
+    // ∫_{-π}^{φ} N_s.
+    HAIRSCATTER_HD T signed_cdf(int t, T phi) const {
+        const T x = clamp(abs_value(phi), T(0), kPi<T>);
+        const int k = phi_bin(x);
+        const T one_sided = cdf[t][k] + (x - T(k) * kPi<T> / T(kPhiBins)) * density[t][k];
+        return phi < T(0) ? T(0.5) * (T(1) - one_sided) : T(0.5) * (T(1) + one_sided);
+    }
+};
+
+namespace detail {
+
+// The per-chord terms of the unscattered light at offset h (Yan et al. 2015 §4): the refracted
+// ray crosses the section along a chord of in-plane half length cosγt, of which the medulla
+// (radius κ) takes √(κ² − sin²γt); the 3D lengths are these over cosθt. Per channel c:
+//   T_c      = exp(−σa^c (ℓ − ℓ_m) − σt^m_c ℓ_m)   (one chord through cortex and medulla)
+//   first_c  = exp(−σa^c (ℓ − ℓ_m)/2) · σs/σt_c · (1 − exp(−σt_c ℓ_m))
+// (first_c: the light of one pass that scatters in the medulla; the cortex's first half is
+// crossed before it). σs (1 − e^(−σt ℓ))/σt is written σs ℓ · (−expm1(−x)/x), finite at σt = 0.
+template <typename T> struct MedullaChord {
+    T transmittance[3];
+    T first_scatter[3];
+};
+
+template <typename T>
+HAIRSCATTER_HD MedullaChord<T> medulla_chord(const FurParams<T>& p, T sin_gamma_t, T chord, T chord_scale) {
+    using std::sqrt;
+    const T inside = sqr(p.kappa) - sqr(sin_gamma_t);  // < 0: the chord misses the medulla
+    const T half_m = inside > T(0) ? sqrt(inside) : T(0);
+    const T lm = half_m * chord_scale;  // ℓ_m, 3D
+    const T lc = chord > lm ? chord - lm : T(0);
+    MedullaChord<T> r;
+    for (int c = 0; c < 3; ++c) {
+        const T sigma_t = p.sigma_s + p.sigma_a_medulla[c];
+        const T x = sigma_t * lm;
+        r.transmittance[c] = elem::exp(-p.cortex.sigma_a[c] * lc - x);
+        const T frac = x > T(1e-6) ? -elem::expm1(-x) / x : T(1) - T(0.5) * x;  // (1 − e^(−x))/x
+        r.first_scatter[c] = elem::exp(T(-0.5) * p.cortex.sigma_a[c] * lc) * p.sigma_s * lm * frac;
+    }
+    return r;
+}
+
+// A small generator for the table simulation (splitmix64, Steele et al. 2014): the tables
+// are the same for the same parameters, run after run.
+class FurRng {
+  public:
+    explicit FurRng(std::uint64_t seed) : s_(seed) {}
+    double uniform() {
+        std::uint64_t z = (s_ += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        z ^= z >> 31;
+        return double(z >> 11) * (1.0 / 9007199254740992.0);
+    }
+
+  private:
+    std::uint64_t s_;
+};
+
+// The table simulation's budget: scattered paths per |θo| bin, medulla events per bin
+// (what bounds the build time for dense medullas) and per path (beyond it a path is dropped),
+// and the Fourier terms the azimuthal density is smoothed to.
+inline constexpr int kFurPathsPerBin = 12000;
+inline constexpr long long kFurEventsPerBin = 1500000;
+inline constexpr int kFurEventsPerPath = 20000;
+inline constexpr int kFurFourierTerms = 8;
+
+// Unpolarised Fresnel reflectance at a smooth interface into relative index n (either side),
+// 1 on total internal reflection.
+inline double fur_fresnel(double cos_i, double n) {
+    const double s2t = (1 - cos_i * cos_i) / (n * n);
+    if (s2t >= 1) return 1;
+    const double ct = std::sqrt(1 - s2t);
+    return 0.5 * (sqr((cos_i - n * ct) / (cos_i + n * ct)) + sqr((n * cos_i - ct) / (n * cos_i + ct)));
+}
+
+// The far root of the in-plane line p + s d (d unit) with the circle of radius r, or -1.
+inline double fur_circle_exit(const glm::dvec2& p, const glm::dvec2& d, double r) {
+    const double b = glm::dot(p, d), c = glm::dot(p, p) - r * r, disc = b * b - c;
+    return disc > 0 ? -b + std::sqrt(disc) : -1;
+}
+
+// A Henyey–Greenstein deflection of the unit direction d (Henyey & Greenstein 1941).
+inline glm::dvec3 fur_scatter(const glm::dvec3& d, double g, double u1, double u2) {
+    double c = 1 - 2 * u1;
+    if (std::fabs(g) > 1e-4) {
+        const double s = (1 - g * g) / (1 - g + 2 * g * u1);
+        c = clamp((1 + g * g - s * s) / (2 * g), -1.0, 1.0);
+    }
+    const double sn = std::sqrt(std::max(0.0, 1 - c * c)), phi = 2 * kPi<double> * u2;
+    const glm::dvec3 a = std::fabs(d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+    const glm::dvec3 t = glm::normalize(glm::cross(a, d)), b = glm::cross(d, t);
+    return glm::normalize(c * d + sn * (std::cos(phi) * t + std::sin(phi) * b));
+}
+
+// One |θo| bin of the tables: light from wo = (sinθo, 0, cosθo) (φo = π/2) enters at offset
+// h (only where its refracted chord meets the medulla), is carried unscattered with the
+// analytic weights of medulla_chord until it first scatters, then random-walks through the
+// medulla and the cortex (smooth boundary, Fresnel by choice) until it leaves. Per exit: the
+// relative azimuth, weighted by the lossless weight (the shape) and per channel the weight
+// at exit and at the first scattering (the escape fraction).
+inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int bin, MedullaTables<double>& tab) {
+    const double eta = p.cortex.eta, sin_o = std::sin(theta_o), cos_o = std::cos(theta_o);
+    const double eta_p = std::sqrt(eta * eta - sin_o * sin_o) / cos_o;  // Bravais' η' (docs/theory.md §3.1)
+    const double h_max = std::min(1.0, p.kappa * eta_p);
+    FurRng rng(0x5EEDF00Dull + std::uint64_t(bin));
+    double fourier[kFurFourierTerms + 1] = {}, at_exit[3] = {}, at_first[3] = {};
+    long long events = 0;
+    int paths = 0;
+    const glm::dvec3 d_in(-sin_o, 0, -cos_o);
+    for (int attempt = 0; paths < kFurPathsPerBin && events < kFurEventsPerBin && attempt < 50 * kFurPathsPerBin; ++attempt) {
+        const double h = h_max * rng.uniform();
+        const glm::dvec2 p0(h, std::sqrt(1 - h * h));  // (y, z) on the circle, facing the light
+        const glm::dvec3 n0(0, p0.x, p0.y);
+        const double ci = -glm::dot(d_in, n0);
+        double w[3], w0 = 1 - fur_fresnel(ci, eta);
+        // Refract into the cortex.
+        const double ct = std::sqrt(std::max(0.0, 1 - (1 - ci * ci) / (eta * eta)));
+        glm::dvec3 dir = glm::normalize(d_in / eta + (ci / eta - ct) * n0);
+        glm::dvec2 pos = p0;
+        for (int c = 0; c < 3; ++c) w[c] = w0;
+        // Unscattered passes until the first scattering (every pass meets the medulla: a
+        // circle keeps the chord's offset).
+        bool scattered = false;
+        for (int pass = 0; pass < 200 && w0 > 1e-6; ++pass) {
+            const double tl = std::sqrt(dir.y * dir.y + dir.z * dir.z);
+            const glm::dvec2 t2 = glm::dvec2(dir.y, dir.z) / tl;
+            const double b = glm::dot(pos, t2), c2 = glm::dot(pos, pos) - p.kappa * p.kappa, disc = b * b - c2;
+            const double s_in = disc > 0 ? -b - std::sqrt(disc) : -1, s_out = disc > 0 ? -b + std::sqrt(disc) : -1;
+            if (!(s_in > 0)) break;  // (misses: only for h at h_max, rounding)
+            for (int c = 0; c < 3; ++c) w[c] *= std::exp(-p.cortex.sigma_a[c] * s_in / tl);
+            const double lm = (s_out - s_in) / tl;
+            const double t_free = -std::log(1 - rng.uniform()) / p.sigma_s;
+            if (t_free < lm) {
+                for (int c = 0; c < 3; ++c) w[c] *= std::exp(-p.sigma_a_medulla[c] * t_free);
+                pos += (s_in + t_free * tl) * t2;
+                scattered = true;
+                break;
+            }
+            // Through the medulla (the free flight's probability is the sampling itself),
+            // on to the boundary, and reflected there with the Fresnel weight.
+            for (int c = 0; c < 3; ++c) w[c] *= std::exp(-p.sigma_a_medulla[c] * lm);
+            const double s_exit = fur_circle_exit(pos, t2, 1.0);
+            for (int c = 0; c < 3; ++c) w[c] *= std::exp(-p.cortex.sigma_a[c] * (s_exit - s_out) / tl);
+            pos = glm::normalize(pos + s_exit * t2);
+            const glm::dvec3 n(0, pos.x, pos.y);
+            const double f = fur_fresnel(glm::dot(dir, n), 1 / eta);
+            w0 *= f;
+            for (int c = 0; c < 3; ++c) w[c] *= f;
+            dir -= 2 * glm::dot(dir, n) * n;
+        }
+        if (!scattered) continue;
+        const double first[3] = {w[0], w[1], w[2]};
+        // The walk after the first scattering: weights change by absorption only.
+        bool inside_medulla = true, left = false;
+        int n_events = 0;
+        dir = fur_scatter(dir, p.g, rng.uniform(), rng.uniform());
+        while (n_events < kFurEventsPerPath) {
+            ++n_events;
+            const double tl = std::sqrt(dir.y * dir.y + dir.z * dir.z);
+            if (!(tl > 1e-9)) {  // along the axis: the next scattering turns it
+                if (!inside_medulla) break;
+                dir = fur_scatter(dir, p.g, rng.uniform(), rng.uniform());
+                continue;
+            }
+            const glm::dvec2 t2 = glm::dvec2(dir.y, dir.z) / tl;
+            if (inside_medulla) {
+                const double s_out = std::max(0.0, fur_circle_exit(pos, t2, p.kappa));
+                const double t_free = -std::log(1 - rng.uniform()) / p.sigma_s;
+                const double t = std::min(t_free, s_out / tl);
+                for (int c = 0; c < 3; ++c) w[c] *= std::exp(-p.sigma_a_medulla[c] * t);
+                pos += t * tl * t2;
+                if (t_free < s_out / tl) dir = fur_scatter(dir, p.g, rng.uniform(), rng.uniform());
+                else inside_medulla = false;
+                continue;
+            }
+            // In the cortex: to the medulla if the line meets it ahead, else to the boundary.
+            const double b = glm::dot(pos, t2), c2 = glm::dot(pos, pos) - p.kappa * p.kappa, disc = b * b - c2;
+            const double s_in = disc > 0 ? -b - std::sqrt(disc) : -1;
+            if (s_in > 1e-12) {
+                for (int c = 0; c < 3; ++c) w[c] *= std::exp(-p.cortex.sigma_a[c] * s_in / tl);
+                pos += s_in * t2;
+                inside_medulla = true;
+                continue;
+            }
+            const double s_exit = std::max(0.0, fur_circle_exit(pos, t2, 1.0));
+            for (int c = 0; c < 3; ++c) w[c] *= std::exp(-p.cortex.sigma_a[c] * s_exit / tl);
+            pos = glm::normalize(pos + s_exit * t2);
+            const glm::dvec3 n(0, pos.x, pos.y);
+            const double cos_i = glm::dot(dir, n);
+            if (rng.uniform() < fur_fresnel(cos_i, 1 / eta)) {
+                dir -= 2 * cos_i * n;
+                continue;
+            }
+            // Leaves: refracted out; only its azimuth is kept.
+            const double ct_out = std::sqrt(std::max(0.0, 1 - eta * eta * (1 - cos_i * cos_i)));
+            const glm::dvec3 out = eta * dir + (ct_out - eta * cos_i) * n;
+            const double phi = std::fabs(wrap_pi(std::atan2(out.z, out.y) - kHalfPi<double>));
+            for (int k = 0; k <= kFurFourierTerms; ++k) fourier[k] += w0 * std::cos(k * phi);
+            for (int c = 0; c < 3; ++c) {
+                at_exit[c] += w[c];
+                at_first[c] += first[c];
+            }
+            left = true;
+            break;
+        }
+        events += n_events;
+        if (left) ++paths;
+    }
+    // The azimuthal density over |φ| as its Fourier series (the noise of a histogram would
+    // be larger than the shape's detail), integrated per bin and floored at 0.
+    const double width = kPi<double> / MedullaTables<double>::kPhiBins;
+    double mass[MedullaTables<double>::kPhiBins], total = 0;
+    for (int k = 0; k < MedullaTables<double>::kPhiBins; ++k) {
+        const double a = k * width, b = a + width;
+        double m = b - a;
+        if (fourier[0] > 0)
+            for (int j = 1; j <= kFurFourierTerms; ++j) m += 2 * fourier[j] / fourier[0] * (std::sin(j * b) - std::sin(j * a)) / j;
+        mass[k] = std::max(0.0, m);
+        total += mass[k];
+    }
+    tab.cdf[bin][0] = 0;
+    for (int k = 0; k < MedullaTables<double>::kPhiBins; ++k) {
+        tab.density[bin][k] = mass[k] / (total * width);
+        tab.cdf[bin][k + 1] = k + 1 < MedullaTables<double>::kPhiBins ? tab.cdf[bin][k] + mass[k] / total : 1.0;
+    }
+    for (int c = 0; c < 3; ++c) {
+        const bool lossless = p.cortex.sigma_a[c] == 0 && p.sigma_a_medulla[c] == 0;  // exactly 1 by construction
+        tab.escape[bin][c] = lossless || !(at_first[c] > 0) ? 1.0 : std::min(1.0, at_exit[c] / at_first[c]);
+    }
+}
+
+// The tables of a material (host): uniform and lossless where the medulla does not scatter.
+template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& params) {
+    FurParams<double> p;
+    p.cortex.eta = double(params.cortex.eta);
+    p.cortex.sigma_a = glm::dvec3(params.cortex.sigma_a);
+    p.kappa = double(params.kappa);
+    p.sigma_s = double(params.sigma_s);
+    p.sigma_a_medulla = glm::dvec3(params.sigma_a_medulla);
+    p.g = double(params.g);
+    MedullaTables<double> d;
+    constexpr int kTheta = MedullaTables<T>::kThetaBins, kPhi = MedullaTables<T>::kPhiBins;
+    for (int t = 0; t < kTheta; ++t) {
+        if (p.kappa > 0 && p.sigma_s > 0) {
+            simulate_medulla_bin(p, (t + 0.5) * kHalfPi<double> / kTheta, t, d);
+            continue;
+        }
+        for (int k = 0; k < kPhi; ++k) {
+            d.density[t][k] = kInvPi<double>;
+            d.cdf[t][k] = double(k) / kPhi;
+        }
+        d.cdf[t][kPhi] = 1;
+        for (int c = 0; c < 3; ++c) d.escape[t][c] = 1;
+    }
+    MedullaTables<T> r;
+    for (int t = 0; t < kTheta; ++t) {
+        for (int k = 0; k < kPhi; ++k) r.density[t][k] = T(d.density[t][k]);
+        for (int k = 0; k <= kPhi; ++k) r.cdf[t][k] = T(d.cdf[t][k]);
+        for (int c = 0; c < 3; ++c) r.escape[t][c] = T(d.escape[t][c]);
+    }
+    return r;
+}
+
+}  // namespace detail
+
+// Everything that depends only on the fur parameters, computed once per material on the
+// host (validated: the constructor throws std::invalid_argument naming the bad parameter;
+// docs/models.md gives the medulla tables' build time). Trivially copyable.
+// Its d'Eon ingredients (longitudinal(p), tilt()) are DeonLobes', as ChiangMaterial's.
+template <typename T> class FurMaterial : public DeonLobes<T> {
+  public:
+    static constexpr int kLobes = DeonLobes<T>::kLobes;
+
+    explicit FurMaterial(const FurParams<T>& params)
+        : DeonLobes<T>(validated(params).cortex.beta_m, params.cortex.alpha), params_(params),
+          n_(logistic_scale(params.cortex.beta_n)), tables_(detail::build_medulla_tables(params)) {}
+
+    HAIRSCATTER_HD const FurParams<T>& params() const { return params_; }
+    HAIRSCATTER_HD const TrimmedLogistic<T>& azimuthal() const { return n_; }
+    HAIRSCATTER_HD const MedullaTables<T>& medulla() const { return tables_; }
+
+  private:
+    FurParams<T> params_;
+    TrimmedLogistic<T> n_;
+    MedullaTables<T> tables_;
+};
+
+// One fur fibre hit at offset h ∈ [-1, 1], behind the contract (models/contract.hpp), with
+// ChiangFiber's conventions. Lobes: R, TT, TRT and the residual (Chiang et al. 2016 with the
+// medulla's extinction in every chord), and S, the light scattered in the medulla:
+//   f_S = E_S(wo, h) · (2/π) cosθi · N_S(φ; θo)
+// with E_S = (1 − F) first / (1 − T F) · a_esc: every pass's light that first scatters in the
+// medulla, times the fraction that then leaves (MedullaTables). For σa^c = σa^m = 0,
+// Σ_p A_p + E_S = 1 exactly (the extinction removes from the unscattered lobes what S
+// gains). The longitudinal factor (2/π) cosθi per unit sinθi is the far-field exit of a
+// diffusely lit cylinder; it does not depend on θo (the reference shows no memory of it).
+// sample: u.x picks the lobe ∝ its energy (channel sum), S is drawn exactly: sinθi as the
+// x coordinate of a uniform point on the unit disk (u.y, u.z), φ from its table (u.w).
+// kLobes is 3: lobe_split and sample report S together with the residual.
+template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
+  public:
+    using V3 = glm::vec<3, T>;
+    using V4 = glm::vec<4, T>;
+    using Material = FurMaterial<T>;
+    static constexpr int kLobes = Material::kLobes;
+    using LobeSplit = hairscatter::LobeSplit<T, kLobes>;
+
+    // Cheap, device-callable: h is clamped into [-1, 1] (clamped_offset).
+    HAIRSCATTER_HD FurFiber(const Material& material, T h) : mat_(&material), h_(clamped_offset(h)) {
+        gamma_o_ = elem::asin(h_);
+        cos_gamma_o_ = cos_from_sin(h_);
+    }
+    FurFiber(const Material&&, T) = delete;
+
+    // Host: the fibre at h, which must lie in [-1, 1] (throws std::invalid_argument).
+    static FurFiber checked(const Material& material, T h) { return FurFiber(material, checked_offset(h)); }
+
+    HAIRSCATTER_HD T h() const { return h_; }
+    HAIRSCATTER_HD const Material& material() const { return *mat_; }
+
+    // Per lobe, A_p(wo) and the share of it in |φ − centre| < π/2 (ChiangFiber's); the
+    // scattered lobe is added to the residual's entry, its share from its table.
+    HAIRSCATTER_HD LobeSplit lobe_split(V3 wo, T centre = T(0)) const {
+        if (!unit_direction(wo)) return empty_lobe_split<T, kLobes>();
+        const Outgoing o = outgoing<false>(wo);
+        LobeSplit r;
+        for (int p = 0; p < kLobes; ++p) {
+            r.a[p] = V3(o.a[p][0], o.a[p][1], o.a[p][2]);
+            r.backward[p] = mat_->azimuthal().arc_mass(centre - kHalfPi<T> - o.phi_p[p], kPi<T>);
+        }
+        const V3 res(o.a[kLobes][0], o.a[kLobes][1], o.a[kLobes][2]), s(o.a[kS][0], o.a[kS][1], o.a[kS][2]);
+        r.a[kLobes] = res + s;
+        const T wr = res.x + res.y + res.z, ws = s.x + s.y + s.z;
+        const T bs = mat_->medulla().arc_mass(o.theta_bin, centre);
+        r.backward[kLobes] = wr + ws > T(0) ? (T(0.5) * wr + bs * ws) / (wr + ws) : T(0.5);
+        return r;
+    }
+
+    // Σ_p A_p + E_S: exact, every lobe's angular factor being normalised.
+    HAIRSCATTER_HD V3 albedo(V3 wo) const {
+        if (!unit_direction(wo)) return V3(T(0));
+        return albedo_from(outgoing<false>(wo));
+    }
+
+    // The medulla-scattered lobe alone, f_S(wo, wi) (eval less Chiang's lobes): for studies
+    // and for the tests against the physical reference's scattered light.
+    HAIRSCATTER_HD V3 eval_scattered(V3 wo, V3 wi) const {
+        if (!unit_directions(wo, wi)) return V3(T(0));
+        const Outgoing o = outgoing<false>(wo);
+        const T sin_i = clamp(wi.x, T(-1), T(1));
+        return scattered_density(o, cos_from_sin(sin_i), relative_azimuth(wo, wi)) * V3(o.a[kS][0], o.a[kS][1], o.a[kS][2]);
+    }
+
+  private:
+    friend class FiberModel<FurFiber, T>;
+    friend class BoundFiber<FurFiber>;
+
+    static constexpr int kS = kLobes + 1;  // the scattered lobe's index here
+
+    struct Outgoing {
+        T a[kS + 1][3];           // A_0 … A_3 and E_S per channel
+        T w[kS + 1];              // selection weights (channel sums)
+        T w_total, inv_w_total;
+        T sin_p[kLobes + 1], cos_p[kLobes + 1];  // θo tilted per lobe
+        T phi_p[kLobes];          // Φ(p, h), wrapped
+        int theta_bin;
+    };
+
+    HAIRSCATTER_HD V3 albedo_from(const Outgoing& o) const {
+        V3 a(T(0));
+        for (int p = 0; p <= kS; ++p) a += V3(o.a[p][0], o.a[p][1], o.a[p][2]);
+        return a;
+    }
+
+    template <bool kW> HAIRSCATTER_HD Outgoing outgoing(const V3& wo) const {
+        const FurParams<T>& prm = mat_->params();
+        Outgoing o;
+        const T sin_o = clamp(wo.x, T(-1), T(1));
+        const T cos_o = cos_from_sin(sin_o);
+        const T fresnel = fresnel_dielectric(cos_o * cos_gamma_o_, prm.cortex.eta);
+        const FiberRefraction<T> refraction(sin_o, cos_o, prm.cortex.eta);
+        const typename FiberRefraction<T>::Path path = refraction.path(h_);
+        const detail::MedullaChord<T> chord = detail::medulla_chord(prm, path.sin_gamma_t, path.chord, refraction.chord_scale);
+        T att[kLobes + 1][3];
+        attenuation_channels<T, kLobes, 3>(fresnel, fresnel, chord.transmittance, att);
+        for (int p = 0; p <= kLobes; ++p)
+            for (int c = 0; c < 3; ++c) o.a[p][c] = att[p][c];
+        o.theta_bin = MedullaTables<T>::theta_bin(abs_value(sin_o));
+        for (int c = 0; c < 3; ++c) {
+            // Σ_k (1 − F)(T F)^(k−1) first: the light that first scatters on pass k, over k
+            // (the floor as in attenuation_channels: 1 − T F = 0 only where 1 − F = 0).
+            const T denom = T(1) - chord.transmittance[c] * fresnel;
+            o.a[kS][c] = (T(1) - fresnel) * chord.first_scatter[c] / (denom > kMinNormal<T> ? denom : kMinNormal<T>) *
+                         mat_->medulla().escape[o.theta_bin][c];
+        }
+        mat_->tilt_all(sin_o, cos_o, o.sin_p, o.cos_p);
+        const T gamma_t = elem::asin(path.sin_gamma_t);
+        for (int p = 0; p < kLobes; ++p) o.phi_p[p] = exit_azimuth_wrapped(p, gamma_o_, gamma_t);
+        if constexpr (kW) {
+            T total = T(0);
+            for (int p = 0; p <= kS; ++p) total += (o.w[p] = o.a[p][0] + o.a[p][1] + o.a[p][2]);
+            o.w_total = total;
+            o.inv_w_total = total > T(0) ? T(1) / total : T(0);
+        }
+        return o;
+    }
+
+    // Each lobe's angular density M_p N_p at (θi, φ): the products f and pdf weigh.
+    HAIRSCATTER_HD void densities(const Outgoing& o, T sin_i, T cos_i, T phi, T (&mn)[kS + 1]) const {
+        for (int p = 0; p <= kLobes; ++p) {
+            const T m = mat_->longitudinal(p).eval(sin_i, cos_i, o.sin_p[p], o.cos_p[p]);
+            mn[p] = m * (p < kLobes ? azimuthal_logistic(mat_->azimuthal(), phi, o.phi_p[p]) : kInvTwoPi<T>);
+        }
+        mn[kS] = scattered_density(o, cos_i, phi);
+    }
+    // S's density per steradian: (2/π) cosθi per unit sinθi times N_S(φ).
+    HAIRSCATTER_HD T scattered_density(const Outgoing& o, T cos_i, T phi) const {
+        return T(2) * kInvPi<T> * cos_i * mat_->medulla().azimuthal_pdf(o.theta_bin, phi);
+    }
+
+    template <bool kF, bool kPdf>
+    HAIRSCATTER_HD HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
+        const T sin_i = clamp(wi.x, T(-1), T(1));
+        return combine<kF, kPdf>(o, sin_i, cos_from_sin(sin_i), relative_azimuth(wo, wi));
+    }
+
+    template <bool kF, bool kPdf>
+    HAIRSCATTER_HD HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
+        T mn[kS + 1];
+        densities(o, sin_i, cos_i, phi, mn);
+        HairEvalPdf<T> r;
+        if constexpr (kF)
+            for (int p = 0; p <= kS; ++p) r.f += mn[p] * V3(o.a[p][0], o.a[p][1], o.a[p][2]);
+        if constexpr (kPdf) {
+            T sum = T(0);
+            for (int p = 0; p <= kS; ++p) sum += mn[p] * o.w[p];
+            r.pdf = sum * o.inv_w_total;
+        }
+        return r;
+    }
+
+    HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
+        const int p = sample_discrete(o.w, kS + 1, u.x, o.w_total).index;
+        T sin_i, phi;
+        if (p == kS) {
+            // The disk's x coordinate has the density (2/π)√(1 − x²): the lobe's in sinθi.
+            T s, c;
+            elem::sincos(kTwoPi<T> * u.z, s, c);
+            sin_i = clamp(safe_sqrt(u.y) * c, T(-1), T(1));
+            phi = mat_->medulla().sample_azimuth(o.theta_bin, u.w);
+        } else {
+            sin_i = mat_->longitudinal(p).sample_sin_theta(o.sin_p[p], o.cos_p[p], u.y, u.z);
+            phi = p < kLobes ? o.phi_p[p] + mat_->azimuthal().sample(u.w) : kTwoPi<T> * u.w - kPi<T>;
+        }
+        phi = wrap_pi(phi);
+        const T cos_i = cos_from_sin(sin_i);
+        const V3 wi = direction_from_azimuth(wo, sin_i, phi);
+        return make_sample(wi, lobe_tag(p < kS ? p : kLobes),
+                           combine<true, true>(o, sin_i, cos_i, queried_azimuth(wo, wi, cos_i, phi)));
+    }
+
+    const Material* mat_;
+    T h_ = T(0), gamma_o_ = T(0), cos_gamma_o_ = T(1);
+};
+
+static_assert(is_fiber_model_v<FurFiber<float>> && is_fiber_model_v<FurFiber<double>>);
+
+}  // namespace hairscatter

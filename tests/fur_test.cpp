@@ -1,0 +1,380 @@
+// FurFiber (models/fur.hpp): with no medulla it is ChiangFiber; the lossless fibre keeps
+// every bit of energy; sample draws the pdf (chi-square, with a negative control) and its
+// weight is eval / pdf; finite output at the parameters' extremes; bad parameters named;
+// the tables' build time; and the model against the physical fur reference's cache
+// (tests/data/physical_fur.txt, written by `physical_fur_tool cache`).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <hairscatter/models/chiang.hpp>
+#include <hairscatter/models/fur.hpp>
+
+#include "support/chi2.hpp"
+#include "support/physical_fur_cases.hpp"
+
+namespace hs = hairscatter;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+template <typename T> hs::FurParams<T> fur_params(double kappa, double sigma_s, double g, glm::dvec3 sigma_a) {
+    hs::FurParams<T> p;
+    p.kappa = T(kappa);
+    p.sigma_s = T(sigma_s);
+    p.g = T(g);
+    p.cortex.sigma_a = glm::vec<3, T>(sigma_a);
+    return p;
+}
+
+glm::dvec3 random_direction(std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> uni(0, 1);
+    const double z = 1 - 2 * uni(rng), r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * kPi * uni(rng);
+    return {z, r * std::cos(phi), r * std::sin(phi)};
+}
+
+glm::dvec3 direction(double theta_deg, double phi = 0) {
+    const double t = theta_deg * kPi / 180;
+    return {std::sin(t), std::cos(t) * std::cos(phi), std::cos(t) * std::sin(phi)};
+}
+
+// ∫ eval(wo, ·) over the sphere: midpoint in sinθ and φ (every lobe at β 0.3 is many cells wide).
+template <typename Fiber> glm::dvec3 integrate(const Fiber& fiber, const glm::dvec3& wo, int n = 600) {
+    using T = typename Fiber::Real;
+    glm::dvec3 sum(0.0);
+    const auto at = fiber.at(glm::vec<3, T>(wo));
+    for (int i = 0; i < n; ++i) {
+        const double x = -1 + (i + 0.5) * 2.0 / n, c = std::sqrt(1 - x * x);
+        for (int j = 0; j < 2 * n; ++j) {
+            const double phi = -kPi + (j + 0.5) * kPi / n;
+            sum += glm::dvec3(at.eval(glm::vec<3, T>(T(x), T(c * std::cos(phi)), T(c * std::sin(phi)))));
+        }
+    }
+    return sum * (2.0 / n) * (kPi / n);
+}
+
+}  // namespace
+
+// κ = 0: the medulla is absent and FurFiber is ChiangFiber: f, pdf, albedo and the sampled
+// directions agree within 1e-4 relative (float and double) over random parameters and
+// directions, σs^m and g ignored.
+template <typename T> void kappa_zero_is_chiang(double tol) {
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> uni(0, 1);
+    using V3 = glm::vec<3, T>;
+    double worst = 0;
+    for (int m = 0; m < 6; ++m) {
+        hs::FurParams<T> p = fur_params<T>(0, 10 * uni(rng), 0.5, glm::dvec3(2 * uni(rng), uni(rng), 0.3 * uni(rng)));
+        p.cortex.beta_m = T(0.1 + 0.8 * uni(rng));
+        p.cortex.beta_n = T(0.1 + 0.8 * uni(rng));
+        p.cortex.alpha = T((uni(rng) - 0.5) * 0.15);
+        const hs::FurMaterial<T> fur_mat(p);
+        const hs::ChiangMaterial<T> chiang_mat(p.cortex);
+        for (double h : {-0.9, -0.2, 0.0, 0.5, 0.99}) {
+            const hs::FurFiber<T> fur(fur_mat, T(h));
+            const hs::ChiangFiber<T> chiang(chiang_mat, T(h));
+            for (int k = 0; k < 200; ++k) {
+                const V3 wo(random_direction(rng)), wi(random_direction(rng));
+                const glm::dvec3 a(fur.eval(wo, wi)), b(chiang.eval(wo, wi));
+                for (int c = 0; c < 3; ++c) {
+                    const double e = std::fabs(a[c] - b[c]) / std::max(b[c], 1e-3);
+                    worst = std::max(worst, e);
+                    EXPECT_LE(e, tol) << "f channel " << c << " h " << h;
+                }
+                const double pa = fur.pdf(wo, wi), pb = chiang.pdf(wo, wi);
+                EXPECT_LE(std::fabs(pa - pb), tol * std::max(pb, 1e-3)) << "pdf h " << h;
+                const glm::dvec3 aa(fur.albedo(wo)), ab(chiang.albedo(wo));
+                for (int c = 0; c < 3; ++c) EXPECT_NEAR(aa[c], ab[c], tol * ab[c] + 1e-12);
+                const glm::vec<4, T> u(T(uni(rng)), T(uni(rng)), T(uni(rng)), T(uni(rng)));
+                const hs::HairSample<T> sa = fur.sample(wo, u), sb = chiang.sample(wo, u);
+                EXPECT_LE(glm::length(glm::dvec3(sa.wi - sb.wi)), 100 * tol) << "sample h " << h;
+            }
+        }
+    }
+    std::printf("[ fur ] κ = 0 against Chiang: worst relative difference of f %.2e\n", worst);
+}
+TEST(FurFiber, KappaZeroIsChiangDouble) { kappa_zero_is_chiang<double>(1e-4); }
+TEST(FurFiber, KappaZeroIsChiangFloat) { kappa_zero_is_chiang<float>(1e-4); }
+
+// σa^c = σa^m = 0: albedo 1 within 1e-3 at every offset and inclination (by construction:
+// the extinction's loss from the unscattered lobes is the scattered lobe's energy), and the
+// integral of eval over the sphere equals the albedo (every lobe's shape normalised).
+TEST(FurFiber, LosslessFurnace) {
+    double worst_albedo = 0, worst_integral = 0;
+    for (double kappa : {0.3, 0.6, 0.9})
+        for (double sigma_s : {1.0, 10.0})
+            for (double g : {0.0, 0.5}) {
+                const hs::FurMaterial<double> mat(fur_params<double>(kappa, sigma_s, g, glm::dvec3(0)));
+                for (double h : {-0.95, -0.3, 0.0, 0.4, 0.8})
+                    for (double theta : {-80.0, -30.0, 0.0, 45.0, 75.0}) {
+                        const hs::FurFiber<double> fiber(mat, h);
+                        const glm::dvec3 a = fiber.albedo(direction(theta));
+                        for (int c = 0; c < 3; ++c) worst_albedo = std::max(worst_albedo, std::fabs(a[c] - 1));
+                        EXPECT_NEAR(a.x, 1, 1e-3) << kappa << " " << sigma_s << " " << h << " " << theta;
+                    }
+                if (g == 0) {
+                    const hs::FurFiber<double> fiber(mat, 0.4);
+                    const glm::dvec3 wo = direction(30);
+                    const glm::dvec3 i = integrate(fiber, wo);
+                    worst_integral = std::max(worst_integral, std::fabs(i.x - fiber.albedo(wo).x));
+                    EXPECT_NEAR(i.x, fiber.albedo(wo).x, 1e-3) << "κ " << kappa << " σs " << sigma_s;
+                }
+            }
+    std::printf("[ fur ] lossless: worst |albedo − 1| %.2e, worst |∫ eval − albedo| %.2e\n", worst_albedo, worst_integral);
+}
+
+// The coloured fibre: ∫ eval = albedo per channel, and the albedo lies in [0, 1].
+TEST(FurFiber, AlbedoMatchesIntegralWithAbsorption) {
+    const hs::FurMaterial<double> mat(fur_params<double>(0.6, 10, 0.3, glm::dvec3(0.5447, 0.9061, 1.781)));
+    const hs::FurFiber<double> fiber(mat, -0.35);
+    const glm::dvec3 wo = direction(20, 0.3);
+    const glm::dvec3 i = integrate(fiber, wo), a = fiber.albedo(wo);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(i[c], a[c], 1e-3);
+        EXPECT_GT(a[c], 0);
+        EXPECT_LT(a[c], 1);
+    }
+}
+
+// Samples against the pdf (chi-square, Bonferroni over the tables) in float and double, and a
+// negative control: the same samples against the pdf of a medulla half as scattering fail.
+// The cubature stops at depth 4: the azimuthal table's steps inside a cell then cost under
+// 1e-3 of its expected count, far below the counts' noise.
+template <typename T> void chi_square(bool negative) {
+    struct Case {
+        double kappa, sigma_s, g, h, theta;
+        glm::dvec3 sigma_a;
+    };
+    const Case cases[] = {{0.6, 10, 0, 0.3, 30, glm::dvec3(0)},
+                          {0.9, 1, 0.5, -0.7, 60, glm::dvec3(0.5, 0.9, 1.8)},
+                          {0.3, 10, 0, 0.1, -10, glm::dvec3(0.2)},
+                          {0.8, 30, -0.3, 0.0, 80, glm::dvec3(2, 1, 0.5)}};
+    chi2::Options opt;
+    opt.samples = 200000;
+    opt.num_tests = 4;
+    opt.max_depth = 4;
+    for (const Case& c : cases) {
+        const hs::FurMaterial<T> mat(fur_params<T>(c.kappa, c.sigma_s, c.g, c.sigma_a));
+        const hs::FurMaterial<T> other(fur_params<T>(c.kappa, 0.5 * c.sigma_s, c.g, c.sigma_a));
+        const hs::FurFiber<T> fiber(mat, T(c.h)), wrong(other, T(c.h));
+        const glm::vec<3, T> wo(direction(c.theta, 0.4));
+        const auto at = fiber.at(wo);
+        const chi2::Result r = chi2::test(
+            [&](const glm::dvec4& u) { return glm::dvec3(at.sample(glm::vec<4, T>(u)).wi); },
+            [&](const glm::dvec3& wi) { return double((negative ? wrong : fiber).pdf(wo, glm::vec<3, T>(wi))); }, opt);
+        const std::string what = "κ " + std::to_string(c.kappa) + " σs " + std::to_string(c.sigma_s);
+        if (negative) {
+            EXPECT_FALSE(r.passed) << "negative control passed: " << what;
+        } else {
+            EXPECT_TRUE(r.passed) << what << " p " << r.p_value << "\n" << r.report;
+            EXPECT_NEAR(r.expected_total, 1, 2e-3) << what;
+            EXPECT_EQ(r.invalid, 0) << what;
+        }
+    }
+}
+TEST(FurFiber, ChiSquareDouble) { chi_square<double>(false); }
+TEST(FurFiber, ChiSquareFloat) { chi_square<float>(false); }
+TEST(FurFiber, ChiSquareNegativeControl) { chi_square<double>(true); }
+
+// Every sample's weight is eval / pdf at its wi and its pdf is pdf(wo, wi), to 1e-4, through
+// the stateless and the bound calls.
+template <typename T> void weight_is_eval_over_pdf() {
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> uni(0, 1);
+    const hs::FurMaterial<T> mat(fur_params<T>(0.7, 5, 0.4, glm::dvec3(0.3, 0.6, 1.2)));
+    int scattered = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const hs::FurFiber<T> fiber(mat, T(2 * uni(rng) - 1));
+        const glm::vec<3, T> wo(random_direction(rng));
+        const glm::vec<4, T> u(T(uni(rng)), T(uni(rng)), T(uni(rng)), T(uni(rng)));
+        const hs::HairSample<T> s = fiber.sample(wo, u), b = fiber.at(wo).sample(u);
+        ASSERT_GT(s.pdf, T(0));
+        EXPECT_EQ(glm::dvec3(s.wi), glm::dvec3(b.wi));
+        const hs::HairEvalPdf<T> e = fiber.eval_pdf(wo, s.wi);
+        EXPECT_NEAR(double(s.pdf), double(e.pdf), 1e-4 * double(e.pdf));
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(double(s.weight[c]), double(e.f[c] / e.pdf), 1e-4 * double(e.f[c] / e.pdf) + 1e-7);
+        scattered += s.lobe == hs::SampledLobe::kResidual;
+    }
+    EXPECT_GT(scattered, 1000);  // the scattered lobe (reported as the residual) is drawn
+}
+TEST(FurFiber, WeightIsEvalOverPdfDouble) { weight_is_eval_over_pdf<double>(); }
+TEST(FurFiber, WeightIsEvalOverPdfFloat) { weight_is_eval_over_pdf<float>(); }
+
+// No NaN, Inf or negative value at the parameters' extremes, offsets ±1 and the poles.
+template <typename T> void finite_at_extremes() {
+    using V3 = glm::vec<3, T>;
+    const V3 dirs[] = {V3(1, 0, 0), V3(-1, 0, 0), V3(0, 1, 0), V3(0, 0, -1), V3(T(0.999999), T(1e-3), 0),
+                       V3(T(-0.5), T(0.5), T(0.7)), V3(T(1e-30), 1, 0)};
+    const T hs_[] = {T(-1), T(-0.999), T(0), T(0.5), T(1)};
+    const T us[] = {T(0), T(1e-7), T(0.5), T(0.9999999), T(1)};
+    struct Medulla {
+        double kappa, sigma_s, g, sigma_a;
+    };
+    // No medulla, a vanishing one, one filling the fibre, barely and densely scattering, both
+    // extremes of g, transparent and opaque (σa 50 in cortex and medulla).
+    const Medulla medullas[] = {{0, 0, 0, 0},         {0, 0, 0, 50},          {0.5, 1e-6, 0.99, 0},
+                                {0.999999, 200, -0.99, 0}, {0.999999, 200, 0.99, 50}, {0.5, 5, 0, 50},
+                                {1e-6, 10, 0, 0}};
+    for (const Medulla& m : medullas) {
+        hs::FurParams<T> p = fur_params<T>(m.kappa, m.sigma_s, m.g, glm::dvec3(m.sigma_a));
+        p.sigma_a_medulla = V3(T(m.sigma_a));
+        const hs::FurMaterial<T> mat(p);
+        for (T h : hs_) {
+            const hs::FurFiber<T> fiber(mat, h);
+            for (const V3& wo : dirs) {
+                const V3 a = fiber.albedo(wo);
+                for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(a[c]) && a[c] >= 0 && a[c] <= T(1.0001));
+                for (const V3& wi : dirs) {
+                    const hs::HairEvalPdf<T> e = fiber.eval_pdf(wo, wi);
+                    ASSERT_TRUE(std::isfinite(e.pdf) && e.pdf >= 0);
+                    for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(e.f[c]) && e.f[c] >= 0);
+                }
+                for (T u0 : us)
+                    for (T u1 : us) {
+                        const hs::HairSample<T> s = fiber.sample(wo, glm::vec<4, T>(u0, u1, T(1) - u1, u0));
+                        ASSERT_TRUE(std::isfinite(s.pdf) && s.pdf >= 0);
+                        for (int c = 0; c < 3; ++c)
+                            ASSERT_TRUE(std::isfinite(s.weight[c]) && s.weight[c] >= 0 && std::isfinite(s.wi[c]));
+                    }
+            }
+        }
+    }
+}
+TEST(FurFiber, FiniteAtExtremesDouble) { finite_at_extremes<double>(); }
+TEST(FurFiber, FiniteAtExtremesFloat) { finite_at_extremes<float>(); }
+
+// Each bad parameter is rejected with a message that names it.
+TEST(FurMaterial, RejectsBadParametersByName) {
+    const double nan = std::nan("");
+    struct Bad {
+        const char* name;
+        void (*change)(hs::FurParams<double>&);
+    };
+    const Bad bad[] = {
+        {"kappa", [](hs::FurParams<double>& p) { p.kappa = 1; }},
+        {"kappa", [](hs::FurParams<double>& p) { p.kappa = -0.1; }},
+        {"sigma_s", [](hs::FurParams<double>& p) { p.sigma_s = -1; }},
+        {"sigma_s", [](hs::FurParams<double>& p) { p.sigma_s = HUGE_VAL; }},
+        {"sigma_a_medulla.g", [](hs::FurParams<double>& p) { p.sigma_a_medulla.y = -2; }},
+        {"g", [](hs::FurParams<double>& p) { p.g = 1; }},
+        {"g", [](hs::FurParams<double>& p) { p.g = -1.5; }},
+        {"eta", [](hs::FurParams<double>& p) { p.cortex.eta = 0.9; }},
+        {"sigma_a.b", [](hs::FurParams<double>& p) { p.cortex.sigma_a.z = -1; }},
+    };
+    for (const Bad& b : bad) {
+        hs::FurParams<double> p;
+        b.change(p);
+        EXPECT_NE(hs::validate(p).find(b.name), std::string::npos) << b.name << ": " << hs::validate(p);
+        try {
+            const hs::FurMaterial<double> m(p);
+            ADD_FAILURE() << "accepted a bad " << b.name;
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find(b.name), std::string::npos) << e.what();
+        }
+    }
+    hs::FurParams<double> p;
+    p.g = nan;
+    EXPECT_NE(hs::validate(p).find("g = "), std::string::npos);
+    EXPECT_TRUE(hs::validate(hs::FurParams<double>()).empty());
+    EXPECT_THROW(hs::FurFiber<double>::checked(hs::FurMaterial<double>(hs::FurParams<double>()), 1.5), std::invalid_argument);
+}
+
+// The tables of the densest medulla of the reference's grid (κ 0.9, σs^m 10) build in under a
+// second (an optimised build; sanitizers and debug builds only report the time).
+TEST(FurMaterial, TablesBuildWithinASecond) {
+    double worst = 0;
+    for (double kappa : {0.3, 0.9})
+        for (double sigma_s : {1.0, 10.0}) {
+            const auto t0 = std::chrono::steady_clock::now();
+            const hs::FurMaterial<float> mat(fur_params<float>(kappa, sigma_s, 0, glm::dvec3(0.5447, 0.9061, 1.781)));
+            const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            std::printf("[ fur ] tables κ %.1f σs %g: %.3f s (%zu bytes)\n", kappa, sigma_s, s, sizeof(mat.medulla()));
+            worst = std::max(worst, s);
+        }
+#if defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__)
+    EXPECT_LT(worst, 1.0);
+#endif
+}
+
+// The model, averaged over the offset h (a far-field beam, as the reference traces), against
+// the physical fur reference's bins: relative L1 over the sphere per case, lossless and blond
+// (the RGB mean), of the whole f and of the light scattered in the medulla alone (the
+// reference's scattered class against eval_scattered). With the rough cortex (GGX 0.3; the
+// model's Chiang lobes at β_m = β_n = 0.3) the whole f carries the Chiang lobes' distance
+// from that rough cylinder (κ = 0: 72 %), and so does the scattered light's energy, which
+// the cortex's paths feed; the nearly smooth cortex (GGX 0.02, the light scattered in the
+// medulla only) measures the medulla's lobe where the model's smooth-cylinder paths hold.
+// The figures of docs/models.md, printed; the bounds guard what is reached (the goal, 5 %,
+// is not reached everywhere: see docs/models.md).
+TEST(FurPhysical, AgainstThePhysicalFur) {
+    const std::vector<phys_fur::FurCached> cases = phys_fur::read_fur_cache(HAIRSCATTER_TEST_DATA_DIR "/physical_fur.txt");
+    constexpr int kH = 48;  // midpoint offsets over [-1, 1]
+    struct Row {
+        double all[2] = {0, 0}, scattered[2] = {0, 0}, energy[2][2] = {{0, 0}, {0, 0}};  // [lossless, blond]
+    };
+    std::vector<Row> rows(cases.size());
+    std::vector<std::thread> pool;
+    for (int t = 0; t < 2; ++t)
+        pool.emplace_back([&, t] {
+            for (std::size_t k = std::size_t(t); k < cases.size(); k += 2) {
+                const phys_fur::FurCase& fc = cases[k].fur;
+                for (int b = 0; b < 2; ++b) {
+                    const glm::dvec3 sa = b ? glm::dvec3(phys_fiber::kBlond[0], phys_fiber::kBlond[1], phys_fiber::kBlond[2]) : glm::dvec3(0);
+                    const hs::FurMaterial<double> mat(fur_params<double>(fc.kappa, fc.sigma_s, fc.g, sa));
+                    std::vector<hs::FurFiber<double>> fibers;
+                    for (int i = 0; i < kH; ++i) fibers.emplace_back(mat, -1 + (i + 0.5) * 2.0 / kH);
+                    const bool smooth = fc.roughness < 0.1;
+                    for (int part = smooth ? 1 : 0; part < (fc.kappa > 0 ? 2 : 1); ++part) {
+                        const auto eval = [&](const glm::dvec3& wo, const glm::dvec3& wi) {
+                            glm::dvec3 f(0.0);
+                            for (const auto& fiber : fibers) f += part ? fiber.eval_scattered(wo, wi) : fiber.eval(wo, wi);
+                            return f / double(kH);
+                        };
+                        const phys_fiber::CachedCase& ref = part ? cases[k].scattered : cases[k].bins;
+                        const std::vector<glm::dvec3> bins = phys_fiber::model_bins(ref, eval);
+                        double e = 0;
+                        for (int ch = 0; ch < (b ? 3 : 1); ++ch) {
+                            const phys_fiber::ModelError m = phys_fiber::compare(ref, bins, ch, b ? ch + 1 : 0);
+                            e += m.l1 / (b ? 3 : 1);
+                            if (part && ch == (b ? 1 : 0)) rows[k].energy[b][0] = m.energy_model, rows[k].energy[b][1] = m.energy_ref;
+                        }
+                        (part ? rows[k].scattered : rows[k].all)[b] = e;
+                    }
+                }
+            }
+        });
+    for (auto& th : pool) th.join();
+    double worst_all = 0, worst[2] = {0, 0}, mean[2] = {0, 0};  // scattered: [rough, smooth]
+    int n[2] = {0, 0};
+    for (std::size_t k = 0; k < cases.size(); ++k) {
+        const Row& r = rows[k];
+        const int smooth = cases[k].fur.roughness < 0.1;
+        std::printf("[ physical ] %-26s f: lossless %5.1f %% blond %5.1f %% | scattered: lossless %5.1f %% blond %5.1f %%"
+                    " (energy lossless %.3f/%.3f, blond G %.3f/%.3f)\n",
+                    cases[k].fur.name().c_str(), 100 * r.all[0], 100 * r.all[1], 100 * r.scattered[0], 100 * r.scattered[1],
+                    r.energy[0][0], r.energy[0][1], r.energy[1][0], r.energy[1][1]);
+        worst_all = std::max({worst_all, r.all[0], r.all[1]});
+        if (cases[k].fur.kappa > 0) {
+            worst[smooth] = std::max({worst[smooth], r.scattered[0], r.scattered[1]});
+            mean[smooth] += r.scattered[0] + r.scattered[1];
+            n[smooth] += 2;
+        }
+    }
+    for (int sm = 0; sm < 2; ++sm) mean[sm] /= std::max(1, n[sm]);
+    std::printf("[ physical ] rough cortex: f worst %.1f %%; scattered worst %.1f %%, mean %.1f %%\n", 100 * worst_all,
+                100 * worst[0], 100 * mean[0]);
+    std::printf("[ physical ] smooth cortex: scattered worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst[1], 100 * mean[1]);
+    EXPECT_LT(worst_all, 1.10);
+    EXPECT_LT(worst[0], 0.37);
+    EXPECT_LT(mean[0], 0.18);
+    EXPECT_LT(worst[1], 0.19);
+    EXPECT_LT(mean[1], 0.10);
+}
