@@ -113,7 +113,16 @@ int main(int argc, char** argv) {
     app.add_option("--light-size", lighting.light_size, "side of the square area light")->capture_default_str();
     app.add_option("--light-power", lighting.light_power, "area light scale (0: no area light)")
         ->capture_default_str();
-    app.add_option("--environment", lighting.environment, "constant environment radiance")->capture_default_str();
+    app.add_option("--environment", lighting.environment, "constant environment radiance, in [0, 10^6]")
+        ->capture_default_str();
+    app.add_option("--env", lighting.env,
+                   "environment: constant (--environment's radiance) | studio (procedural softboxes and a "
+                   "gradient) | FILE (an OpenEXR lat-long map, width = 2 x height, RGB), importance-sampled")
+        ->capture_default_str();
+    app.add_option("--env-rotate", lighting.env_rotate_deg, "rotates the environment map about +y, degrees in [-360, 360]")
+        ->capture_default_str();
+    app.add_option("--env-intensity", lighting.env_intensity, "scales the environment (map or constant), in [0, 10^6]")
+        ->capture_default_str();
     app.add_flag("--hair-only", ro.hair_only, "render only pixels whose primary ray hits hair");
     app.add_flag("--mask", mask, "also write <out>_mask.png, the hair-pixel mask");
     app.add_option("--exposure", exposure, "PNG preview exposure in stops")->capture_default_str();
@@ -150,6 +159,7 @@ int main(int argc, char** argv) {
         if (scene_name == "fur") render::validate(fur);
         if (scene_name == "slab") render::validate(slab, lighting);
         if (scene_name == "file" && hair_file.empty()) throw std::invalid_argument("--scene file needs --hair-file");
+        const std::shared_ptr<const render::Environment> env_map = render::load_environment(lighting);
 
         render::ShadingOptions so;
         so.model = ex::parse_model(fiber.model);
@@ -189,6 +199,9 @@ int main(int argc, char** argv) {
         else if (scene_name == "slab") desc = render::make_slab_scene(slab, lighting);
         else desc = render::make_file_scene(hair_file, thickness_scale, lighting);
         if (no_ground) render::remove_ground(desc);
+        desc.environment *= lighting.env_intensity;
+        // The Cornell box is closed: no environment reaches inside.
+        if (scene_name != "cornell") desc.environment_map = env_map;
         if (!write_hair.empty()) {
             render::HairFile file;
             for (const auto& strand : desc.hair.strands) {

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +17,8 @@
 #include "hair_gen.hpp"
 
 namespace render {
+
+class Environment;  // environment.hpp
 
 struct Camera {
     glm::vec3 eye{0, 2.5f, 14}, target{0, 2.5f, 0}, up{0, 1, 0};
@@ -47,6 +50,8 @@ struct SceneDescription {
     Hair hair;
     std::optional<AreaLight> light;
     glm::vec3 environment{0.0f};  // constant radiance of every direction that escapes
+    // When set, the radiance of the directions that escape instead of `environment`.
+    std::shared_ptr<const Environment> environment_map;
 };
 
 // Sizes of what the Scene holds, for memory studies.

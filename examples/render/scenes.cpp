@@ -77,6 +77,17 @@ void validate(const LightingOptions& l) {
             "--light-power: " + num(l.light_power) + " is not a power in [0, 10^6]");
     require(std::isfinite(l.environment) && l.environment >= 0 && l.environment <= 1e6f,
             "--environment: " + num(l.environment) + " is not a radiance in [0, 10^6]");
+    require(!l.env.empty(), "--env: expected constant, studio or an OpenEXR file");
+    require(std::isfinite(l.env_rotate_deg) && std::abs(l.env_rotate_deg) <= 360,
+            "--env-rotate: " + num(l.env_rotate_deg) + " is not an angle in [-360, 360] degrees");
+    require(std::isfinite(l.env_intensity) && l.env_intensity >= 0 && l.env_intensity <= 1e6f,
+            "--env-intensity: " + num(l.env_intensity) + " is not a factor in [0, 10^6]");
+}
+
+std::shared_ptr<const Environment> load_environment(const LightingOptions& l) {
+    if (l.env == "constant") return nullptr;
+    const LatLongMap map = l.env == "studio" ? make_studio_map() : read_lat_long_exr(l.env);
+    return std::make_shared<const Environment>(map, l.env_rotate_deg, l.env_intensity);
 }
 
 void validate(const BlockOptions& b) {

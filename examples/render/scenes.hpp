@@ -2,8 +2,10 @@
 // fur ball and a slab of parallel strands, as SceneDescriptions.
 #pragma once
 
+#include <memory>
 #include <string>
 
+#include "environment.hpp"
 #include "scene.hpp"
 
 namespace render {
@@ -14,11 +16,20 @@ struct LightingOptions {
     float light_size = 2.0f;       // side of the square area light
     float light_power = 1.0f;      // multiplies the preset's light radiance; 0 removes it
     float environment = 0.15f;     // constant environment radiance (grey); 0 for none
+    // --env: "constant" (the radiance above), "studio" (make_studio_map) or an OpenEXR
+    // lat-long file; rotated about +y and scaled by env_intensity (the constant too).
+    std::string env = "constant";
+    float env_rotate_deg = 0.0f;
+    float env_intensity = 1.0f;
 };
 
 // Throw std::invalid_argument naming the bad option by its command-line flag and its range
 // (light size, power and environment; gravity, curl; counts, sizes and radii).
 void validate(const LightingOptions& lighting);
+
+// The environment map --env asks for (read or made once, before the scene is built); null
+// for "constant". Throws std::invalid_argument naming --env and the file.
+std::shared_ptr<const Environment> load_environment(const LightingOptions& lighting);
 void validate(const BlockOptions& block);
 void validate(const ScalpOptions& scalp);
 // Fur: --fur-hairs, --fur-length, --fur-tilt (degrees in [0, 90)), --fiber-radius.
