@@ -125,7 +125,30 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_flag("--hair-only", ro.hair_only, "render only pixels whose primary ray hits hair");
     app.add_flag("--mask", mask, "also write <out>_mask.png, the hair-pixel mask");
-    app.add_option("--exposure", exposure, "PNG preview exposure in stops")->capture_default_str();
+    app.add_option("--exposure", exposure, "PNG preview exposure in stops, in [-64, 64]")->capture_default_str();
+    std::string tone = "clamp";
+    app.add_option("--tone", tone,
+                   "PNG preview tone curve: clamp (values above 1 show white) | filmic (a highlight shoulder, ACES "
+                   "fit); the EXR stays linear")
+        ->check(CLI::IsMember({"clamp", "filmic"}))
+        ->capture_default_str();
+    std::vector<float> eye, look_at, up, crop;
+    float fov = 0;
+    app.add_option("--eye", eye, "camera position x,y,z (default: the scene's, which frames it)")
+        ->delimiter(',')
+        ->expected(3);
+    app.add_option("--look-at", look_at, "the point the camera looks at, x,y,z (default: the scene's)")
+        ->delimiter(',')
+        ->expected(3);
+    app.add_option("--up", up, "camera up vector x,y,z, not along the view direction (default 0,1,0)")
+        ->delimiter(',')
+        ->expected(3);
+    app.add_option("--fov", fov, "vertical field of view in degrees, in [1, 170] (default: the scene's)");
+    app.add_option("--crop", crop,
+                   "render only the window x0,y0,x1,y1 of the --width x --height frame, in pixels from the top-left "
+                   "(0 <= x0 < x1 <= width, 0 <= y0 < y1 <= height): a close-up, the same pixels as the whole frame's")
+        ->delimiter(',')
+        ->expected(4);
     app.add_option("-o,--out", out, "output path without extension: writes <out>.exr and <out>.png")
         ->capture_default_str();
     app.add_flag("-q,--quiet", quiet, "no progress bar");
@@ -140,6 +163,10 @@ int main(int argc, char** argv) {
                       : sampling == "importance" ? render::Sampling::kImportance
                                                  : render::Sampling::kMis;
         ro.progress = !quiet && isatty(fileno(stderr));
+        for (float c : crop)
+            if (!(c == std::floor(c) && std::abs(c) < 1e9f))
+                throw std::invalid_argument("--crop takes whole pixel numbers x0,y0,x1,y1");
+        if (!crop.empty()) ro.crop = {int(crop[0]), int(crop[1]), int(crop[2]), int(crop[3])};
         render::validate(ro);
         // RGB floats, the PNG bytes, the mask and the pixel loop's copies: ~32 bytes a pixel.
         ex::check_image_size(ro.width, ro.height, 32);
@@ -199,6 +226,11 @@ int main(int argc, char** argv) {
         else if (scene_name == "slab") desc = render::make_slab_scene(slab, lighting);
         else desc = render::make_file_scene(hair_file, thickness_scale, lighting);
         if (no_ground) render::remove_ground(desc);
+        if (!eye.empty()) desc.camera.eye = {eye[0], eye[1], eye[2]};
+        if (!look_at.empty()) desc.camera.target = {look_at[0], look_at[1], look_at[2]};
+        if (!up.empty()) desc.camera.up = {up[0], up[1], up[2]};
+        if (app.count("--fov")) desc.camera.fov_y_deg = fov;
+        render::validate(desc.camera);
         desc.environment *= lighting.env_intensity;
         // The Cornell box is closed: no environment reaches inside.
         if (scene_name != "cornell") desc.environment_map = env_map;
@@ -240,7 +272,8 @@ int main(int argc, char** argv) {
         // Each file is written to a temporary and renamed when both are complete; a kill
         // between the two renames can still pair a new EXR with an old PNG, so both carry
         // the pair's id (also the summary's pair_id=): differing ids, files of two renders.
-        const std::vector<std::uint8_t> png = ex::tone_map(r.rgb, exposure);
+        const std::vector<std::uint8_t> png =
+            ex::tone_map(r.rgb, exposure, tone == "filmic" ? ex::ToneCurve::kFilmic : ex::ToneCurve::kClamp);
         const std::string summary = render::summary_line(scene, shading, ro, r) + " pair_id=" + ex::pair_id(r.rgb, png);
         ex::write_exr_png_pair(out + ".exr", out + ".png", r.width, r.height, r.rgb, {{"hairscatter:render", summary}}, png);
         if (mask) {

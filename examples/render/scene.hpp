@@ -25,6 +25,11 @@ struct Camera {
     float fov_y_deg = 35.0f;  // vertical field of view
 };
 
+// Throws std::invalid_argument naming the options (--eye, --look-at, --up, --fov) when
+// the camera has no view: a non-finite vector, the eye on the target, an up vector of
+// zero length or along the view direction, a field of view outside [1, 170] degrees.
+void validate(const Camera& camera);
+
 // A triangle mesh with one Lambertian albedo (or, for the area light, an emitter).
 // normals, when given, are per vertex (smooth shading, e.g. the sphere).
 struct Mesh {

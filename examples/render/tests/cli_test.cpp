@@ -100,6 +100,14 @@ TEST(RenderCli, RefusesOutOfRangeValuesNamingTheOption) {
     expect_refused("--light-size 1e30", "--light-size");
     expect_refused("--light-power 1e30", "--light-power");
     expect_refused("--environment 1e30", "--environment");
+    expect_refused("--eye 0,10,0 --look-at 0,0,0", "--up is along the view direction");
+    expect_refused("--up 0,0,0", "--up must not be zero");
+    expect_refused("--eye 1,2,3 --look-at 1,2,3", "--eye and --look-at are the same point");
+    expect_refused("--fov 0", "--fov");
+    expect_refused("--fov 171", "--fov");
+    expect_refused("--crop 0,0,17,12", "--crop");
+    expect_refused("--crop 4,4,4,8", "--crop");
+    expect_refused("--crop 0.5,0,8,8", "--crop");
     expect_refused("--env-rotate 400", "--env-rotate");
     expect_refused("--env studio --env-intensity -1", "--env-intensity");
     expect_refused("--env studio --env-intensity 0", "--env studio: the map is black");
@@ -125,7 +133,8 @@ TEST(RenderCli, RefusesOutOfRangeValuesNamingTheOption) {
     // The bounds themselves render (the negative control).
     for (const char* ok : {"--block-size 100", "--block-size 0.01 --fiber-radius 0.001", "--light-size 0.001",
                            "--exposure -64", "--dual improved --grid-cell 4", "--env studio --env-rotate -360",
-                           "--env constant --env-intensity 0"}) {
+                           "--env constant --env-intensity 0", "--eye 0,10,0 --look-at 0,0,0 --up 0,0,-1",
+                           "--fov 170 --crop 0,0,16,12 --tone filmic"}) {
         const Outcome r = run(tiny(std::string("--integrator dual ") + ok));
         EXPECT_EQ(r.status, 0) << ok << "\n" << r.output;
     }
