@@ -116,10 +116,10 @@ LatLongMap make_studio_map(int width) {
         glm::vec3 radiance;
     };
     const Softbox boxes[] = {
-        {315.0f, 35.0f, 22.0f, 16.0f, {6.0f, 5.7f, 5.2f}},   // key: front left, above
-        {130.0f, 25.0f, 5.0f, 30.0f, {7.0f, 7.5f, 8.0f}},     // rims: strips behind, out of frame
-        {230.0f, 25.0f, 5.0f, 30.0f, {4.0f, 4.3f, 4.6f}},
-        {65.0f, 10.0f, 14.0f, 14.0f, {1.2f, 1.2f, 1.25f}},    // fill: right, low
+        {315.0f, 35.0f, 22.0f, 16.0f, {10.0f, 9.5f, 8.7f}},  // key: front left, above
+        {130.0f, 25.0f, 5.0f, 30.0f, {10.0f, 10.7f, 11.4f}},  // rims: strips behind, out of frame
+        {230.0f, 25.0f, 5.0f, 30.0f, {6.0f, 6.4f, 6.9f}},
+        {65.0f, 10.0f, 14.0f, 14.0f, {2.0f, 2.0f, 2.1f}},     // fill: right, low
     };
     auto radiance = [&](float phi_deg, float elevation_deg) {
         // The studio's walls: dark floor, a soft horizon, a brighter ceiling.

@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
     render::BlockOptions block;
     render::ScalpOptions scalp;
     render::FurOptions fur;
+    render::HeadOptions head;
     render::SlabOptions slab;
     render::LightingOptions lighting;
     ex::FiberOptions fiber;
@@ -37,8 +38,11 @@ int main(int argc, char** argv) {
     bool wavy = false, mask = false, quiet = false, no_ground = false;
     std::string integrator = "dual", sampling = "mis";
 
-    app.add_option("--scene", scene_name, "block | cornell | scalp | fur | slab | file (with --hair-file)")
-        ->check(CLI::IsMember({"block", "cornell", "scalp", "fur", "slab", "file"}))
+    app.add_option("--scene", scene_name,
+                   "block | cornell | scalp | head (the showcase bust: studio environment, no area light and the "
+                   "filmic preview unless --env, --light-power or --tone say otherwise) | fur | slab | file (with "
+                   "--hair-file)")
+        ->check(CLI::IsMember({"block", "cornell", "scalp", "head", "fur", "slab", "file"}))
         ->capture_default_str();
     app.add_option("--hair-file", hair_file, "a Cem Yuksel .hair file (implies --scene file)")->check(CLI::ExistingFile);
     app.add_option("--write-hair", write_hair, "also save the scene's strands as a .hair file");
@@ -47,12 +51,19 @@ int main(int argc, char** argv) {
     app.add_option("--hairs", block.count, "block: number of strands (the study's: 1500, 3000, 6000, 12000)")
         ->capture_default_str();
     app.add_option("--block-size", block.size, "block: side of the cube")->capture_default_str();
-    app.add_option("--fiber-radius", block.radius, "block and slab: fiber radius; fur: when given (default 0.004)")
+    app.add_option("--fiber-radius", block.radius, "block and slab: fiber radius; fur and head: when given (defaults 0.004 and 0.003)")
         ->capture_default_str();
     app.add_flag("--wavy", wavy, "block: wavy strands instead of straight ones");
     app.add_option("--scalp-hairs", scalp.count, "scalp: number of strands")->capture_default_str();
     app.add_option("--curl", scalp.curl_radius, "scalp: curl radius (0: straight)")->capture_default_str();
     app.add_option("--gravity", scalp.gravity, "scalp: bend per unit length")->capture_default_str();
+    app.add_option("--head-hairs", head.count, "head: number of strands, in [1, 10^7]")->capture_default_str();
+    app.add_option("--hair-length", head.length, "head: mean strand length in head radii, in [0.05, 10] (each ±10 %)")
+        ->capture_default_str();
+    app.add_option("--clump", head.clump, "head: how far strands draw toward their clump's tip, in [0, 1]")
+        ->capture_default_str();
+    app.add_option("--frizz", head.frizz, "head: a random walk per unit length along the strands, in [0, 1]")
+        ->capture_default_str();
     app.add_option("--fur-hairs", fur.count, "fur: number of strands")->capture_default_str();
     app.add_option("--fur-length", fur.length, "fur: mean strand length (each varies by ±30 %)")
         ->capture_default_str();
@@ -184,6 +195,14 @@ int main(int argc, char** argv) {
         slab.radius = block.radius;
         if (app.count("--fiber-radius")) fur.radius = block.radius;
         if (scene_name == "fur") render::validate(fur);
+        if (app.count("--fiber-radius")) head.radius = block.radius;
+        if (scene_name == "head") {
+            render::validate(head);
+            // The showcase's look, unless asked otherwise.
+            if (!app.count("--env")) lighting.env = "studio";
+            if (!app.count("--light-power")) lighting.light_power = 0;
+            if (!app.count("--tone")) tone = "filmic";
+        }
         if (scene_name == "slab") render::validate(slab, lighting);
         if (scene_name == "file" && hair_file.empty()) throw std::invalid_argument("--scene file needs --hair-file");
         const std::shared_ptr<const render::Environment> env_map = render::load_environment(lighting);
@@ -223,6 +242,7 @@ int main(int argc, char** argv) {
         else if (scene_name == "cornell") desc = render::make_cornell_scene(block, lighting);
         else if (scene_name == "scalp") desc = render::make_scalp_scene(scalp, lighting);
         else if (scene_name == "fur") desc = render::make_fur_scene(fur, lighting);
+        else if (scene_name == "head") desc = render::make_head_scene(head, lighting);
         else if (scene_name == "slab") desc = render::make_slab_scene(slab, lighting);
         else desc = render::make_file_scene(hair_file, thickness_scale, lighting);
         if (no_ground) render::remove_ground(desc);

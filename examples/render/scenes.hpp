@@ -49,6 +49,14 @@ SceneDescription make_cornell_scene(const BlockOptions& block, const LightingOpt
 // A head (a skin-coloured diffuse sphere) with scalp hair, on the ground plane.
 SceneDescription make_scalp_scene(const ScalpOptions& scalp, const LightingOptions& lighting);
 
+// The showcase: a bust (head, neck and shoulders: HeadOptions::body) with long hair
+// parted on the side, no ground, framed from the front right at head height. Lit by
+// whatever `lighting` says (main gives it the studio environment and no area light unless
+// asked otherwise); an area light, when there is one, is the scalp scene's key.
+SceneDescription make_head_scene(const HeadOptions& head, const LightingOptions& lighting);
+// --head-hairs, --hair-length, --clump, --frizz, --fiber-radius.
+void validate(const HeadOptions& head);
+
 // A fur ball (FurOptions::body: on a diffuse body sphere of albedo 0.4, or an empty shell
 // of strands) floating above the ground plane, framed by the camera.
 SceneDescription make_fur_scene(const FurOptions& fur, const LightingOptions& lighting);
@@ -79,5 +87,6 @@ Mesh make_quad(const std::string& name, const glm::vec3& corner, const glm::vec3
                const glm::vec3& albedo);
 Mesh make_sphere(const std::string& name, const glm::vec3& center, float radius, const glm::vec3& albedo,
                  int rings = 48);
+Mesh make_ellipsoid(const std::string& name, const Ellipsoid& ellipsoid, const glm::vec3& albedo, int rings = 48);
 
 }  // namespace render
