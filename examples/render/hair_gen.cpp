@@ -241,8 +241,12 @@ Hair make_head(const HeadOptions& o) {
         !(o.clump >= 0 && o.clump <= 1) || !(o.frizz >= 0) || !(o.length_variation >= 0 && o.length_variation < 1))
         throw std::invalid_argument("make_head: count, segments, length, radius and clumps must be positive, clump in "
                                     "[0, 1], frizz >= 0, length_variation in [0, 1)");
-    const std::vector<Ellipsoid> body = o.body();
-    const Ellipsoid& head = body[0];
+    // The strands keep out of the body and of the face: an invisible ellipsoid in front of
+    // it, around which the hair parts to frame it (gravity alone would slide the strands
+    // that leave the parting down the forehead, where stiffness holds real hair back).
+    std::vector<Ellipsoid> body = o.body();
+    const Ellipsoid head = body[0];
+    body.push_back({head.center + glm::vec3(0.0f, -0.2f, 0.45f), {0.62f, 0.8f, 0.7f}});
     Pcg32 rng(o.seed, 9);
     // A root on the scalp: area-uniform on the unit sphere (then stretched to the head)
     // above the hairline, which runs from the nape (y = -0.45) over the ears to the brow
@@ -261,10 +265,12 @@ Hair make_head(const HeadOptions& o) {
         }
         const glm::vec3 p = head.center + head.radii * n;
         const glm::vec3 normal = glm::normalize(n / head.radii);
-        // In front of the crown the hair leaves the parting sideways and a little back;
-        // behind it, it leaves the crown.
+        // In front of the crown the hair leaves the parting sideways and a little back,
+        // swept further back toward the brow (so that it frames the face instead of
+        // falling over it); behind the crown it leaves the crown.
         const float side = p.x - head.center.x >= o.parting ? 1.0f : -1.0f;
-        glm::vec3 away = n.z > -0.3f ? glm::vec3(side, 0.0f, -0.35f) : glm::vec3(n.x, 0.0f, n.z);
+        glm::vec3 away = n.z > -0.3f ? glm::vec3(side, 0.0f, -0.35f - 2.0f * std::max(0.0f, n.z - 0.2f))
+                                     : glm::vec3(n.x, 0.0f, n.z);
         away -= glm::dot(away, normal) * normal;
         if (!(glm::length(away) > 1e-4f)) away = glm::vec3(0, -1, 0) - normal.y * normal;
         return Root{p, glm::normalize(glm::normalize(away) + 0.15f * normal)};
