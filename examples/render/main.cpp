@@ -1,7 +1,9 @@
-// render — the example renderer's command line: hair blocks, a Cornell box, a scalp, a fur
-// ball, a slab of parallel strands or a .hair file; single, dual and path-traced hair with
-// any of the library's fiber models; OpenEXR + PNG output and a summary line on stdout. Every option is checked before the
-// scene is built, with a message naming it.
+// render — the example renderer's command line: hair blocks, a Cornell box, a scalp, the
+// showcase bust, a fur ball, a slab of parallel strands or a .hair file, under a constant,
+// studio or OpenEXR environment; single, dual and path-traced hair with any of the
+// library's fiber models; a camera to place, a crop to render; OpenEXR + PNG output and a
+// summary line on stdout. Every option is checked before the scene is built, with a
+// message naming it.
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -22,9 +24,9 @@ namespace hs = hairscatter;
 namespace ex = hairscatter_examples;
 
 int main(int argc, char** argv) {
-    CLI::App app{"hairscatter example renderer: hair blocks, a Cornell box, a scalp, a fur ball and a slab lit by an "
-                 "area light and a constant environment, shaded with single scattering, dual scattering or a path "
-                 "tracer"};
+    CLI::App app{"hairscatter example renderer: hair blocks, a Cornell box, a scalp, a bust with long hair, a fur ball "
+                 "and a slab lit by an area light and a constant, studio or OpenEXR environment, shaded with single "
+                 "scattering, dual scattering or a path tracer"};
     std::string scene_name = "block", hair_file, write_hair, out = "out/render";
     render::RenderOptions ro;
     render::BlockOptions block;
