@@ -6,8 +6,8 @@
 #   RENDER=build/x/examples/render/render scripts/gallery.sh   # an already built renderer
 #
 # Builds the example renderer like scripts/run-example.sh (build/example, Release), renders
-# the showcase bust (--scene head) under the procedural studio environment with each
-# fiber model, from black to white hair, with single, dual and path-traced scattering and
+# the showcase bust (--scene head) under the procedural studio environment, close up and
+# from behind, with each fiber model, from black to white hair, with single, dual and path-traced scattering and
 # with one Chiang lobe at a time, and the fur ball; copies the PNG previews to
 # docs/gallery/ (the EXRs stay in out/gallery/) and writes docs/gallery.md with each
 # picture's command line and render time. Fails if the PNGs together exceed 3 MB.
@@ -48,6 +48,7 @@ rm -f "$PICS"/*.png
 COMMON=(--env studio --light-power 0 --tone filmic --quiet)
 SMALL=(--width 400 --height 225)
 
+load_start="$(cut -d' ' -f1 /proc/loadavg)"
 rows=""     # the current section's table rows
 body=""     # the page below its header
 section() { flush; body+=$'\n'"## $1"$'\n\n'"$2"$'\n\n'; }
@@ -80,6 +81,10 @@ total_render=0
 
 section "The showcase" "The bust with 30,000 strands of blond hair, dual scattering (the two-stream estimator) under the studio environment, the README's picture."
 picture head "blond, dual scattering" 64 --integrator dual --width 960 --height 540
+
+section "Camera" "\`--crop\` renders a window of the frame (here of the showcase's, the same pixels); \`--eye\` and \`--look-at\` move the camera: the back of the head, where the crown's strands leave it."
+picture closeup "close-up of the parting" 64 --integrator dual --width 1920 --height 1080 --crop 760,20,1160,245
+picture back "from behind" 32 "${SMALL[@]}" --integrator dual --eye -2,4.5,-7.2 --look-at 0,3.25,0
 
 section "Fiber models" "Each model path-traced (\`--integrator path\`: every scattering order), the default blond fiber. huang with \`--aspect 0.7\` is the elliptical fiber."
 for model in chiang farfield tabulated marschner; do
@@ -116,7 +121,8 @@ count=$(find "$PICS" -name '*.png' | wc -l)
     echo "renderer's own (\`time_s\` and \`build_s\` of its summary line) on $(nproc) cores of"
     echo "$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)."
     echo "$count pictures, $(awk -v b="$bytes" 'BEGIN { printf "%.2f", b / 1048576 }') MB of PNG,"
-    echo "$(awk -v t="$total_render" 'BEGIN { printf "%.0f", t }') s of rendering and scene building in all."
+    echo "$(awk -v t="$total_render" 'BEGIN { printf "%.0f", t }') s of rendering and scene building in all; the"
+    echo "1-minute load average was $load_start at the start and $(cut -d' ' -f1 /proc/loadavg) at the end."
     echo "$body"
 } >"$PAGE"
 echo "gallery: wrote $PAGE and $count pictures ($bytes bytes)" >&2
