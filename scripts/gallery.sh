@@ -83,7 +83,7 @@ section "The showcase" "The bust with 30,000 strands of blond hair, dual scatter
 picture head "blond, dual scattering" 64 --integrator dual --width 960 --height 540
 
 section "Camera" "\`--crop\` renders a window of the frame (here of the showcase's, the same pixels); \`--eye\` and \`--look-at\` move the camera: the back of the head, where the crown's strands leave it."
-picture closeup "close-up of the parting" 64 --integrator dual --width 1920 --height 1080 --crop 760,20,1160,245
+picture closeup "close-up of the parting" 64 --integrator dual --width 1920 --height 1080 --crop 760,90,1160,315
 picture back "from behind" 32 "${SMALL[@]}" --integrator dual --eye -2,4.5,-7.2 --look-at 0,3.25,0
 
 section "Fiber models" "Each model path-traced (\`--integrator path\`: every scattering order), the default blond fiber. huang with \`--aspect 0.7\` is the elliptical fiber."

@@ -240,8 +240,8 @@ SceneDescription make_head_scene(const HeadOptions& head, const LightingOptions&
     // Head and shoulders in a 16:9 frame, seen a little from the right and above.
     const glm::vec3 c = head.center;
     s.camera.eye = c + glm::vec3(2.0f, 0.5f, 7.2f);
-    s.camera.target = c + glm::vec3(0.0f, -0.75f, 0.0f);
-    s.camera.fov_y_deg = 30.0f;
+    s.camera.target = c + glm::vec3(0.0f, -0.7f, 0.0f);
+    s.camera.fov_y_deg = 32.0f;
     add_lighting(s, lighting, c + glm::vec3(-3, 5, 6), 25.0f);
     return s;
 }
