@@ -19,7 +19,8 @@ fi
 # BoostConfig.cmake; make is listed because cmake only recommends it; pkgconf is for the
 # consumer step's pkg-config build.)
 tests_pkgs=(cmake make g++ clang libglm-dev libgtest-dev libgmock-dev libboost-math-dev pkgconf)
-example_pkgs=(cmake make g++ libglm-dev libopenexr-dev libcli11-dev libstb-dev libpng-dev libembree-dev libtbb-dev libgtest-dev)
+example_pkgs=(cmake make g++ libglm-dev libopenexr-dev libcli11-dev libstb-dev libpng-dev libembree-dev libtbb-dev libgtest-dev
+              libboost-math-dev)
 bench_pkgs=(cmake make g++ libglm-dev libbenchmark-dev libboost-math-dev gnuplot-nox python3)
 # The Python module (scripts/python.sh): pybind11, numpy, pytest, matplotlib for the plots.
 python_pkgs=(cmake make g++ libglm-dev python3-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib)

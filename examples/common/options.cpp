@@ -1,6 +1,7 @@
 // hairscatter examples — the shared command-line vocabulary.
 #include "options.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -408,10 +409,19 @@ void prepare_output(const std::string& base) {
     }
 }
 
-std::vector<std::uint8_t> tone_map(const std::vector<float>& rgb, double exposure) {
+std::vector<std::uint8_t> tone_map(const std::vector<float>& rgb, double exposure, ToneCurve curve) {
     std::vector<std::uint8_t> out(rgb.size());
     const double gain = std::exp2(exposure);
-    for (std::size_t i = 0; i < rgb.size(); ++i) out[i] = srgb8(gain * double(rgb[i]));
+    // Narkowicz 2015, "ACES Filmic Tone Mapping Curve": x (a x + b) / (x (c x + d) + e),
+    // with its input scaled by 0.6 as the fit expects (so mid grey stays about mid grey).
+    auto filmic = [](double x) {
+        x = std::max(0.0, x) * 0.6;
+        return x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14);
+    };
+    for (std::size_t i = 0; i < rgb.size(); ++i) {
+        const double x = gain * double(rgb[i]);
+        out[i] = srgb8(curve == ToneCurve::kFilmic ? filmic(x) : x);
+    }
     return out;
 }
 

@@ -114,8 +114,14 @@ std::string strip_image_extension(std::string base);
 // there (before any long work); throws std::runtime_error naming the path and the reason.
 void prepare_output(const std::string& base);
 
-// Linear RGB times 2^exposure to 8-bit sRGB.
-std::vector<std::uint8_t> tone_map(const std::vector<float>& rgb, double exposure);
+// How the preview maps linear radiance to [0, 1] before the sRGB curve: clamp (the
+// default: 1 and above show white) or filmic (a shoulder that keeps highlights' colour
+// and detail: Narkowicz's 2015 fit of the ACES reference rendering transform).
+enum class ToneCurve { kClamp, kFilmic };
+
+// Linear RGB times 2^exposure, through the tone curve, to 8-bit sRGB.
+std::vector<std::uint8_t> tone_map(const std::vector<float>& rgb, double exposure,
+                                   ToneCurve curve = ToneCurve::kClamp);
 
 // Refuses images whose buffers would not fit: width × height × bytes_per_pixel above
 // max_bytes (default 4 GiB) throws std::invalid_argument naming --width and --height.

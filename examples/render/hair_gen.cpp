@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -174,6 +175,143 @@ Hair make_slab(const SlabOptions& o) {
         std::vector<glm::vec3> s(std::size_t(o.segments) + 1);
         for (int k = 0; k <= o.segments; ++k)
             s[std::size_t(k)] = glm::vec3(o.width * (float(k) / float(o.segments) - 0.5f), y, z);
+        hair.strands.push_back(std::move(s));
+    }
+    return hair;
+}
+
+glm::vec3 Ellipsoid::push_out(const glm::vec3& p, float margin) const {
+    // In the ellipsoid's unit-sphere space the test and the projection are a sphere's.
+    const glm::vec3 grown = radii + margin;
+    const glm::vec3 q = (p - center) / grown;
+    const float r = glm::length(q);
+    if (r >= 1 || !(r > 0)) return p;
+    return center + grown * (q / r);
+}
+
+std::vector<Ellipsoid> HeadOptions::body() const {
+    return {
+        {center, {0.92f, 1.05f, 1.0f}},                                  // head
+        {center + glm::vec3(0.0f, -1.25f, -0.1f), {0.42f, 0.75f, 0.42f}},  // neck
+        {center + glm::vec3(0.0f, -2.55f, -0.1f), {2.1f, 0.95f, 0.95f}},   // shoulders
+    };
+}
+
+namespace {
+
+// p pushed out of every ellipsoid: where two overlap (head and neck, neck and shoulders)
+// leaving one can enter the other, so a few rounds.
+glm::vec3 keep_outside(glm::vec3 p, float margin, const std::vector<Ellipsoid>& body) {
+    for (int round = 0; round < 4; ++round)
+        for (const Ellipsoid& e : body) p = e.push_out(p, margin);
+    return p;
+}
+
+// One strand grown from root p along d: follow-the-leader steps bent by gravity and kept
+// outside the body. Above the head's lower half a strand also stays within `layer` of the
+// scalp (the stiffness and the other strands that hold real hair down: without it, hair
+// leaves the crown along its tangent and stands off the head like a helmet).
+std::vector<glm::vec3> grow_strand(glm::vec3 p, glm::vec3 d, float length, float layer, const HeadOptions& o,
+                                   const std::vector<Ellipsoid>& body) {
+    const float step = length / float(o.segments), margin = 2 * o.radius;
+    const Ellipsoid& head = body[0];
+    const Ellipsoid shell{head.center, head.radii + layer};
+    std::vector<glm::vec3> s;
+    s.reserve(std::size_t(o.segments) + 1);
+    s.push_back(p);
+    for (int k = 1; k <= o.segments; ++k) {
+        d = glm::normalize(d + glm::vec3(0, -o.gravity * step, 0));
+        glm::vec3 q = p + step * d;
+        if (q.y > head.center.y - 0.3f * head.radii.y) {
+            const glm::vec3 u = (q - shell.center) / shell.radii;
+            if (const float r = glm::length(u); r > 1) q = shell.center + shell.radii * (u / r);
+        }
+        q = keep_outside(q, margin, body);
+        d = glm::normalize(q - p);
+        p = q;
+        s.push_back(p);
+    }
+    return s;
+}
+
+}  // namespace
+
+Hair make_head(const HeadOptions& o) {
+    if (o.count < 1 || o.segments < 2 || !(o.length > 0) || !(o.radius > 0) || o.clumps < 1 ||
+        !(o.clump >= 0 && o.clump <= 1) || !(o.frizz >= 0) || !(o.length_variation >= 0 && o.length_variation < 1))
+        throw std::invalid_argument("make_head: count, segments, length, radius and clumps must be positive, clump in "
+                                    "[0, 1], frizz >= 0, length_variation in [0, 1)");
+    // The strands keep out of the body and of the face: an invisible ellipsoid in front of
+    // it, around which the hair parts to frame it (gravity alone would slide the strands
+    // that leave the parting down the forehead, where stiffness holds real hair back).
+    std::vector<Ellipsoid> body = o.body();
+    const Ellipsoid head = body[0];
+    body.push_back({head.center + glm::vec3(0.0f, -0.2f, 0.45f), {0.62f, 0.8f, 0.7f}});
+    Pcg32 rng(o.seed, 9);
+    // A root on the scalp: area-uniform on the unit sphere (then stretched to the head)
+    // above the hairline, which runs from the nape (y = -0.45) over the ears to the brow
+    // (y = 0.55 at the front).
+    struct Root {
+        glm::vec3 p, d;
+    };
+    auto root = [&]() {
+        glm::vec3 n;
+        for (;;) {
+            const float y = 1 - 2 * rng.uniform(), phi = 2 * kPi * rng.uniform();
+            const float r = std::sqrt(std::max(0.0f, 1 - y * y));
+            n = glm::vec3(r * std::sin(phi), y, r * std::cos(phi));
+            const float hairline = n.z > 0 ? -0.1f + 0.65f * n.z : -0.1f + 0.35f * n.z;
+            if (n.y > hairline) break;
+        }
+        const glm::vec3 p = head.center + head.radii * n;
+        const glm::vec3 normal = glm::normalize(n / head.radii);
+        // In front of the crown the hair leaves the parting sideways and a little back,
+        // swept further back toward the brow (so that it frames the face instead of
+        // falling over it); behind the crown it leaves the crown.
+        const float side = p.x - head.center.x >= o.parting ? 1.0f : -1.0f;
+        glm::vec3 away = n.z > -0.3f ? glm::vec3(side, 0.0f, -0.35f - 2.0f * std::max(0.0f, n.z - 0.2f))
+                                     : glm::vec3(n.x, 0.0f, n.z);
+        away -= glm::dot(away, normal) * normal;
+        if (!(glm::length(away) > 1e-4f)) away = glm::vec3(0, -1, 0) - normal.y * normal;
+        return Root{p, glm::normalize(glm::normalize(away) + 0.15f * normal)};
+    };
+    // Guide strands first (one per clump), then the strands, each pulled toward the guide
+    // whose root is nearest its own.
+    std::vector<std::vector<glm::vec3>> guides;
+    guides.reserve(std::size_t(o.clumps));
+    for (int g = 0; g < o.clumps; ++g) {
+        const Root r = root();
+        guides.push_back(grow_strand(r.p, r.d, o.length, 0.08f, o, body));
+    }
+    Hair hair;
+    hair.radius = o.radius;
+    hair.strands.reserve(std::size_t(o.count));
+    for (int i = 0; i < o.count; ++i) {
+        const Root r = root();
+        const float length = o.length * (1 + o.length_variation * (2 * rng.uniform() - 1));
+        // Strands lie in layers up to 0.15 head radii deep.
+        std::vector<glm::vec3> s = grow_strand(r.p, r.d, length, 0.02f + 0.13f * rng.uniform(), o, body);
+        const std::vector<glm::vec3>* guide = &guides[0];
+        float nearest = std::numeric_limits<float>::max();
+        for (const auto& g : guides) {
+            const glm::vec3 e = g[0] - r.p;
+            if (const float d2 = glm::dot(e, e); d2 < nearest) nearest = d2, guide = &g;
+        }
+        // Clumping: toward the guide's shape moved to this root, the offset fading to the
+        // tip, so that with clump = 1 the tips meet; it grows from none at the root. The
+        // frizz's random walk grows with the distance along the strand. Both keep the body
+        // outside.
+        glm::vec3 walk(0.0f);
+        const float step = length / float(o.segments);
+        for (std::size_t k = 1; k < s.size(); ++k) {
+            const float t = float(k) / float(o.segments);
+            const glm::vec3 target = (*guide)[k] + (1 - t) * (r.p - (*guide)[0]);
+            glm::vec3 q = glm::mix(s[k], target, o.clump * t);
+            const glm::vec3 u(2 * rng.uniform() - 1, 2 * rng.uniform() - 1, 2 * rng.uniform() - 1);
+            walk += o.frizz * step * u;
+            q += t * walk;
+            s[k] = keep_outside(q, 2 * o.radius, body);
+        }
         hair.strands.push_back(std::move(s));
     }
     return hair;

@@ -76,6 +76,41 @@ struct FurOptions {
 };
 Hair make_fur(const FurOptions& options);
 
+// An ellipsoid, the bust's building block: the head, the neck and the shoulders are each
+// one, and strands are kept outside all of them.
+struct Ellipsoid {
+    glm::vec3 center{0.0f}, radii{1.0f};
+    // p pushed out along the ellipsoid's radial direction to `margin` (in scene units,
+    // approximately: the radii grow by it) outside, or p itself when already outside.
+    glm::vec3 push_out(const glm::vec3& p, float margin) const;
+};
+
+// The showcase bust facing +z: a head (radius 1, centre `center`), a neck and shoulders.
+// Its strands root area-uniformly on the scalp above a hairline (low at the nape, at the
+// brow in front), grow away from a side parting at x = center.x + parting (in front of the
+// crown) or away from the crown (behind it), then follow the head and fall under
+// `gravity` (bend per unit length) onto the shoulders, kept outside every ellipsoid.
+// `clump` in [0, 1] pulls each strand toward its clump's guide strand (1: tips meet);
+// `frizz` ≥ 0 adds a random walk of that size per unit length, growing toward the tips.
+struct HeadOptions {
+    int count = 30000;
+    glm::vec3 center{0.0f, 4.0f, 0.0f};
+    float length = 3.2f;
+    float length_variation = 0.1f;
+    float radius = 0.003f;
+    int segments = 40;
+    float gravity = 1.5f;
+    float parting = 0.3f;
+    float clump = 0.4f;
+    int clumps = 400;
+    float frizz = 0.02f;
+    std::uint64_t seed = 19;
+
+    // The bust's ellipsoids: head, neck, shoulders (in that order).
+    std::vector<Ellipsoid> body() const;
+};
+Hair make_head(const HeadOptions& options);
+
 // A slab of straight strands along +x, filling x in [-width/2, width/2], y in [0, height],
 // z in [-thickness/2, thickness/2] (strand axes; fibers reach out by their radius). The
 // count is set by `depth`, the mean number of fibers a ray along z crosses: a ray crosses

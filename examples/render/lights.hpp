@@ -1,9 +1,13 @@
-// render — the lights: the area light (picked with probability p_area) and the constant
-// environment, their sampling and the pdf of a direction that reached them.
+// render — the lights: the area light (picked with probability p_area) and the environment
+// (constant or a lat-long map, environment.hpp), their sampling and the pdf of a direction
+// that reached them.
 #pragma once
+
+#include <memory>
 
 #include <glm/glm.hpp>
 
+#include "environment.hpp"
 #include "sampling.hpp"
 #include "scene.hpp"
 
@@ -11,16 +15,18 @@ namespace render {
 
 struct Lights {
     const AreaLight* area = nullptr;
-    glm::vec3 env{0};
+    std::shared_ptr<const Environment> env;
     float p_area = 0;
 
-    explicit Lights(const SceneDescription& d) {
+    explicit Lights(const SceneDescription& d)
+        : env(d.environment_map ? d.environment_map : std::make_shared<const Environment>(d.environment)) {
         if (d.light && max3(d.light->radiance) > 0) area = &*d.light;
-        env = d.environment;
-        const bool has_env = max3(env) > 0;
-        p_area = area ? (has_env ? 0.5f : 1.0f) : 0.0f;
+        p_area = area ? (env->any() ? 0.5f : 1.0f) : 0.0f;
     }
-    bool any() const { return p_area > 0 || max3(env) > 0; }
+    bool any() const { return p_area > 0 || env->any(); }
+    bool has_env() const { return env->any(); }
+    // The radiance arriving from the environment along -d (d: a ray that escaped).
+    glm::vec3 env_radiance(const glm::vec3& d) const { return env->radiance(d); }
 
     struct Sample {
         glm::vec3 wi{0}, Le{0};
@@ -41,10 +47,11 @@ struct Lights {
             s.Le = area->radiance;
             s.pdf = p_area * dist * dist / (area->area() * cos_l);
         } else {
-            s.wi = uniform_sphere(u1, u2);
+            const Environment::Sample e = env->sample(u1, u2);
+            s.wi = e.wi;
             s.dist = kInf;
-            s.Le = env;
-            s.pdf = (1 - p_area) / (4 * kPi);
+            s.Le = e.Le;
+            s.pdf = (1 - p_area) * e.pdf;
         }
         return s;
     }
@@ -54,7 +61,7 @@ struct Lights {
         const float cos_l = -glm::dot(wi, area->normal());
         return cos_l > 0 ? p_area * t * t / (area->area() * cos_l) : 0.0f;
     }
-    float pdf_env() const { return (1 - p_area) / (4 * kPi); }
+    float pdf_env(const glm::vec3& wi) const { return (1 - p_area) * env->pdf(wi); }
 };
 
 }  // namespace render

@@ -1,7 +1,9 @@
-// render — the example renderer's command line: hair blocks, a Cornell box, a scalp, a fur
-// ball, a slab of parallel strands or a .hair file; single, dual and path-traced hair with
-// any of the library's fiber models; OpenEXR + PNG output and a summary line on stdout. Every option is checked before the
-// scene is built, with a message naming it.
+// render — the example renderer's command line: hair blocks, a Cornell box, a scalp, the
+// showcase bust, a fur ball, a slab of parallel strands or a .hair file, under a constant,
+// studio or OpenEXR environment; single, dual and path-traced hair with any of the
+// library's fiber models; a camera to place, a crop to render; OpenEXR + PNG output and a
+// summary line on stdout. Every option is checked before the scene is built, with a
+// message naming it.
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -22,14 +24,15 @@ namespace hs = hairscatter;
 namespace ex = hairscatter_examples;
 
 int main(int argc, char** argv) {
-    CLI::App app{"hairscatter example renderer: hair blocks, a Cornell box, a scalp, a fur ball and a slab lit by an "
-                 "area light and a constant environment, shaded with single scattering, dual scattering or a path "
-                 "tracer"};
+    CLI::App app{"hairscatter example renderer: hair blocks, a Cornell box, a scalp, a bust with long hair, a fur ball "
+                 "and a slab lit by an area light and a constant, studio or OpenEXR environment, shaded with single "
+                 "scattering, dual scattering or a path tracer"};
     std::string scene_name = "block", hair_file, write_hair, out = "out/render";
     render::RenderOptions ro;
     render::BlockOptions block;
     render::ScalpOptions scalp;
     render::FurOptions fur;
+    render::HeadOptions head;
     render::SlabOptions slab;
     render::LightingOptions lighting;
     ex::FiberOptions fiber;
@@ -37,8 +40,11 @@ int main(int argc, char** argv) {
     bool wavy = false, mask = false, quiet = false, no_ground = false;
     std::string integrator = "dual", sampling = "mis";
 
-    app.add_option("--scene", scene_name, "block | cornell | scalp | fur | slab | file (with --hair-file)")
-        ->check(CLI::IsMember({"block", "cornell", "scalp", "fur", "slab", "file"}))
+    app.add_option("--scene", scene_name,
+                   "block | cornell | scalp | head (the showcase bust: studio environment, no area light and the "
+                   "filmic preview unless --env, --light-power or --tone say otherwise) | fur | slab | file (with "
+                   "--hair-file)")
+        ->check(CLI::IsMember({"block", "cornell", "scalp", "head", "fur", "slab", "file"}))
         ->capture_default_str();
     app.add_option("--hair-file", hair_file, "a Cem Yuksel .hair file (implies --scene file)")->check(CLI::ExistingFile);
     app.add_option("--write-hair", write_hair, "also save the scene's strands as a .hair file");
@@ -47,12 +53,19 @@ int main(int argc, char** argv) {
     app.add_option("--hairs", block.count, "block: number of strands (the study's: 1500, 3000, 6000, 12000)")
         ->capture_default_str();
     app.add_option("--block-size", block.size, "block: side of the cube")->capture_default_str();
-    app.add_option("--fiber-radius", block.radius, "block and slab: fiber radius; fur: when given (default 0.004)")
+    app.add_option("--fiber-radius", block.radius, "block and slab: fiber radius; fur and head: when given (defaults 0.004 and 0.003)")
         ->capture_default_str();
     app.add_flag("--wavy", wavy, "block: wavy strands instead of straight ones");
     app.add_option("--scalp-hairs", scalp.count, "scalp: number of strands")->capture_default_str();
     app.add_option("--curl", scalp.curl_radius, "scalp: curl radius (0: straight)")->capture_default_str();
     app.add_option("--gravity", scalp.gravity, "scalp: bend per unit length")->capture_default_str();
+    app.add_option("--head-hairs", head.count, "head: number of strands, in [1, 10^7]")->capture_default_str();
+    app.add_option("--hair-length", head.length, "head: mean strand length in head radii, in [0.05, 10] (each ±10 %)")
+        ->capture_default_str();
+    app.add_option("--clump", head.clump, "head: how far strands draw toward their clump's tip, in [0, 1]")
+        ->capture_default_str();
+    app.add_option("--frizz", head.frizz, "head: a random walk per unit length along the strands, in [0, 1]")
+        ->capture_default_str();
     app.add_option("--fur-hairs", fur.count, "fur: number of strands")->capture_default_str();
     app.add_option("--fur-length", fur.length, "fur: mean strand length (each varies by ±30 %)")
         ->capture_default_str();
@@ -113,10 +126,42 @@ int main(int argc, char** argv) {
     app.add_option("--light-size", lighting.light_size, "side of the square area light")->capture_default_str();
     app.add_option("--light-power", lighting.light_power, "area light scale (0: no area light)")
         ->capture_default_str();
-    app.add_option("--environment", lighting.environment, "constant environment radiance")->capture_default_str();
+    app.add_option("--environment", lighting.environment, "constant environment radiance, in [0, 10^6]")
+        ->capture_default_str();
+    app.add_option("--env", lighting.env,
+                   "environment: constant (--environment's radiance) | studio (procedural softboxes and a "
+                   "gradient) | FILE (an OpenEXR lat-long map, width = 2 x height, RGB), importance-sampled")
+        ->capture_default_str();
+    app.add_option("--env-rotate", lighting.env_rotate_deg, "rotates the environment map about +y, degrees in [-360, 360]")
+        ->capture_default_str();
+    app.add_option("--env-intensity", lighting.env_intensity, "scales the environment (map or constant), in [0, 10^6]")
+        ->capture_default_str();
     app.add_flag("--hair-only", ro.hair_only, "render only pixels whose primary ray hits hair");
     app.add_flag("--mask", mask, "also write <out>_mask.png, the hair-pixel mask");
-    app.add_option("--exposure", exposure, "PNG preview exposure in stops")->capture_default_str();
+    app.add_option("--exposure", exposure, "PNG preview exposure in stops, in [-64, 64]")->capture_default_str();
+    std::string tone = "clamp";
+    app.add_option("--tone", tone,
+                   "PNG preview tone curve: clamp (values above 1 show white) | filmic (a highlight shoulder, ACES "
+                   "fit); the EXR stays linear")
+        ->check(CLI::IsMember({"clamp", "filmic"}))
+        ->capture_default_str();
+    std::vector<float> eye, look_at, up, crop;
+    float fov = 0;
+    app.add_option("--eye", eye, "camera position x,y,z (default: the scene's, which frames it)")
+        ->delimiter(',')
+        ->expected(3);
+    app.add_option("--look-at", look_at, "the point the camera looks at, x,y,z (default: the scene's)")
+        ->delimiter(',')
+        ->expected(3);
+    app.add_option("--up", up, "camera up vector x,y,z, not along the view direction (default 0,1,0)")
+        ->delimiter(',')
+        ->expected(3);
+    app.add_option("--fov", fov, "vertical field of view in degrees, in [1, 170] (default: the scene's)");
+    app.add_option("--crop", crop,
+                   "render only the window x0,y0,x1,y1 of the --width x --height frame, in pixels from the top-left "
+                   "(0 <= x0 < x1 <= width, 0 <= y0 < y1 <= height): a close-up, the same pixels as the whole frame's")
+        ->delimiter(',')
+        ->expected(4);
     app.add_option("-o,--out", out, "output path without extension: writes <out>.exr and <out>.png")
         ->capture_default_str();
     app.add_flag("-q,--quiet", quiet, "no progress bar");
@@ -131,6 +176,10 @@ int main(int argc, char** argv) {
                       : sampling == "importance" ? render::Sampling::kImportance
                                                  : render::Sampling::kMis;
         ro.progress = !quiet && isatty(fileno(stderr));
+        for (float c : crop)
+            if (!(c == std::floor(c) && std::abs(c) < 1e9f))
+                throw std::invalid_argument("--crop takes whole pixel numbers x0,y0,x1,y1");
+        if (!crop.empty()) ro.crop = {int(crop[0]), int(crop[1]), int(crop[2]), int(crop[3])};
         render::validate(ro);
         // RGB floats, the PNG bytes, the mask and the pixel loop's copies: ~32 bytes a pixel.
         ex::check_image_size(ro.width, ro.height, 32);
@@ -148,8 +197,17 @@ int main(int argc, char** argv) {
         slab.radius = block.radius;
         if (app.count("--fiber-radius")) fur.radius = block.radius;
         if (scene_name == "fur") render::validate(fur);
+        if (app.count("--fiber-radius")) head.radius = block.radius;
+        if (scene_name == "head") {
+            render::validate(head);
+            // The showcase's look, unless asked otherwise.
+            if (!app.count("--env")) lighting.env = "studio";
+            if (!app.count("--light-power")) lighting.light_power = 0;
+            if (!app.count("--tone")) tone = "filmic";
+        }
         if (scene_name == "slab") render::validate(slab, lighting);
         if (scene_name == "file" && hair_file.empty()) throw std::invalid_argument("--scene file needs --hair-file");
+        const std::shared_ptr<const render::Environment> env_map = render::load_environment(lighting);
 
         render::ShadingOptions so;
         so.model = ex::parse_model(fiber.model);
@@ -186,9 +244,18 @@ int main(int argc, char** argv) {
         else if (scene_name == "cornell") desc = render::make_cornell_scene(block, lighting);
         else if (scene_name == "scalp") desc = render::make_scalp_scene(scalp, lighting);
         else if (scene_name == "fur") desc = render::make_fur_scene(fur, lighting);
+        else if (scene_name == "head") desc = render::make_head_scene(head, lighting);
         else if (scene_name == "slab") desc = render::make_slab_scene(slab, lighting);
         else desc = render::make_file_scene(hair_file, thickness_scale, lighting);
         if (no_ground) render::remove_ground(desc);
+        if (!eye.empty()) desc.camera.eye = {eye[0], eye[1], eye[2]};
+        if (!look_at.empty()) desc.camera.target = {look_at[0], look_at[1], look_at[2]};
+        if (!up.empty()) desc.camera.up = {up[0], up[1], up[2]};
+        if (app.count("--fov")) desc.camera.fov_y_deg = fov;
+        render::validate(desc.camera);
+        desc.environment *= lighting.env_intensity;
+        // The Cornell box is closed: no environment reaches inside.
+        if (scene_name != "cornell") desc.environment_map = env_map;
         if (!write_hair.empty()) {
             render::HairFile file;
             for (const auto& strand : desc.hair.strands) {
@@ -227,7 +294,8 @@ int main(int argc, char** argv) {
         // Each file is written to a temporary and renamed when both are complete; a kill
         // between the two renames can still pair a new EXR with an old PNG, so both carry
         // the pair's id (also the summary's pair_id=): differing ids, files of two renders.
-        const std::vector<std::uint8_t> png = ex::tone_map(r.rgb, exposure);
+        const std::vector<std::uint8_t> png =
+            ex::tone_map(r.rgb, exposure, tone == "filmic" ? ex::ToneCurve::kFilmic : ex::ToneCurve::kClamp);
         const std::string summary = render::summary_line(scene, shading, ro, r) + " pair_id=" + ex::pair_id(r.rgb, png);
         ex::write_exr_png_pair(out + ".exr", out + ".png", r.width, r.height, r.rgb, {{"hairscatter:render", summary}}, png);
         if (mask) {

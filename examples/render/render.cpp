@@ -87,6 +87,11 @@ void validate(const RenderOptions& o) {
             "--max-depth must be in [1, 10^6] (got " + std::to_string(o.max_depth) + ")");
     require(o.tile >= 1, "the tile size must be >= 1");
     require(o.threads >= 0 && o.threads <= 1024, "--threads must be in [0, 1024] (got " + std::to_string(o.threads) + ")");
+    const Crop& c = o.crop;
+    require(c.empty() || (c.x0 >= 0 && c.y0 >= 0 && c.x0 < c.x1 && c.y0 < c.y1 && c.x1 <= o.width && c.y1 <= o.height),
+            "--crop " + std::to_string(c.x0) + "," + std::to_string(c.y0) + "," + std::to_string(c.x1) + "," +
+                std::to_string(c.y1) + " must be a window x0,y0,x1,y1 with 0 <= x0 < x1 <= --width (" +
+                std::to_string(o.width) + ") and 0 <= y0 < y1 <= --height (" + std::to_string(o.height) + ")");
 }
 
 RenderResult render(const Scene& scene, const ShadingSetup& shading, const RenderOptions& o) {
@@ -97,36 +102,40 @@ RenderResult render(const Scene& scene, const ShadingSetup& shading, const Rende
     if (o.integrator == Integrator::kDual && scene.has_hair() &&
         (!shading.options().dual_scattering || (shading.needs_grid() && !shading.grid())))
         throw std::invalid_argument("--integrator dual needs a shading setup built with dual_scattering");
+    validate(scene.description().camera);
     const auto t0 = std::chrono::steady_clock::now();
+    const Crop win = o.crop.empty() ? Crop{0, 0, o.width, o.height} : o.crop;
     RenderResult r;
-    r.width = o.width;
-    r.height = o.height;
-    r.rgb.assign(std::size_t(o.width) * std::size_t(o.height) * 3, 0.0f);
-    r.hair_mask.assign(std::size_t(o.width) * std::size_t(o.height), 0);
+    r.width = win.x1 - win.x0;
+    r.height = win.y1 - win.y0;
+    r.rgb.assign(std::size_t(r.width) * std::size_t(r.height) * 3, 0.0f);
+    r.hair_mask.assign(std::size_t(r.width) * std::size_t(r.height), 0);
 
     const CameraRays cam(scene.description().camera, o.width, o.height);
     const RenderContext context(scene, shading, o);
     const std::unique_ptr<PixelIntegrator> integrator = o.integrator == Integrator::kSingle ? make_single_integrator(context)
                                                         : o.integrator == Integrator::kDual ? make_dual_integrator(context)
                                                                                             : make_path_integrator(context);
-    const int tiles_x = (o.width + o.tile - 1) / o.tile, tiles_y = (o.height + o.tile - 1) / o.tile;
+    const int tiles_x = (r.width + o.tile - 1) / o.tile, tiles_y = (r.height + o.tile - 1) / o.tile;
     std::atomic<std::uint64_t> samples{0}, dropped{0};
     std::atomic<std::size_t> hair_pixels{0};
     std::atomic<std::int64_t> hair_ns{0};
     {
-        Progress progress(std::size_t(o.width) * std::size_t(o.height), o.progress);
+        Progress progress(std::size_t(r.width) * std::size_t(r.height), o.progress);
         char fork = 0, join = 0;  // TSan's sync objects (see tsan_release)
         auto tiles = [&](const tbb::blocked_range<int>& range) {
             tsan_acquire(&fork);
             for (int tile = range.begin(); tile < range.end(); ++tile) {
-                const int x0 = (tile % tiles_x) * o.tile, y0 = (tile / tiles_x) * o.tile;
-                const int x1 = std::min(x0 + o.tile, o.width), y1 = std::min(y0 + o.tile, o.height);
+                // In frame pixels: the camera's rays and the random numbers are the frame's.
+                const int x0 = win.x0 + (tile % tiles_x) * o.tile, y0 = win.y0 + (tile / tiles_x) * o.tile;
+                const int x1 = std::min(x0 + o.tile, win.x1), y1 = std::min(y0 + o.tile, win.y1);
                 std::uint64_t n = 0, bad = 0;
                 std::size_t hair = 0;
                 std::int64_t ns = 0;
                 for (int y = y0; y < y1; ++y)
                     for (int x = x0; x < x1; ++x) {
-                        const std::size_t i = std::size_t(y) * std::size_t(o.width) + std::size_t(x);
+                        const std::size_t i =
+                            std::size_t(y - win.y0) * std::size_t(r.width) + std::size_t(x - win.x0);
                         const bool on_hair =
                             scene.intersect(cam.eye(), cam.direction(float(x) + 0.5f, float(y) + 0.5f), kInf).kind ==
                             Hit::kHair;

@@ -27,6 +27,13 @@ enum class Sampling {
 const char* to_string(Integrator);
 const char* to_string(Sampling);
 
+// A window of the image, in pixels of the whole --width × --height frame: columns
+// [x0, x1), rows [y0, y1) from the top. Empty (x1 = 0): the whole frame.
+struct Crop {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    bool empty() const { return x1 == 0 && y1 == 0 && x0 == 0 && y0 == 0; }
+};
+
 struct RenderOptions {
     Integrator integrator = Integrator::kDual;
     Sampling sampling = Sampling::kMis;
@@ -38,10 +45,13 @@ struct RenderOptions {
     bool progress = false;       // progress bar with ETA on stderr (for runs over a second)
     int tile = 16;               // tile side in pixels (tiles are rendered in parallel)
     int threads = 0;             // worker threads for the tiles; 0: TBB's default (one per core)
+    // Renders only this window of the frame (the image is the window; each pixel is the
+    // frame's, with its own random numbers: a crop of the whole render, to the bit).
+    Crop crop;
 };
 
 struct RenderResult {
-    int width = 0, height = 0;
+    int width = 0, height = 0;  // the crop's, when there is one
     std::vector<float> rgb;              // linear RGB, row-major from the top, 3 floats per pixel
     std::vector<std::uint8_t> hair_mask; // 1 where the pixel-centre primary ray hits hair
     double seconds = 0;                  // wall-clock time of the rendering (scene build excluded)

@@ -150,6 +150,22 @@ constexpr float kRayEpsilon = 1e-4f;
 
 }  // namespace
 
+void validate(const Camera& c) {
+    auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+    if (!finite(c.eye) || !finite(c.target) || !finite(c.up))
+        throw std::invalid_argument("--eye, --look-at and --up must be finite x,y,z");
+    const glm::vec3 forward = c.target - c.eye;
+    if (!(glm::length(forward) > 0)) throw std::invalid_argument("--eye and --look-at are the same point: no view direction");
+    if (!(glm::length(c.up) > 0)) throw std::invalid_argument("--up must not be zero");
+    // sin of the angle between them: below 1e-3 the image's horizontal axis is noise.
+    const float s = glm::length(glm::cross(glm::normalize(forward), glm::normalize(c.up)));
+    if (!(s > 1e-3f))
+        throw std::invalid_argument("--up is along the view direction (--look-at minus --eye): the camera cannot tell "
+                                    "up from forward; give an --up across the view");
+    if (!(c.fov_y_deg >= 1 && c.fov_y_deg <= 170))
+        throw std::invalid_argument("--fov must be a vertical field of view in [1, 170] degrees");
+}
+
 Scene::Scene(SceneDescription description) : d_(std::move(description)) {
     device_ = rtcNewDevice(nullptr);
     if (!device_) throw std::runtime_error("cannot create an Embree device (error " +

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,10 +18,17 @@
 
 namespace render {
 
+class Environment;  // environment.hpp
+
 struct Camera {
     glm::vec3 eye{0, 2.5f, 14}, target{0, 2.5f, 0}, up{0, 1, 0};
     float fov_y_deg = 35.0f;  // vertical field of view
 };
+
+// Throws std::invalid_argument naming the options (--eye, --look-at, --up, --fov) when
+// the camera has no view: a non-finite vector, the eye on the target, an up vector of
+// zero length or along the view direction, a field of view outside [1, 170] degrees.
+void validate(const Camera& camera);
 
 // A triangle mesh with one Lambertian albedo (or, for the area light, an emitter).
 // normals, when given, are per vertex (smooth shading, e.g. the sphere).
@@ -47,6 +55,8 @@ struct SceneDescription {
     Hair hair;
     std::optional<AreaLight> light;
     glm::vec3 environment{0.0f};  // constant radiance of every direction that escapes
+    // When set, the radiance of the directions that escape instead of `environment`.
+    std::shared_ptr<const Environment> environment_map;
 };
 
 // Sizes of what the Scene holds, for memory studies.

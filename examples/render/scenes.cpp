@@ -23,6 +23,10 @@ Mesh make_quad(const std::string& name, const glm::vec3& corner, const glm::vec3
 }
 
 Mesh make_sphere(const std::string& name, const glm::vec3& center, float radius, const glm::vec3& albedo, int rings) {
+    return make_ellipsoid(name, {center, glm::vec3(radius)}, albedo, rings);
+}
+
+Mesh make_ellipsoid(const std::string& name, const Ellipsoid& e, const glm::vec3& albedo, int rings) {
     Mesh m;
     m.name = name;
     m.albedo = albedo;
@@ -33,8 +37,9 @@ Mesh make_sphere(const std::string& name, const glm::vec3& center, float radius,
         for (int j = 0; j <= segs; ++j) {
             const float phi = 2 * pi * float(j) / float(segs);
             const glm::vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
-            m.positions.push_back(center + radius * n);
-            m.normals.push_back(n);  // smooth shading: the exact sphere normal at each vertex
+            m.positions.push_back(e.center + e.radii * n);
+            // smooth shading: the exact normal at each vertex
+            m.normals.push_back(glm::normalize(n / e.radii));
         }
     }
     for (int i = 0; i < rings; ++i)
@@ -77,6 +82,17 @@ void validate(const LightingOptions& l) {
             "--light-power: " + num(l.light_power) + " is not a power in [0, 10^6]");
     require(std::isfinite(l.environment) && l.environment >= 0 && l.environment <= 1e6f,
             "--environment: " + num(l.environment) + " is not a radiance in [0, 10^6]");
+    require(!l.env.empty(), "--env: expected constant, studio or an OpenEXR file");
+    require(std::isfinite(l.env_rotate_deg) && std::abs(l.env_rotate_deg) <= 360,
+            "--env-rotate: " + num(l.env_rotate_deg) + " is not an angle in [-360, 360] degrees");
+    require(std::isfinite(l.env_intensity) && l.env_intensity >= 0 && l.env_intensity <= 1e6f,
+            "--env-intensity: " + num(l.env_intensity) + " is not a factor in [0, 10^6]");
+}
+
+std::shared_ptr<const Environment> load_environment(const LightingOptions& l) {
+    if (l.env == "constant") return nullptr;
+    const LatLongMap map = l.env == "studio" ? make_studio_map() : read_lat_long_exr(l.env);
+    return std::make_shared<const Environment>(map, l.env_rotate_deg, l.env_intensity);
 }
 
 void validate(const BlockOptions& b) {
@@ -199,6 +215,34 @@ SceneDescription make_scalp_scene(const ScalpOptions& scalp, const LightingOptio
     s.camera.target = o.center + glm::vec3(0, -0.4f, 0) * o.head_radius;
     s.camera.fov_y_deg = 38.0f;
     add_lighting(s, lighting, o.center + glm::vec3(3, 5, 6) * o.head_radius, 25.0f);
+    return s;
+}
+
+void validate(const HeadOptions& h) {
+    require(h.count >= 1 && h.count <= 10'000'000, "--head-hairs: " + std::to_string(h.count) + " is outside [1, 10^7]");
+    require(std::isfinite(h.length) && h.length >= 0.05f && h.length <= 10,
+            "--hair-length: " + num(h.length) + " is not a length in [0.05, 10] (head radii)");
+    require(std::isfinite(h.clump) && h.clump >= 0 && h.clump <= 1, "--clump: " + num(h.clump) + " is not in [0, 1]");
+    require(std::isfinite(h.frizz) && h.frizz >= 0 && h.frizz <= 1, "--frizz: " + num(h.frizz) + " is not in [0, 1]");
+    require(std::isfinite(h.radius) && h.radius >= kMinFiberRadius && h.radius <= 0.05f,
+            "--fiber-radius: " + num(h.radius) + " is not a radius in [10^-6, 0.05] for the head (radius 1)");
+}
+
+SceneDescription make_head_scene(const HeadOptions& head, const LightingOptions& lighting) {
+    SceneDescription s;
+    s.name = "head";
+    s.hair = make_head(head);
+    const std::vector<Ellipsoid> body = head.body();
+    const glm::vec3 skin(0.72f, 0.53f, 0.43f), sweater(0.09f, 0.1f, 0.13f);
+    s.meshes.push_back(make_ellipsoid("head", body[0], skin, 64));
+    s.meshes.push_back(make_ellipsoid("neck", body[1], skin));
+    s.meshes.push_back(make_ellipsoid("shoulders", body[2], sweater, 64));
+    // Head and shoulders in a 16:9 frame, seen a little from the right and above.
+    const glm::vec3 c = head.center;
+    s.camera.eye = c + glm::vec3(2.0f, 0.5f, 7.2f);
+    s.camera.target = c + glm::vec3(0.0f, -0.7f, 0.0f);
+    s.camera.fov_y_deg = 32.0f;
+    add_lighting(s, lighting, c + glm::vec3(-3, 5, 6), 25.0f);
     return s;
 }
 

@@ -2,8 +2,10 @@
 // fur ball and a slab of parallel strands, as SceneDescriptions.
 #pragma once
 
+#include <memory>
 #include <string>
 
+#include "environment.hpp"
 #include "scene.hpp"
 
 namespace render {
@@ -14,11 +16,20 @@ struct LightingOptions {
     float light_size = 2.0f;       // side of the square area light
     float light_power = 1.0f;      // multiplies the preset's light radiance; 0 removes it
     float environment = 0.15f;     // constant environment radiance (grey); 0 for none
+    // --env: "constant" (the radiance above), "studio" (make_studio_map) or an OpenEXR
+    // lat-long file; rotated about +y and scaled by env_intensity (the constant too).
+    std::string env = "constant";
+    float env_rotate_deg = 0.0f;
+    float env_intensity = 1.0f;
 };
 
 // Throw std::invalid_argument naming the bad option by its command-line flag and its range
 // (light size, power and environment; gravity, curl; counts, sizes and radii).
 void validate(const LightingOptions& lighting);
+
+// The environment map --env asks for (read or made once, before the scene is built); null
+// for "constant". Throws std::invalid_argument naming --env and the file.
+std::shared_ptr<const Environment> load_environment(const LightingOptions& lighting);
 void validate(const BlockOptions& block);
 void validate(const ScalpOptions& scalp);
 // Fur: --fur-hairs, --fur-length, --fur-tilt (degrees in [0, 90)), --fiber-radius.
@@ -37,6 +48,14 @@ SceneDescription make_cornell_scene(const BlockOptions& block, const LightingOpt
 
 // A head (a skin-coloured diffuse sphere) with scalp hair, on the ground plane.
 SceneDescription make_scalp_scene(const ScalpOptions& scalp, const LightingOptions& lighting);
+
+// The showcase: a bust (head, neck and shoulders: HeadOptions::body) with long hair
+// parted on the side, no ground, framed from the front right at head height. Lit by
+// whatever `lighting` says (main gives it the studio environment and no area light unless
+// asked otherwise); an area light, when there is one, is the scalp scene's key.
+SceneDescription make_head_scene(const HeadOptions& head, const LightingOptions& lighting);
+// --head-hairs, --hair-length, --clump, --frizz, --fiber-radius.
+void validate(const HeadOptions& head);
 
 // A fur ball (FurOptions::body: on a diffuse body sphere of albedo 0.4, or an empty shell
 // of strands) floating above the ground plane, framed by the camera.
@@ -68,5 +87,6 @@ Mesh make_quad(const std::string& name, const glm::vec3& corner, const glm::vec3
                const glm::vec3& albedo);
 Mesh make_sphere(const std::string& name, const glm::vec3& center, float radius, const glm::vec3& albedo,
                  int rings = 48);
+Mesh make_ellipsoid(const std::string& name, const Ellipsoid& ellipsoid, const glm::vec3& albedo, int rings = 48);
 
 }  // namespace render

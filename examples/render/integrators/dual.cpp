@@ -47,8 +47,8 @@ class DualIntegrator final : public PixelIntegrator {
                 in.light_pdf = lights.pdf_area(wi, o.t);
                 dist = o.t;
             } else if (o.kind == Hit::kMiss) {
-                in.Le = lights.env;
-                in.light_pdf = lights.pdf_env();
+                in.Le = lights.env_radiance(wi);
+                in.light_pdf = lights.pdf_env(wi);
                 dist = kInf;
             } else {
                 return in;

@@ -15,8 +15,22 @@ glm::vec3 surface_direct(const RenderContext& c, const Hit& hit, Sampler& rng) {
         if (ls.pdf > 0 && cos_i > 0 && !c.scene.occluded(x, ls.wi, ls.dist * kShadowShorten))
             L += hit.albedo * (cos_i / kPi) * ls.Le * lights.p_area / ls.pdf;
     }
-    if (max3(lights.env) > 0 && !c.scene.occluded(x, cosine_hemisphere(hit.n, u3, u4), kInf))
-        L += hit.albedo * lights.env;  // f cos / pdf = albedo
+    if (!lights.has_env()) return L;
+    const Environment& env = *lights.env;
+    const glm::vec3 d = cosine_hemisphere(hit.n, u3, u4);
+    if (env.constant()) {
+        if (!c.scene.occluded(x, d, kInf)) L += hit.albedo * env.radiance(d);  // f cos / pdf = albedo
+        return L;
+    }
+    // A map: its own sample and the cosine sample, weighed by the power heuristic (a
+    // softbox is too small a target for the cosine alone).
+    const float pdf_d = std::max(glm::dot(hit.n, d), 0.0f) / kPi;
+    if (pdf_d > 0 && !c.scene.occluded(x, d, kInf)) L += hit.albedo * env.radiance(d) * power_heuristic(pdf_d, env.pdf(d));
+    const float u5 = rng.u(), u6 = rng.u();
+    const Environment::Sample es = env.sample(u5, u6);
+    const float cos_i = glm::dot(hit.n, es.wi);
+    if (es.pdf > 0 && cos_i > 0 && !c.scene.occluded(x, es.wi, kInf))
+        L += hit.albedo * (cos_i / kPi) * es.Le * power_heuristic(es.pdf, cos_i / kPi) / es.pdf;
     return L;
 }
 

@@ -49,7 +49,8 @@ std::unique_ptr<PixelIntegrator> make_for_model(const RenderContext& c) {
 }
 
 // Lambertian surface: one sample of the area light and one cosine-distributed sample of
-// the environment; everything (hair included) casts opaque shadows.
+// the environment (a map adds one of its own samples, with MIS); everything (hair
+// included) casts opaque shadows.
 glm::vec3 surface_direct(const RenderContext& c, const Hit& hit, Sampler& rng);
 
 // The camera ray's first hit lit directly; hair is shaded by hair(point, rng).
@@ -58,7 +59,7 @@ glm::vec3 first_hit_direct(const RenderContext& c, const glm::vec3& o, const glm
                            const HairShade& hair) {
     const Hit hit = c.scene.intersect(o, d, kInf);
     switch (hit.kind) {
-        case Hit::kMiss: return c.lights.env;
+        case Hit::kMiss: return c.lights.env_radiance(d);
         case Hit::kLight: return hit.front ? c.lights.area->radiance : glm::vec3(0);
         case Hit::kSurface: return surface_direct(c, hit, rng);
         case Hit::kHair: return hair(ShadingPoint(hit, -d), rng);

@@ -29,8 +29,8 @@ template <class MakeFiber> class PathIntegrator final : public PixelIntegrator {
         for (int depth = 0; depth < opt.max_depth; ++depth) {
             const Hit hit = scene.intersect(o, d, kInf, ignore);
             if (hit.kind == Hit::kMiss) {
-                const float w = mis && prev_pdf > 0 ? power_heuristic(prev_pdf, lights.pdf_env()) : 1.0f;
-                L += beta * lights.env * w;
+                const float w = mis && prev_pdf > 0 ? power_heuristic(prev_pdf, lights.pdf_env(d)) : 1.0f;
+                L += beta * lights.env_radiance(d) * w;
                 break;
             }
             if (hit.kind == Hit::kLight) {

@@ -43,7 +43,7 @@ class TwoStreamIntegrator final : public PixelIntegrator {
     vec3 at_hit(const Hit& hit, const vec3& d, int depth, float chosen_pdf, Sampler& rng) const {
         const Lights& lights = c_.lights;
         switch (hit.kind) {
-            case Hit::kMiss: return lights.env * mis(chosen_pdf, lights.pdf_env());
+            case Hit::kMiss: return lights.env_radiance(d) * mis(chosen_pdf, lights.pdf_env(d));
             case Hit::kLight:
                 return hit.front ? lights.area->radiance * mis(chosen_pdf, lights.pdf_area(d, hit.t)) : vec3(0);
             case Hit::kSurface: return depth < kMaxDepth ? surface(hit, depth, rng) : vec3(0);

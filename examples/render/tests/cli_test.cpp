@@ -100,6 +100,18 @@ TEST(RenderCli, RefusesOutOfRangeValuesNamingTheOption) {
     expect_refused("--light-size 1e30", "--light-size");
     expect_refused("--light-power 1e30", "--light-power");
     expect_refused("--environment 1e30", "--environment");
+    expect_refused("--eye 0,10,0 --look-at 0,0,0", "--up is along the view direction");
+    expect_refused("--up 0,0,0", "--up must not be zero");
+    expect_refused("--eye 1,2,3 --look-at 1,2,3", "--eye and --look-at are the same point");
+    expect_refused("--fov 0", "--fov");
+    expect_refused("--fov 171", "--fov");
+    expect_refused("--crop 0,0,17,12", "--crop");
+    expect_refused("--crop 4,4,4,8", "--crop");
+    expect_refused("--crop 0.5,0,8,8", "--crop");
+    expect_refused("--env-rotate 400", "--env-rotate");
+    expect_refused("--env studio --env-intensity -1", "--env-intensity");
+    expect_refused("--env studio --env-intensity 0", "--env studio: the map is black");
+    expect_refused("--env " + out_base("no_such_map.exr"), "--env " + out_base("no_such_map.exr") + ": cannot open");
     expect_refused("--exposure 1e30", "--exposure");
     expect_refused("--spp 2000000", "--spp");
     expect_refused("--integrator path --max-depth 2000000000", "--max-depth");
@@ -120,7 +132,9 @@ TEST(RenderCli, RefusesOutOfRangeValuesNamingTheOption) {
     expect_refused("--hair-file " + thick + " --thickness-scale 0.001", "gives a fiber radius of");
     // The bounds themselves render (the negative control).
     for (const char* ok : {"--block-size 100", "--block-size 0.01 --fiber-radius 0.001", "--light-size 0.001",
-                           "--exposure -64", "--dual improved --grid-cell 4"}) {
+                           "--exposure -64", "--dual improved --grid-cell 4", "--env studio --env-rotate -360",
+                           "--env constant --env-intensity 0", "--eye 0,10,0 --look-at 0,0,0 --up 0,0,-1",
+                           "--fov 170 --crop 0,0,16,12 --tone filmic"}) {
         const Outcome r = run(tiny(std::string("--integrator dual ") + ok));
         EXPECT_EQ(r.status, 0) << ok << "\n" << r.output;
     }
@@ -296,6 +310,15 @@ TEST(RenderCli, WarnsWhenNoHairIsInView) {
     const Outcome seen = run("--integrator single" + kTiny + " -o " + out_base("seen"));  // the negative control
     EXPECT_EQ(seen.status, 0) << seen.output;
     EXPECT_EQ(seen.output.find("no hair in view"), std::string::npos) << seen.output;
+}
+
+TEST(RenderCli, EveryIntegratorRendersUnderTheStudio) {
+    for (const char* integrator : {"single", "dual", "path"}) {
+        const std::string args = std::string("--env studio --env-rotate 30 --light-power 0 --integrator ") + integrator + kTiny;
+        const Outcome r = run(args + " -o " + out_base(std::string("studio_") + integrator));
+        EXPECT_EQ(r.status, 0) << args << "\n" << r.output;
+        EXPECT_NE(r.output.find(" dropped=0 nonfinite_pixels=0 "), std::string::npos) << r.output;
+    }
 }
 
 TEST(RenderCli, EveryModelRenders) {

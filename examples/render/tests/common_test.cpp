@@ -143,6 +143,22 @@ TEST(ExamplesCommon, ControlsFromOptions) {
     }
 }
 
+// The filmic preview curve: black stays black, it rises monotonically, keeps 1.0 below
+// white (a shoulder, where the clamp saturates) and reaches white only far above it.
+TEST(ExamplesCommon, FilmicToneCurveHasAShoulder) {
+    std::vector<float> ramp;
+    for (int i = 0; i <= 400; ++i) ramp.push_back(0.05f * float(i));
+    const std::vector<std::uint8_t> f = ex::tone_map(ramp, 0.0, ex::ToneCurve::kFilmic);
+    const std::vector<std::uint8_t> c = ex::tone_map(ramp, 0.0);
+    EXPECT_EQ(f[0], 0);
+    for (std::size_t i = 1; i < f.size(); ++i) EXPECT_GE(f[i], f[i - 1]) << ramp[i];
+    EXPECT_EQ(c[20], 255);  // 1.0 clamps to white ...
+    EXPECT_LT(f[20], 230);  // ... and keeps headroom under the shoulder
+    EXPECT_GT(f[20], 150);  // mid-to-bright stays bright
+    EXPECT_GE(f[400], 250);  // 20 is white
+    EXPECT_EQ(ex::tone_map({std::nanf("")}, 0.0, ex::ToneCurve::kFilmic)[0], 0);
+}
+
 // The EXR/PNG pair is atomic file by file, not as a pair (a kill between the two renames
 // once left a new EXR beside the old PNG): both files carry the pair's id, so a reader can
 // tell. The id is the content hash the writer returns, the PNG still decodes to its

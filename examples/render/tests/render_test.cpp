@@ -183,15 +183,24 @@ TEST(RenderPath, AbsorbingHairDoesNotVanishInTheFurnace) {
     EXPECT_LT(blue, 0.5);
 }
 
-TEST(Render, SameSeedSameImageWhateverTheThreads) {
+// A 200-hair block, and its render options at 40 × 30 and 2 spp.
+SceneDescription small_block() {
     BlockOptions b;
     b.count = 200;
-    const Scene scene(make_block_scene(b, LightingOptions{}));
-    const ShadingSetup shading(scene, ShadingOptions{});
+    return make_block_scene(b, LightingOptions{});
+}
+RenderOptions small_options() {
     RenderOptions o;
     o.width = 40;
     o.height = 30;
     o.spp = 2;
+    return o;
+}
+
+TEST(Render, SameSeedSameImageWhateverTheThreads) {
+    const Scene scene(small_block());
+    const ShadingSetup shading(scene, ShadingOptions{});
+    RenderOptions o = small_options();
     for (Integrator i : {Integrator::kSingle, Integrator::kDual, Integrator::kPath}) {
         o.integrator = i;
         const RenderResult a = render::render(scene, shading, o);
@@ -207,6 +216,39 @@ TEST(Render, SameSeedSameImageWhateverTheThreads) {
         o.seed = 2;
         EXPECT_NE(render::render(scene, shading, o).rgb, a.rgb) << to_string(i);
         o.seed = 1;
+    }
+}
+
+// --crop: the window's pixels are the whole frame's, to the bit (the camera and the random
+// numbers are the frame's), for every integrator; a window outside the frame is refused.
+TEST(Render, ACropIsAWindowOfTheWholeFrame) {
+    const Scene scene(small_block());
+    const ShadingSetup shading(scene, ShadingOptions{});
+    RenderOptions o = small_options();
+    for (Integrator i : {Integrator::kSingle, Integrator::kDual, Integrator::kPath}) {
+        o.integrator = i;
+        o.crop = {};
+        const RenderResult whole = render::render(scene, shading, o);
+        o.crop = {13, 7, 31, 29};
+        const RenderResult part = render::render(scene, shading, o);
+        ASSERT_EQ(part.width, 18);
+        ASSERT_EQ(part.height, 22);
+        std::size_t differ = 0;
+        for (int y = 0; y < part.height; ++y)
+            for (int x = 0; x < part.width; ++x)
+                for (int c = 0; c < 3; ++c)
+                    differ += part.rgb[std::size_t(3 * (y * part.width + x) + c)] !=
+                              whole.rgb[std::size_t(3 * ((y + 7) * o.width + x + 13) + c)];
+        EXPECT_EQ(differ, 0u) << to_string(i);
+    }
+    for (const Crop bad : {Crop{0, 0, 41, 30}, Crop{5, 5, 5, 10}, Crop{-1, 0, 10, 10}}) {
+        o.crop = bad;
+        try {
+            render::render(scene, shading, o);
+            ADD_FAILURE() << "accepted a crop outside the frame";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find("--crop"), std::string::npos) << e.what();
+        }
     }
 }
 

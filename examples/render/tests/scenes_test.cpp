@@ -1,4 +1,4 @@
-// Tests of the fur and slab scenes: the fur's strands grow from the body sphere and stay
+// Tests of the fur, slab and head scenes: the fur's strands grow from the body sphere and stay
 // outside it, as long and as tilted as asked; a ray along the slab's normal crosses
 // --slab-depth fibers on average; the back light hides behind the slab; bad options are
 // refused naming their flag.
@@ -296,6 +296,83 @@ TEST(Scenes, FurAndSlabRenderHair) {
             EXPECT_GT(r.hair_pixels, std::size_t(ro.width * ro.height) / 10) << d.name;
             EXPECT_EQ(r.dropped, 0u) << d.name;
         }
+}
+
+// The showcase bust: the strands root on the scalp and never enter the head, neck or
+// shoulders; they fall from above the head to below the neck (onto the shoulders); the
+// parting shows: on either side of it the strands leave in opposite directions; and it
+// renders with hair filling a good part of the image.
+HeadOptions small_head() {
+    HeadOptions o;
+    o.count = 3000;
+    o.clumps = 60;
+    return o;
+}
+
+TEST(Head, StrandsStayOutsideTheBodyAndFallToTheShoulders) {
+    const HeadOptions o = small_head();
+    const Hair hair = make_head(o);
+    ASSERT_EQ(hair.strands.size(), std::size_t(o.count));
+    const std::vector<Ellipsoid> body = o.body();
+    std::size_t inside = 0, reach_shoulders = 0;
+    for (const auto& s : hair.strands) {
+        // The root on the head ellipsoid.
+        const glm::vec3 q = (s[0] - body[0].center) / body[0].radii;
+        EXPECT_NEAR(glm::length(q), 1.0f, 1e-4f);
+        for (std::size_t k = 1; k < s.size(); ++k)
+            for (const Ellipsoid& e : body) inside += e.push_out(s[k], o.radius) != s[k];
+        reach_shoulders += s.back().y < body[2].center.y + body[2].radii.y;
+    }
+    EXPECT_EQ(inside, 0u);
+    EXPECT_GT(reach_shoulders, hair.strands.size() / 2);
+    EXPECT_EQ(make_head(o).strands, hair.strands);  // deterministic
+}
+
+TEST(Head, StrandsLeaveThePartingOnBothSides) {
+    HeadOptions o = small_head();
+    o.clump = 0;
+    o.frizz = 0;
+    const Hair hair = make_head(o);
+    int left = 0, right = 0, wrong = 0;
+    for (const auto& s : hair.strands) {
+        const glm::vec3 root = s[0] - o.center;
+        if (root.y < 0.7f || root.z < 0 || std::abs(root.x - o.parting) > 0.25f) continue;  // near the parting, on top
+        const float dx = s[1].x - s[0].x;
+        const bool right_of_part = root.x > o.parting;
+        (right_of_part ? right : left) += 1;
+        wrong += right_of_part ? dx < 0 : dx > 0;
+    }
+    EXPECT_GT(left, 20);
+    EXPECT_GT(right, 20);
+    EXPECT_EQ(wrong, 0);
+}
+
+TEST(Head, TheShowcaseRendersHair) {
+    LightingOptions l;
+    l.env = "studio";
+    l.light_power = 0;
+    SceneDescription d = make_head_scene(small_head(), l);
+    d.environment_map = load_environment(l);
+    const Scene scene(std::move(d));
+    const ShadingSetup shading(scene, ShadingOptions{});
+    RenderOptions ro;
+    ro.width = 48;
+    ro.height = 27;
+    ro.spp = 1;
+    ro.integrator = Integrator::kPath;
+    const RenderResult r = render::render(scene, shading, ro);
+    EXPECT_GT(r.hair_pixels, std::size_t(ro.width * ro.height) / 16);
+    EXPECT_EQ(r.dropped, 0u);
+    HeadOptions bad = small_head();
+    bad.clump = 2;
+    EXPECT_NE(refusal([&] { validate(bad); }).find("--clump"), std::string::npos);
+    bad = small_head();
+    bad.length = 0;
+    EXPECT_NE(refusal([&] { validate(bad); }).find("--hair-length"), std::string::npos);
+    bad = small_head();
+    bad.frizz = NAN;
+    EXPECT_NE(refusal([&] { validate(bad); }).find("--frizz"), std::string::npos);
+    EXPECT_EQ(refusal([&] { validate(small_head()); }), "");
 }
 
 TEST(Scenes, BadFurAndSlabOptionsNameTheirFlag) {
