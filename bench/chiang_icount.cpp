@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
     const long calls = std::atol(argv[1]);
     const int kind = std::atoi(argv[2]);
     hs::FiberParams<float> p;
-    p.sigma_a = hs::sigma_a_from_melanin(1.3f, 0.2f);
+    p.sigma_a = hs::sigma_a_from_concentrations(1.3f, 0.2f);
     const hs::ChiangMaterial<float> material(p);
     std::mt19937 rng(1);
     std::uniform_real_distribution<float> uni(0, 1);

@@ -17,7 +17,7 @@ using V3 = glm::dvec3;
 
 hs::FiberParams<double> blond() {
     hs::FiberParams<double> p;
-    p.sigma_a = hs::sigma_a_from_melanin(0.15, 0.05);
+    p.sigma_a = hs::sigma_a_from_concentrations(0.15, 0.05);
     return p;
 }
 
@@ -94,7 +94,7 @@ template <typename T, bool kZinke = false> struct Shading {
     hs::DualScatteringLight<T> light = shadowed();
     static hs::FiberParams<T> params() {
         hs::FiberParams<T> p;
-        p.sigma_a = hs::sigma_a_from_melanin(T(0.3), T(0));
+        p.sigma_a = hs::sigma_a_from_concentrations(T(0.3), T(0));
         return p;
     }
     static hs::DualScatteringLight<T> shadowed() {

@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
     const long calls = std::atol(argv[1]);
     const int kind = std::atoi(argv[2]);
     hs::FiberParams<float> p;
-    p.sigma_a = hs::sigma_a_from_melanin(0.3f, 0.0f);
+    p.sigma_a = hs::sigma_a_from_concentrations(0.3f, 0.0f);
     const hs::ChiangMaterial<float> material(p);
     const auto tables = hs::DualScatteringTables<float>::build<hs::ChiangFiber<float>>(material);
     hs::DualScatteringLight<float> light;

@@ -59,7 +59,7 @@ hs::FiberParams<double> study_params(bool lossless) {
     p.beta_m = 0.3;
     p.beta_n = 0.3;
     p.alpha = hs::radians(2.0);
-    p.sigma_a = lossless ? glm::dvec3(0.0) : hs::sigma_a_from_melanin(0.8, 0.0);
+    p.sigma_a = lossless ? glm::dvec3(0.0) : hs::sigma_a_from_concentrations(0.8, 0.0);
     return p;
 }
 

@@ -32,7 +32,7 @@ import hairscatter as hs  # noqa: E402
 
 LOBES = ("R", "TT", "TRT", "residual")
 COLOURS = {"R": "tab:blue", "TT": "tab:red", "TRT": "tab:green", "residual": "tab:gray"}
-BLOND = hs.sigma_a_from_melanin_redness(0.3, 0.2)
+BLOND = hs.sigma_a_from_melanin_amount(0.3, 0.2)
 
 
 def gauss_legendre(a, b, n):
@@ -146,7 +146,7 @@ def swatches(out, quick):
     rgb = np.zeros((len(redness), len(melanin), 3))
     for i, r in enumerate(redness):
         for j, m in enumerate(melanin):
-            model = hs.DeonFarField(sigma_a=hs.sigma_a_from_melanin_redness(m, r), nodes=16 if quick else 0)
+            model = hs.DeonFarField(sigma_a=hs.sigma_a_from_melanin_amount(m, r), nodes=16 if quick else 0)
             rgb[i, j] = model.albedo(wo)
     fig, ax = plt.subplots(figsize=(6, 3))
     ax.imshow(np.clip(rgb, 0, 1) ** (1 / 2.2), origin="lower", aspect="auto",
@@ -163,7 +163,7 @@ def dual(out, quick):
     fig, ax = plt.subplots(figsize=(6, 3.4))
     samples = 16 if quick else 64
     for m, colour in zip((0.1, 0.25, 0.4, 0.6, 0.8), plt.cm.copper(np.linspace(0.9, 0.1, 5))):
-        model = hs.DeonFarField(sigma_a=hs.sigma_a_from_melanin_redness(m, 0.1))
+        model = hs.DeonFarField(sigma_a=hs.sigma_a_from_melanin_amount(m, 0.1))
         t = model.dual_tables(theta_samples=samples, psi_samples=9 if quick else 33).arrays()
         theta = np.degrees(t["theta"])
         ax.plot(theta, t["a_f"].mean(axis=1), color=colour, label=f"m = {m}")

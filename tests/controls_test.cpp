@@ -63,21 +63,50 @@ TEST(Pigments, MelaninAmountMapsToConcentrations) {
     const auto black = hs::melanin_concentrations(1.0, 0.0);
     EXPECT_NEAR(black.eumelanin, std::log(1e4), 1e-12);
     EXPECT_EQ(black.pheomelanin, 0.0);
-    // σa is sigma_a_from_melanin of the concentrations.
-    const dvec3 s = hs::sigma_a_from_melanin_redness(0.6, 0.3);
+    // σa is sigma_a_from_concentrations of the concentrations.
+    const dvec3 s = hs::sigma_a_from_melanin_amount(0.6, 0.3);
     const auto c = hs::melanin_concentrations(0.6, 0.3);
-    EXPECT_EQ(s, hs::sigma_a_from_melanin(c.eumelanin, c.pheomelanin));
+    EXPECT_EQ(s, hs::sigma_a_from_concentrations(c.eumelanin, c.pheomelanin));
 }
+
+// The former names, deprecated, still compile and give the new names' values to the bit:
+// sigma_a_from_melanin took concentrations, sigma_a_from_melanin_redness an amount.
+#if defined(_MSC_VER)
+#pragma warning(push)
+#pragma warning(disable : 4996)
+#else
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+#endif
+TEST(Pigments, FormerNamesGiveTheSameValues) {
+    for (double ce : {0.0, 0.3, 1.3, 8.0})
+        for (double cp : {0.0, 0.2, 2.0}) {
+            EXPECT_EQ(hs::sigma_a_from_melanin(ce, cp), hs::sigma_a_from_concentrations(ce, cp));
+            EXPECT_EQ(hs::sigma_a_from_melanin(float(ce), float(cp)),
+                      hs::sigma_a_from_concentrations(float(ce), float(cp)));
+        }
+    for (double m : {0.0, 0.25, 0.6, 1.0})
+        for (double r : {0.0, 0.3, 1.0}) {
+            EXPECT_EQ(hs::sigma_a_from_melanin_redness(m, r), hs::sigma_a_from_melanin_amount(m, r));
+            EXPECT_EQ(hs::sigma_a_from_melanin_redness(float(m), float(r)),
+                      hs::sigma_a_from_melanin_amount(float(m), float(r)));
+        }
+}
+#if defined(_MSC_VER)
+#pragma warning(pop)
+#else
+#pragma GCC diagnostic pop
+#endif
 
 TEST(Pigments, MoreMelaninIsDarkerAndRednessShiftsTheHue) {
     double prev = -1;
     for (double m = 0; m <= 1.0; m += 0.05) {
-        const dvec3 s = hs::sigma_a_from_melanin_redness(m, 0.5);
+        const dvec3 s = hs::sigma_a_from_melanin_amount(m, 0.5);
         EXPECT_GT(s.b, prev);
         prev = s.b;
     }
     // Pheomelanin absorbs relatively less red than eumelanin: red hair has the lower σa.r/σa.b.
-    const dvec3 eu = hs::sigma_a_from_melanin_redness(0.5, 0.0), ph = hs::sigma_a_from_melanin_redness(0.5, 1.0);
+    const dvec3 eu = hs::sigma_a_from_melanin_amount(0.5, 0.0), ph = hs::sigma_a_from_melanin_amount(0.5, 1.0);
     EXPECT_LT(ph.r / ph.b, eu.r / eu.b);
 }
 
@@ -92,7 +121,7 @@ TEST(Pigments, DyeIsTheColourMapping) {
     p.redness = 0.2;
     p.dye = dvec3(0.9, 0.5, 0.7);
     EXPECT_EQ(hs::sigma_a_from_pigments(p, 0.25),
-              hs::sigma_a_from_melanin_redness(0.4, 0.2) + hs::sigma_a_from_color(p.dye, 0.25));
+              hs::sigma_a_from_melanin_amount(0.4, 0.2) + hs::sigma_a_from_color(p.dye, 0.25));
 }
 
 TEST(Pigments, ValidationNamesTheField) {
@@ -298,7 +327,7 @@ TEST(StrandVariation, StrandParamsAreValid) {
     const hs::StrandTraits<float> t{0.5f, 0.2f, 1.0f};
     const hs::FiberParams<float> p = hs::strand_params(base, t);
     EXPECT_EQ(p.beta_m, base.beta_m);
-    EXPECT_EQ(p.sigma_a, hs::sigma_a_from_melanin_redness(0.5f, 0.2f));
+    EXPECT_EQ(p.sigma_a, hs::sigma_a_from_melanin_amount(0.5f, 0.2f));
 }
 
 // ---- lobe controls --------------------------------------------------------------------------

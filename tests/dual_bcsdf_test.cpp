@@ -35,7 +35,7 @@ const Hair kHairs[] = {{"white", -1}, {"blond", 0.3}, {"dark", 8.0}};
 
 hs::FiberParams<double> params_of(const Hair& h) {
     hs::FiberParams<double> p;
-    p.sigma_a = h.eumelanin < 0 ? dvec3(0) : hs::sigma_a_from_melanin(h.eumelanin, 0.0);
+    p.sigma_a = h.eumelanin < 0 ? dvec3(0) : hs::sigma_a_from_concentrations(h.eumelanin, 0.0);
     return p;
 }
 
@@ -335,7 +335,7 @@ TEST(DualBcsdf, SampleMatchesPdfChi2) {
 
 TEST(DualBcsdf, FloatSamplerMatchesPdfAndAgreesWithQuery) {
     hs::FiberParams<float> p;
-    p.sigma_a = hs::sigma_a_from_melanin(0.3f, 0.0f);
+    p.sigma_a = hs::sigma_a_from_concentrations(0.3f, 0.0f);
     const hs::ChiangMaterial<float> mat(p);
     const auto tables = hs::DualScatteringTables<float>::build<hs::ChiangFiber<float>>(mat);
     const hs::ChiangFiber<float> fiber(mat, 0.4f);
@@ -588,7 +588,7 @@ template <typename T> void check_gains_finite() {
                 if (lobe < 0 || p == lobe) c.gain[p] = gain;
             for (double eu : {-1.0, 0.3}) {
                 hs::FiberParams<T> p;
-                p.sigma_a = eu < 0 ? glm::vec<3, T>(T(0)) : glm::vec<3, T>(hs::sigma_a_from_melanin(eu, 0.0));
+                p.sigma_a = eu < 0 ? glm::vec<3, T>(T(0)) : glm::vec<3, T>(hs::sigma_a_from_concentrations(eu, 0.0));
                 const hs::ChiangMaterial<T> m(p, c);
                 for (auto settings : {hs::DualScatteringSettings<T>::improved(), hs::DualScatteringSettings<T>::zinke2008()}) {
                     hs::DualTableOptions<T> o;
@@ -613,7 +613,7 @@ namespace {
 struct SmallDual {
     static hs::FiberParams<float> params() {
         hs::FiberParams<float> p;
-        p.sigma_a = glm::vec3(hs::sigma_a_from_melanin(0.3, 0.0));
+        p.sigma_a = glm::vec3(hs::sigma_a_from_concentrations(0.3, 0.0));
         return p;
     }
     static hs::DualTableOptions<float> options() {

@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
         for (double tau : {3.0, 10.0, 40.0})
             for (const auto& v : views) {
                 hs::FiberParams<double> p;
-                p.sigma_a = h.eumelanin < 0 ? dvec3(0) : hs::sigma_a_from_melanin(h.eumelanin, 0.0);
+                p.sigma_a = h.eumelanin < 0 ? dvec3(0) : hs::sigma_a_from_concentrations(h.eumelanin, 0.0);
                 const slab::Sums s = slab::compare_dual(p, tau, wl, v.wo, paths);
                 slab::Lighting light;
                 light.wl = wl;

@@ -25,7 +25,7 @@ namespace {
 
 hs::FiberParams<double> params(double eumelanin) {
     hs::FiberParams<double> p;
-    p.sigma_a = eumelanin < 0 ? dvec3(0) : hs::sigma_a_from_melanin(eumelanin, 0.0);
+    p.sigma_a = eumelanin < 0 ? dvec3(0) : hs::sigma_a_from_concentrations(eumelanin, 0.0);
     return p;
 }
 

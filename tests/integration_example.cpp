@@ -145,7 +145,7 @@ DualEstimate trace_dual(const hs::ChiangMaterial<float>& material, const hs::Dua
 int main() {
     hs::FiberParams<float> params;                          // η 1.55, βm = βn = 0.3, α 2°: pbrt-v4's defaults
     const hs::ChiangMaterial<float> white(params);          // σa = 0: a lossless fiber
-    params.sigma_a = hs::sigma_a_from_melanin(1.3f, 0.0f);  // pbrt-v4's default eumelanin concentration
+    params.sigma_a = hs::sigma_a_from_concentrations(1.3f, 0.0f);  // pbrt-v4's default eumelanin concentration
     const hs::ChiangMaterial<float> brown(params);
     const Sky furnace{vec3(1), vec3(0), vec3(0, 0, 1)};
     const Sky outdoors{vec3(0.2f, 0.3f, 0.5f), vec3(3), glm::normalize(vec3(0.3f, 0.4f, 1))};

@@ -13,7 +13,7 @@ namespace hs = hairscatter;
 namespace {
 hs::FiberParams<double> good() {
     hs::FiberParams<double> p;
-    p.sigma_a = hs::sigma_a_from_melanin(1.3, 0.2);
+    p.sigma_a = hs::sigma_a_from_concentrations(1.3, 0.2);
     return p;
 }
 // The message must name the field so a user knows what to fix.
@@ -89,11 +89,11 @@ TEST(ChiangFiber, RejectsOffsetOutsideFiber) {
 }
 
 TEST(SigmaA, FromMelaninIsLinearInConcentrations) {
-    const glm::dvec3 e = hs::sigma_a_from_melanin(1.0, 0.0), ph = hs::sigma_a_from_melanin(0.0, 1.0);
+    const glm::dvec3 e = hs::sigma_a_from_concentrations(1.0, 0.0), ph = hs::sigma_a_from_concentrations(0.0, 1.0);
     EXPECT_DOUBLE_EQ(e.r, 0.419);
     EXPECT_DOUBLE_EQ(e.b, 1.37);
     EXPECT_DOUBLE_EQ(ph.g, 0.4);
-    const glm::dvec3 mix = hs::sigma_a_from_melanin(2.0, 0.5);
+    const glm::dvec3 mix = hs::sigma_a_from_concentrations(2.0, 0.5);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(mix[c], 2 * e[c] + 0.5 * ph[c], 1e-15);
 }
 

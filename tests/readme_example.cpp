@@ -4,7 +4,7 @@ namespace hs = hairscatter;
 
 int main() {
     hs::FiberParams<float> params;                                  // η 1.55, βm = βn = 0.3, α 2°
-    params.sigma_a = hs::sigma_a_from_melanin(1.3f, 0.0f);          // brown hair
+    params.sigma_a = hs::sigma_a_from_concentrations(1.3f, 0.0f);          // brown hair
     const hs::ChiangMaterial<float> material(params);               // once per material; throws if invalid
     const glm::vec3 tangent(0, 1, 0), wo_world = glm::normalize(glm::vec3(0.3f, 0.2f, 1));
     const hs::FiberFrame<float> frame(tangent, wo_world);           // x = tangent, wo in the x–z plane

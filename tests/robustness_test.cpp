@@ -96,7 +96,7 @@ template <typename T, typename Fiber> void expect_zero_on_nonfinite(const Fiber&
 
 template <typename T> hs::FiberParams<T> brown() {
     hs::FiberParams<T> p;
-    p.sigma_a = hs::sigma_a_from_melanin(T(1.3), T(0));
+    p.sigma_a = hs::sigma_a_from_concentrations(T(1.3), T(0));
     return p;
 }
 

@@ -43,7 +43,7 @@ template <typename T> hairscatter::FiberParams<T> bench_params(int beta_index) {
     p.beta_m = T(kBetaM[beta_index]);
     p.beta_n = T(kBetaN);
     p.alpha = hairscatter::radians(T(kAlphaDeg));
-    p.sigma_a = hairscatter::sigma_a_from_melanin(T(kEumelanin), T(0));
+    p.sigma_a = hairscatter::sigma_a_from_concentrations(T(kEumelanin), T(0));
     return p;
 }
 

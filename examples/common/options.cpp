@@ -212,7 +212,7 @@ glm::dvec3 source_sigma_a(const HairColourOptions& c, const std::string& default
         const std::string m = hs::validate(p);
         require(m.empty(), "--melanin/--redness: " + m);
         set_source("--melanin " + num(p.melanin) + " --redness " + num(p.redness));
-        return hs::sigma_a_from_melanin_redness(p.melanin, p.redness);
+        return hs::sigma_a_from_melanin_amount(p.melanin, p.redness);
     }
     if (c.eumelanin != none || c.pheomelanin != none) {
         require(c.eumelanin != none, "--pheomelanin needs --eumelanin (the preset fixes both)");
@@ -221,14 +221,14 @@ glm::dvec3 source_sigma_a(const HairColourOptions& c, const std::string& default
         const double pheo = c.pheomelanin == none ? 0.0 : c.pheomelanin;
         require(std::isfinite(pheo) && pheo >= 0, "--pheomelanin: " + num(pheo) + " is not a finite concentration >= 0");
         set_source("eumelanin " + num(c.eumelanin) + ", pheomelanin " + num(pheo));
-        return hs::sigma_a_from_melanin(c.eumelanin, pheo);
+        return hs::sigma_a_from_concentrations(c.eumelanin, pheo);
     }
     const std::string name = c.preset.empty() ? default_preset : c.preset;
     for (const ColourPreset& p : colour_presets())
         if (name == p.name) {
             set_source("--colour " + name + " (eumelanin " + num(p.eumelanin) + ", pheomelanin " + num(p.pheomelanin) +
                        ")");
-            return hs::sigma_a_from_melanin(p.eumelanin, p.pheomelanin);
+            return hs::sigma_a_from_concentrations(p.eumelanin, p.pheomelanin);
         }
     throw std::invalid_argument("--colour: unknown preset '" + name + "' (" + colour_preset_names() + ")");
 }

@@ -71,7 +71,7 @@ void bind_chiang(py::module_& m) {
              py::arg("controls") = py::none(), py::arg("dtype") = "float64",
              "eta > 1 (1.55); beta_m, beta_n in [1e-3, 1] (Chiang's roughness mappings, 0.3); alpha, the cuticle "
              "tilt in radians, |α| ≤ π/8 (2°); sigma_a, RGB absorption per unit fiber radius ≥ 0 (see "
-             "sigma_a_from_melanin_redness); lobes 'all', 'primary' or e.g. 'R+TT'; controls a LobeControls; "
+             "sigma_a_from_melanin_amount); lobes 'all', 'primary' or e.g. 'R+TT'; controls a LobeControls; "
              "dtype float32 or float64. ValueError with the C++ validation's message naming every bad field.");
 }
 

@@ -112,12 +112,16 @@ template <typename F> py::array_t<double> map3(py::handle w_, const char* name, 
 
 void bind_helpers(py::module_& m) {
     // Pigments (docs/controls.md).
-    m.def(
-        "sigma_a_from_melanin",
-        [](double eumelanin, double pheomelanin) { return vec3_array(sigma_a_from_melanin(eumelanin, pheomelanin)); },
-        py::arg("eumelanin"), py::arg("pheomelanin") = 0.0,
-        "Absorption per unit fiber radius from eumelanin and pheomelanin concentrations (Chiang et al. 2016 "
-        "§4.3, pbrt-v4's coefficients): ce (0.419, 0.697, 1.37) + cp (0.187, 0.4, 1.05).");
+    const auto from_concentrations = [](double eumelanin, double pheomelanin) {
+        return vec3_array(sigma_a_from_concentrations(eumelanin, pheomelanin));
+    };
+    m.def("sigma_a_from_concentrations", from_concentrations, py::arg("eumelanin"), py::arg("pheomelanin") = 0.0,
+          "Absorption per unit fiber radius from eumelanin and pheomelanin concentrations (pbrt-v4's "
+          "SigmaAFromConcentration, Mitsuba 3's eumelanin/pheomelanin; Chiang et al. 2016 §4.3): "
+          "ce (0.419, 0.697, 1.37) + cp (0.187, 0.4, 1.05). Not an amount in [0, 1]: see "
+          "sigma_a_from_melanin_amount.");
+    m.def("sigma_a_from_melanin", from_concentrations, py::arg("eumelanin"), py::arg("pheomelanin") = 0.0,
+          "The former name of sigma_a_from_concentrations (it takes concentrations).");
     m.def(
         "melanin_concentrations",
         [](double melanin, double redness) {
@@ -127,12 +131,14 @@ void bind_helpers(py::module_& m) {
         py::arg("melanin"), py::arg("redness") = 0.0,
         "(eumelanin, pheomelanin) of Cycles' melanin amount m and redness r: c = -ln(max(1 - m, 1e-4)), split "
         "c (1 - r), c r.");
-    m.def(
-        "sigma_a_from_melanin_redness",
-        [](double melanin, double redness) { return vec3_array(sigma_a_from_melanin_redness(melanin, redness)); },
-        py::arg("melanin"), py::arg("redness") = 0.0,
-        "σa of a melanin amount m ∈ [0, 1] and redness r ∈ [0, 1]: melanin_concentrations, then "
-        "sigma_a_from_melanin.");
+    const auto from_amount = [](double melanin, double redness) {
+        return vec3_array(sigma_a_from_melanin_amount(melanin, redness));
+    };
+    m.def("sigma_a_from_melanin_amount", from_amount, py::arg("melanin"), py::arg("redness") = 0.0,
+          "σa of Cycles' melanin amount m ∈ [0, 1] and redness r ∈ [0, 1] (Principled Hair's Melanin and "
+          "Melanin Redness): melanin_concentrations, then sigma_a_from_concentrations.");
+    m.def("sigma_a_from_melanin_redness", from_amount, py::arg("melanin"), py::arg("redness") = 0.0,
+          "The former name of sigma_a_from_melanin_amount (it takes an amount in [0, 1]).");
     m.def(
         "sigma_a_from_dye",
         [](const py::object& dye, double beta_n) { return vec3_array(sigma_a_from_dye(vec3_arg(dye, "dye"), beta_n)); },

@@ -12,7 +12,7 @@ int main() {
     p.beta_m = 0.3f;
     p.beta_n = 0.3f;
     p.alpha = 0.035f;
-    p.sigma_a = hairscatter::sigma_a_from_melanin(1.3f, 0.0f);
+    p.sigma_a = hairscatter::sigma_a_from_concentrations(1.3f, 0.0f);
 
     const hairscatter::ChiangMaterial<float> mat(p);
     const hairscatter::ChiangFiber<float> fiber(mat, 0.25f);

@@ -7,7 +7,7 @@ double second_tu_value() {
     p.beta_m = 0.3;
     p.beta_n = 0.3;
     p.alpha = 0.035;
-    p.sigma_a = hairscatter::sigma_a_from_melanin(1.3, 0.0);
+    p.sigma_a = hairscatter::sigma_a_from_concentrations(1.3, 0.0);
 
     const hairscatter::ChiangMaterial<double> mat(p);
     const hairscatter::ChiangFiber<double> fiber(mat, -0.5);

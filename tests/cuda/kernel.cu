@@ -128,7 +128,7 @@ __global__ void strand_absorption(hairscatter::StrandVariation<T> variation, hai
     if (i >= n) return;
     const hairscatter::FiberParams<T> p =
         hairscatter::strand_params(base, variation.at(static_cast<std::uint32_t>(i)), dye);
-    sigma_a[i] = p.sigma_a + hairscatter::sigma_a_from_melanin_redness(T(0.5), T(0.2));
+    sigma_a[i] = p.sigma_a + hairscatter::sigma_a_from_melanin_amount(T(0.5), T(0.2));
     beta_m[i] = p.beta_m;
 }
 template __global__ void strand_absorption<float>(hairscatter::StrandVariation<float>, hairscatter::FiberParams<float>,
@@ -184,7 +184,7 @@ hairscatter::ChiangMaterial<T> make_material() {
     p.beta_m = T(0.3);
     p.beta_n = T(0.3);
     p.alpha = T(0.035);
-    p.sigma_a = hairscatter::sigma_a_from_melanin(T(1.3), T(0));
+    p.sigma_a = hairscatter::sigma_a_from_concentrations(T(1.3), T(0));
     hairscatter::LobeControls<T> controls;  // gains and a tilt override reach the device copy
     controls.gain[2] = T(1.5);
     controls.override_alpha(0, T(0.05));

@@ -63,7 +63,7 @@ TEST(LanesNative, ExpGroupsOfFourAndEightMatchTheScalarLaneExp) {
 // that reads the wrong lobe or a stale value, which moves it by percents.
 TEST(LanesNative, FloatChiangAndDualAgreeWithDouble) {
     hs::FiberParams<double> pd;
-    pd.sigma_a = hs::sigma_a_from_melanin(0.4, 0.1);
+    pd.sigma_a = hs::sigma_a_from_concentrations(0.4, 0.1);
     hs::FiberParams<float> pf;
     pf.sigma_a = glm::vec3(pd.sigma_a);
     const hs::ChiangMaterial<double> md(pd);

@@ -36,7 +36,7 @@ int main() {
     expect(msg.find("beta_m") != std::string::npos, "validate() names beta_m");
 
     hs::FiberParams<float> p;
-    p.sigma_a = hs::sigma_a_from_melanin(1.3f, 0.0f);
+    p.sigma_a = hs::sigma_a_from_concentrations(1.3f, 0.0f);
     expect(hs::validate(p).empty(), "validate() accepts the defaults");
     const hs::ChiangMaterial<float> m(p);
     const hs::ChiangFiber<float> fiber(m, 0.25f);

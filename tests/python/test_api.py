@@ -203,13 +203,20 @@ def test_controls_scale_the_albedo_as_documented():
     assert hs.LobeControls(alpha_tt=0.05).alpha == (None, 0.05, None)
 
 
+def test_former_pigment_names_give_the_same_values():
+    for ce, cp in ((1.3, 0.0), (0.4, 0.7), (0.0, 2.0)):
+        assert np.array_equal(hs.sigma_a_from_melanin(ce, cp), hs.sigma_a_from_concentrations(ce, cp))
+    for m, r in ((0.0, 0.0), (0.6, 0.25), (1.0, 1.0)):
+        assert np.array_equal(hs.sigma_a_from_melanin_redness(m, r), hs.sigma_a_from_melanin_amount(m, r))
+
+
 def test_pigments_follow_the_documented_formulas():
-    np.testing.assert_allclose(hs.sigma_a_from_melanin(1.0, 0.0), [0.419, 0.697, 1.37])
-    np.testing.assert_allclose(hs.sigma_a_from_melanin(0.0, 2.0), [0.374, 0.8, 2.1])
+    np.testing.assert_allclose(hs.sigma_a_from_concentrations(1.0, 0.0), [0.419, 0.697, 1.37])
+    np.testing.assert_allclose(hs.sigma_a_from_concentrations(0.0, 2.0), [0.374, 0.8, 2.1])
     c = -math.log(1 - 0.6)
     eu, pheo = hs.melanin_concentrations(0.6, 0.25)
     assert eu == pytest.approx(0.75 * c, rel=1e-15) and pheo == pytest.approx(0.25 * c, rel=1e-15)
-    np.testing.assert_allclose(hs.sigma_a_from_melanin_redness(0.6, 0.25), hs.sigma_a_from_melanin(eu, pheo), rtol=1e-15)
+    np.testing.assert_allclose(hs.sigma_a_from_melanin_amount(0.6, 0.25), hs.sigma_a_from_concentrations(eu, pheo), rtol=1e-15)
     assert hs.melanin_concentrations(1.0)[0] == pytest.approx(math.log(1e4))
     b = 0.3
     d = 5.969 - 0.215 * b + 2.532 * b**2 - 10.73 * b**3 + 5.574 * b**4 + 0.245 * b**5
@@ -217,7 +224,7 @@ def test_pigments_follow_the_documented_formulas():
     np.testing.assert_allclose(hs.sigma_a_from_dye((0.5, 0.25, 1.0), b), hs.sigma_a_from_color((0.5, 0.25, 1.0), b), rtol=1e-15)
     np.testing.assert_allclose(
         hs.sigma_a_from_pigments(0.6, 0.25, (0.5, 0.25, 1.0), b),
-        hs.sigma_a_from_melanin_redness(0.6, 0.25) + hs.sigma_a_from_dye((0.5, 0.25, 1.0), b),
+        hs.sigma_a_from_melanin_amount(0.6, 0.25) + hs.sigma_a_from_dye((0.5, 0.25, 1.0), b),
         rtol=1e-15,
     )
 
@@ -229,7 +236,7 @@ def test_strand_variation_draws_within_its_intervals_and_feeds_a_model():
     assert draws[5] == v.at(5) and draws[5] != draws[6]
     p = v.params(5, beta_m=0.3, beta_n=0.3)
     assert p["beta_m"] == pytest.approx(0.3 * draws[5]["roughness_scale"])
-    np.testing.assert_allclose(p["sigma_a"], hs.sigma_a_from_melanin_redness(draws[5]["melanin"], draws[5]["redness"]))
+    np.testing.assert_allclose(p["sigma_a"], hs.sigma_a_from_melanin_amount(draws[5]["melanin"], draws[5]["redness"]))
     assert hs.Chiang(**p).eval([0, 1, 0], [0, 1, 0], 0.0).shape == (3,)
 
 
@@ -249,7 +256,7 @@ def test_frames_put_wo_in_the_xz_plane_and_round_trip():
 
 
 def test_dual_tables_build_save_load_and_drive_the_bcsdf(tmp_path):
-    m = hs.DeonFarField(sigma_a=hs.sigma_a_from_melanin_redness(0.3, 0.1))
+    m = hs.DeonFarField(sigma_a=hs.sigma_a_from_melanin_amount(0.3, 0.1))
     t = m.dual_tables(theta_samples=16, psi_samples=9)
     assert (t.size, t.psi_samples, t.lobes, t.formulation) == (16, 9, 4, "improved")
     arr = t.arrays()

@@ -79,7 +79,7 @@ void azimuthal_variances(const hs::ChiangMaterial<double>& mat, double& var_f, d
 int main(int argc, char** argv) {
     const Options opt = parse(argc, argv);
     hs::FiberParams<double> p;
-    p.sigma_a = hs::sigma_a_from_melanin(opt.melanin, 0.0);
+    p.sigma_a = hs::sigma_a_from_concentrations(opt.melanin, 0.0);
     const hs::ChiangMaterial<double> mat(p);
     const auto tables = hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(mat, hs::DualTableOptions<double>{});
     const auto e = tables.view().lookup(0.0);

@@ -58,7 +58,7 @@ TEST(ExamplesCommon, ModelNames) {
 
 TEST(ExamplesCommon, WhereSigmaAComesFrom) {
     ex::HairColourOptions c;
-    const glm::dvec3 blond = hs::sigma_a_from_melanin(0.3, 0.0);
+    const glm::dvec3 blond = hs::sigma_a_from_concentrations(0.3, 0.0);
     EXPECT_EQ(ex::sigma_a_of(c, "blond", 0.3), blond);  // the program's default preset
     c.preset = "white";
     EXPECT_EQ(ex::sigma_a_of(c, "blond", 0.3), glm::dvec3(0.0));
@@ -66,9 +66,9 @@ TEST(ExamplesCommon, WhereSigmaAComesFrom) {
     EXPECT_THROW(ex::sigma_a_of(c, "blond", 0.3), std::invalid_argument);
     c = ex::HairColourOptions{};
     c.eumelanin = 1.3;
-    EXPECT_EQ(ex::sigma_a_of(c, "blond", 0.3), hs::sigma_a_from_melanin(1.3, 0.0));
+    EXPECT_EQ(ex::sigma_a_of(c, "blond", 0.3), hs::sigma_a_from_concentrations(1.3, 0.0));
     c.pheomelanin = 0.5;
-    EXPECT_EQ(ex::sigma_a_of(c, "blond", 0.3), hs::sigma_a_from_melanin(1.3, 0.5));
+    EXPECT_EQ(ex::sigma_a_of(c, "blond", 0.3), hs::sigma_a_from_concentrations(1.3, 0.5));
     for (double bad : {-1.0, std::nan("")}) {
         c.eumelanin = bad;
         EXPECT_THROW(ex::sigma_a_of(c, "blond", 0.3), std::invalid_argument) << bad;
@@ -89,10 +89,10 @@ TEST(ExamplesCommon, ControlsFromOptions) {
     ex::HairColourOptions c;
     c.melanin = 0.6;
     c.redness = 0.25;
-    EXPECT_EQ(ex::sigma_a_of(c, "blond", 0.3), hs::sigma_a_from_melanin_redness(0.6, 0.25));
+    EXPECT_EQ(ex::sigma_a_of(c, "blond", 0.3), hs::sigma_a_from_melanin_amount(0.6, 0.25));
     c.dye = {0.9, 0.8, 0.7};
     EXPECT_EQ(ex::sigma_a_of(c, "blond", 0.3),
-              hs::sigma_a_from_melanin_redness(0.6, 0.25) + hs::sigma_a_from_color(glm::dvec3(0.9, 0.8, 0.7), 0.3));
+              hs::sigma_a_from_melanin_amount(0.6, 0.25) + hs::sigma_a_from_color(glm::dvec3(0.9, 0.8, 0.7), 0.3));
 
     ex::FiberOptions o;
     o.controls.gain[2] = 1.5;

@@ -175,7 +175,7 @@ TEST(RenderPath, EveryConservingModelVanishesInTheFurnace) {
 
 TEST(RenderPath, AbsorbingHairDoesNotVanishInTheFurnace) {
     const Scene scene(furnace_block(1500));
-    const ShadingSetup shading(scene, fiber_only(hairscatter::sigma_a_from_melanin(1.3f, 0.0f)));
+    const ShadingSetup shading(scene, fiber_only(hairscatter::sigma_a_from_concentrations(1.3f, 0.0f)));
     const RenderResult r = render::render(scene, shading, furnace_options(Sampling::kImportance, 4));
     std::size_t n;
     const double blue = mean_over_hair(r, 2, n);
@@ -329,7 +329,7 @@ SceneDescription lit_block(int hairs) {
 TEST(RenderDual, TwoStreamCarriesTheGroundsLightLikeThePathTracer) {
     const Scene scene(lit_block(1500));
     ShadingOptions so;
-    so.fiber.sigma_a = hairscatter::sigma_a_from_melanin(8.0f, 0.0f);
+    so.fiber.sigma_a = hairscatter::sigma_a_from_concentrations(8.0f, 0.0f);
     const ShadingSetup shading(scene, so);
     RenderOptions o;
     o.width = 48;
@@ -380,7 +380,7 @@ TEST(RenderGains, LargeGainsStayFiniteAndBounded) {
     const double plain = hair_mean(render::render(scene, ShadingSetup(scene, lossless), o)).mean;
     for (float gain : {100.0f, 1e6f}) {
         ShadingOptions so;
-        so.fiber.sigma_a = hairscatter::sigma_a_from_melanin(0.3f, 0.0f);
+        so.fiber.sigma_a = hairscatter::sigma_a_from_concentrations(0.3f, 0.0f);
         so.fiber_extras.has_controls = true;
         for (int p = 0; p < 4; ++p) so.fiber_extras.controls.gain[p] = gain > 1e3f || p == 1 ? gain : 1.0f;
         const ShadingSetup shading(scene, so);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <type_traits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -18,6 +19,21 @@
 #include "settings.hpp"
 
 namespace hairscatter {
+
+// A read-only view of size elements at data, owned by the caller (C++17 has no std::span):
+// how DensityGrid::from_strands reads a renderer's own arrays without copying them.
+template <typename E> struct ConstView {
+    const E* data = nullptr;
+    std::size_t size = 0;
+
+    constexpr ConstView() = default;
+    constexpr ConstView(const E* d, std::size_t n) : data(d), size(n) {}
+    ConstView(const std::vector<E>& v) : data(v.data()), size(v.size()) {}  // NOLINT: implicit by design
+    constexpr const E& operator[](std::size_t i) const { return data[i]; }
+    constexpr bool empty() const { return size == 0; }
+};
+template <typename E> ConstView(const E*, std::size_t) -> ConstView<E>;
+template <typename E> ConstView(const std::vector<E>&) -> ConstView<E>;
 
 // The shipped density source: a dense grid of hair length (and orientation) per cell over
 // an axis-aligned box, built on the host from strands (polylines), queried on the host or,
@@ -70,14 +86,10 @@ template <typename T> class DensityGrid {
     }
 
     // A grid of cubic cells of side cell_size around the strands: their bounds (finite
-    // points only) padded by one cell on every side; then every strand is added.
+    // points only) padded by one cell on every side; then every strand is added. Points
+    // that are not finite are skipped with their segments.
     static DensityGrid from_strands(const std::vector<std::vector<V3>>& strands, T cell_size, T fiber_radius,
                                     FiberOrientation orientation = FiberOrientation::kTracked) {
-        using std::ceil;
-        using std::isfinite;
-        if (!(cell_size > T(0)) || !isfinite(cell_size))
-            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DensityGrid::from_strands: cell_size = " + num(cell_size) +
-                                        " is outside (0, inf)"));
         V3 lo(std::numeric_limits<T>::max()), hi(std::numeric_limits<T>::lowest());
         bool any = false;
         for (const auto& strand : strands)
@@ -87,18 +99,70 @@ template <typename T> class DensityGrid {
                     hi = glm::max(hi, p);
                     any = true;
                 }
-        if (!any) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DensityGrid::from_strands: strands has no finite point"));
-        glm::ivec3 res;
-        for (int a = 0; a < 3; ++a) {
-            const T inner = ceil((hi[a] - lo[a]) / cell_size);
-            if (!(inner <= T(kMaxCells)))
-                HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DensityGrid::from_strands: cell_size = " + num(cell_size) +
-                                            " gives more than " + std::to_string(kMaxCells) + " cells"));
-            res[a] = int(inner) + 2;  // one padding cell either side
-        }
-        const V3 box_min = lo - V3(cell_size);
-        DensityGrid grid(box_min, box_min + V3(res) * cell_size, res, fiber_radius, orientation);
+        DensityGrid grid = around(lo, hi, any, cell_size, fiber_radius, orientation);
         for (const auto& strand : strands) grid.add_strand(strand);
+        return grid;
+    }
+
+    // The same grid from the arrays a renderer already holds (pbrt's and Embree's layout),
+    // read in place: all strands' points back to back, and strand_starts[i] the index of
+    // strand i's first point (strand i ends where strand i + 1 starts, the last one at
+    // points.size). strand_radii, when not empty, holds one radius per strand; strand i
+    // then deposits its length times r_i / fiber_radius, so that a count, 2r per unit of
+    // length crossed, is Σ 2 r_i ℓ_i (the projected area), and fiber_radius is the grid's
+    // reference radius (e.g. the strands' mean). Unlike the nested form, which skips them,
+    // every bad input throws std::invalid_argument naming it: a non-finite point, starts
+    // that decrease or exceed points.size, a radius count other than the strand count, a
+    // radius that is negative or not finite. Index is any integer type (int for pbrt,
+    // unsigned for Embree, std::size_t).
+    template <typename Index>
+    static DensityGrid from_strands(ConstView<V3> points, ConstView<Index> strand_starts, T cell_size, T fiber_radius,
+                                    ConstView<T> strand_radii = {},
+                                    FiberOrientation orientation = FiberOrientation::kTracked) {
+        static_assert(std::is_integral<Index>::value, "hairscatter: strand_starts must hold integers");
+        using std::isfinite;
+        const char* who = "hairscatter: DensityGrid::from_strands: ";
+        const std::size_t strands = strand_starts.size;
+        if ((points.size > 0 && points.data == nullptr) || (strands > 0 && strand_starts.data == nullptr) ||
+            (strand_radii.size > 0 && strand_radii.data == nullptr))
+            HAIRSCATTER_THROW(std::invalid_argument(std::string(who) + "a view has a size but no data"));
+        for (std::size_t i = 0; i < strands; ++i) {
+            const Index s = strand_starts[i];
+            if (negative(s) || static_cast<unsigned long long>(s) > static_cast<unsigned long long>(points.size))
+                HAIRSCATTER_THROW(std::invalid_argument(std::string(who) + "strand_starts[" + std::to_string(i) +
+                                                        "] = " + std::to_string(s) + " is outside [0, points.size = " +
+                                                        std::to_string(points.size) + "]"));
+            if (i > 0 && s < strand_starts[i - 1])
+                HAIRSCATTER_THROW(std::invalid_argument(std::string(who) + "strand_starts[" + std::to_string(i) +
+                                                        "] = " + std::to_string(s) + " is below strand_starts[" +
+                                                        std::to_string(i - 1) + "] = " +
+                                                        std::to_string(strand_starts[i - 1]) +
+                                                        " (starts must not decrease)"));
+        }
+        if (!strand_radii.empty() && strand_radii.size != strands)
+            HAIRSCATTER_THROW(std::invalid_argument(std::string(who) + "strand_radii has " +
+                                                    std::to_string(strand_radii.size) + " entries for " +
+                                                    std::to_string(strands) + " strands (give one per strand, or none)"));
+        for (std::size_t i = 0; i < strand_radii.size; ++i)
+            if (!(strand_radii[i] >= T(0)) || !isfinite(strand_radii[i]))
+                HAIRSCATTER_THROW(std::invalid_argument(std::string(who) + "strand_radii[" + std::to_string(i) +
+                                                        "] = " + num(strand_radii[i]) + " is outside [0, inf)"));
+        const std::size_t first = strands > 0 ? std::size_t(strand_starts[0]) : points.size;
+        V3 lo(std::numeric_limits<T>::max()), hi(std::numeric_limits<T>::lowest());
+        for (std::size_t i = first; i < points.size; ++i) {
+            if (!detail::finite3(points[i]))
+                HAIRSCATTER_THROW(std::invalid_argument(std::string(who) + "points[" + std::to_string(i) + "] = " +
+                                                        num3(points[i]) + " is not finite"));
+            lo = glm::min(lo, points[i]);
+            hi = glm::max(hi, points[i]);
+        }
+        DensityGrid grid = around(lo, hi, first < points.size, cell_size, fiber_radius, orientation);
+        for (std::size_t i = 0; i < strands; ++i) {
+            const std::size_t b = std::size_t(strand_starts[i]);
+            const std::size_t e = i + 1 < strands ? std::size_t(strand_starts[i + 1]) : points.size;
+            const T w = strand_radii.empty() ? T(1) : strand_radii[i] / fiber_radius;
+            for (std::size_t k = b + 1; k < e; ++k) grid.deposit(points[k - 1], points[k], w);
+        }
         return grid;
     }
 
@@ -115,7 +179,11 @@ template <typename T> class DensityGrid {
     // and segments with a non-finite end are skipped. A segment between finite ends whose
     // length overflows T (an end near the largest float) throws std::invalid_argument: its
     // deposit was +Inf and its direction NaN.
-    T add_segment(const V3& a, const V3& b) {
+    T add_segment(const V3& a, const V3& b) { return deposit(a, b, T(1)); }
+  private:
+    // add_segment with each piece's length times w (the strand's radius over the grid's);
+    // returns the length deposited, unweighted.
+    T deposit(const V3& a, const V3& b, T w) {
         using std::ceil;
         using std::floor;
         if (!detail::finite3(a) || !detail::finite3(b)) return T(0);
@@ -154,7 +222,7 @@ template <typename T> class DensityGrid {
                 for (int ax = 0; ax < 3; ++ax)
                     c[ax] = clamp(int(floor((mid[ax] - g_.lo_[ax]) * g_.inv_cell_[ax])), 0, g_.res_[ax] - 1);
                 const T l = (tn - t) * length;
-                cells_[index(c[0], c[1], c[2])].add_scaled(l, unit);
+                cells_[index(c[0], c[1], c[2])].add_scaled(l * w, unit);
                 deposited += l;
             }
             // Each pass moves past at least one face or ends at t1, so the loop terminates.
@@ -168,6 +236,7 @@ template <typename T> class DensityGrid {
         return deposited;
     }
 
+  public:
     // The march step of fibers_crossed: in (0, inf) and no finer than diagonal / kMaxMarchSteps.
     void set_march_step(T step) {
         using std::isfinite;
@@ -207,6 +276,33 @@ template <typename T> class DensityGrid {
     const std::vector<Cell>& cells() const { return cells_; }
 
   private:
+    // Negative starts are refused before the cast to an unsigned type could wrap them.
+    template <typename Index> static bool negative(Index i) {
+        if constexpr (std::is_signed<Index>::value) return i < Index(0);
+        return false;
+    }
+
+    // The empty grid of cubic cells of side cell_size around the points' bounds [lo, hi]
+    // (any: there was a finite point), padded by one cell on every side.
+    static DensityGrid around(const V3& lo, const V3& hi, bool any, T cell_size, T fiber_radius,
+                              FiberOrientation orientation) {
+        using std::ceil;
+        using std::isfinite;
+        if (!(cell_size > T(0)) || !isfinite(cell_size))
+            HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DensityGrid::from_strands: cell_size = " + num(cell_size) +
+                                                    " is outside (0, inf)"));
+        if (!any) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DensityGrid::from_strands: strands has no finite point"));
+        glm::ivec3 res;
+        for (int a = 0; a < 3; ++a) {
+            const T inner = ceil((hi[a] - lo[a]) / cell_size);
+            if (!(inner <= T(kMaxCells)))
+                HAIRSCATTER_THROW(std::invalid_argument("hairscatter: DensityGrid::from_strands: cell_size = " + num(cell_size) +
+                                                        " gives more than " + std::to_string(kMaxCells) + " cells"));
+            res[a] = int(inner) + 2;  // one padding cell either side
+        }
+        const V3 box_min = lo - V3(cell_size);
+        return DensityGrid(box_min, box_min + V3(res) * cell_size, res, fiber_radius, orientation);
+    }
     static std::string num(T v) {
         std::ostringstream s;
         s << double(v);

@@ -96,12 +96,21 @@ template <typename T> const FiberParams<T>& validated(const FiberParams<T>& p) {
     return p;
 }
 
-// Absorption from eumelanin and pheomelanin concentrations (Chiang et al. 2016 §4.3,
-// the coefficients pbrt uses): σa = ce (0.419, 0.697, 1.37) + cp (0.187, 0.4, 1.05).
+// Absorption from eumelanin and pheomelanin concentrations ce, cp ≥ 0 per unit fiber
+// radius (pbrt-v4's SigmaAFromConcentration, Mitsuba 3's eumelanin and pheomelanin;
+// Chiang et al. 2016 §4.3): σa = ce (0.419, 0.697, 1.37) + cp (0.187, 0.4, 1.05).
+// Not a melanin amount in [0, 1]: that is sigma_a_from_melanin_amount (pigments.hpp).
 template <typename T>
-HAIRSCATTER_HD glm::vec<3, T> sigma_a_from_melanin(T eumelanin, T pheomelanin) {
+HAIRSCATTER_HD glm::vec<3, T> sigma_a_from_concentrations(T eumelanin, T pheomelanin) {
     return eumelanin * glm::vec<3, T>(T(0.419), T(0.697), T(1.37)) +
            pheomelanin * glm::vec<3, T>(T(0.187), T(0.4), T(1.05));
+}
+
+// The former name of sigma_a_from_concentrations, which hid that it takes concentrations.
+template <typename T>
+[[deprecated("hairscatter: sigma_a_from_melanin takes concentrations: call sigma_a_from_concentrations")]]
+HAIRSCATTER_HD glm::vec<3, T> sigma_a_from_melanin(T eumelanin, T pheomelanin) {
+    return sigma_a_from_concentrations(eumelanin, pheomelanin);
 }
 
 namespace detail {

@@ -18,7 +18,7 @@
 namespace hairscatter {
 
 // Eumelanin and pheomelanin concentrations (per unit fiber radius), what
-// sigma_a_from_melanin takes.
+// sigma_a_from_concentrations takes.
 template <typename T> struct MelaninConcentrations {
     T eumelanin, pheomelanin;
 };
@@ -40,11 +40,19 @@ template <typename T> HAIRSCATTER_HD MelaninConcentrations<T> melanin_concentrat
     return {c * (T(1) - redness), c * redness};
 }
 
-// σa of melanin amount m and redness r: melanin_concentrations, then
-// sigma_a_from_melanin's coefficients (Chiang et al. 2016 §4.3, pbrt-v4's).
-template <typename T> HAIRSCATTER_HD glm::vec<3, T> sigma_a_from_melanin_redness(T melanin, T redness) {
+// σa of Cycles' melanin amount m ∈ [0, 1] and redness r ∈ [0, 1] (its Principled Hair
+// "Melanin" and "Melanin Redness"): melanin_concentrations, then
+// sigma_a_from_concentrations' coefficients (Chiang et al. 2016 §4.3, pbrt-v4's).
+template <typename T> HAIRSCATTER_HD glm::vec<3, T> sigma_a_from_melanin_amount(T melanin, T redness) {
     const MelaninConcentrations<T> c = melanin_concentrations(melanin, redness);
-    return sigma_a_from_melanin(c.eumelanin, c.pheomelanin);
+    return sigma_a_from_concentrations(c.eumelanin, c.pheomelanin);
+}
+
+// The former name of sigma_a_from_melanin_amount.
+template <typename T>
+[[deprecated("hairscatter: sigma_a_from_melanin_redness takes an amount in [0, 1]: call sigma_a_from_melanin_amount")]]
+HAIRSCATTER_HD glm::vec<3, T> sigma_a_from_melanin_redness(T melanin, T redness) {
+    return sigma_a_from_melanin_amount(melanin, redness);
 }
 
 // σa of a dye colour d (each channel in (0, 1]; white adds nothing) for azimuthal
@@ -88,7 +96,7 @@ template <typename T> void require_valid(const HairPigments<T>& p) { detail::thr
 // σa of valid pigments at azimuthal roughness β_n: the melanin's and the dye's, added
 // (the dye's depends on β_n through eq. 9).
 template <typename T> HAIRSCATTER_HD glm::vec<3, T> sigma_a_from_pigments(const HairPigments<T>& p, T beta_n) {
-    return sigma_a_from_melanin_redness(p.melanin, p.redness) + sigma_a_from_dye(p.dye, beta_n);
+    return sigma_a_from_melanin_amount(p.melanin, p.redness) + sigma_a_from_dye(p.dye, beta_n);
 }
 
 }  // namespace hairscatter

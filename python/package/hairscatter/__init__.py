@@ -24,8 +24,10 @@ from ._core import (  # noqa: F401
     __version__,
     melanin_concentrations,
     sigma_a_from_color,
+    sigma_a_from_concentrations,
     sigma_a_from_dye,
     sigma_a_from_melanin,
+    sigma_a_from_melanin_amount,
     sigma_a_from_melanin_redness,
     sigma_a_from_pigments,
 )

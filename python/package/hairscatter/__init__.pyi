@@ -21,8 +21,10 @@ from ._core import Tabulated as Tabulated
 from ._core import __version__ as __version__
 from ._core import melanin_concentrations as melanin_concentrations
 from ._core import sigma_a_from_color as sigma_a_from_color
+from ._core import sigma_a_from_concentrations as sigma_a_from_concentrations
 from ._core import sigma_a_from_dye as sigma_a_from_dye
 from ._core import sigma_a_from_melanin as sigma_a_from_melanin
+from ._core import sigma_a_from_melanin_amount as sigma_a_from_melanin_amount
 from ._core import sigma_a_from_melanin_redness as sigma_a_from_melanin_redness
 from ._core import sigma_a_from_pigments as sigma_a_from_pigments
 
