@@ -13,17 +13,23 @@
 // the double cylinder (docs/models.md, "Fur with a medulla").
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <fstream>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <glm/glm.hpp>
 
 #include "../config.hpp"
 #include "../fiber/frame.hpp"
 #include "../fiber/params.hpp"
+#include "../io/table_file.hpp"
 #include "../lobes/attenuation.hpp"
 #include "../lobes/azimuthal.hpp"
 #include "../lobes/deon_lobes.hpp"
@@ -400,7 +406,109 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
     HAIRSCATTER_HD const TrimmedLogistic<T>& azimuthal() const { return n_; }
     HAIRSCATTER_HD const MedullaTables<T>& medulla() const { return tables_; }
 
+    // The medulla tables in a small versioned binary file, to skip their simulation next
+    // time: "HSFT", the version, the tables' sizes, the parameters they depend on (η and
+    // σa^c of the cortex, κ, σs^m, σa^m, g), the tables as doubles and an FNV-1a checksum
+    // of everything before it. A float material's tables come back bit for bit.
+    static constexpr std::uint32_t kFileVersion = 1;
+    void save(const std::string& path) const {
+        std::vector<unsigned char> buf;
+        detail::put_bytes(buf, "HSFT", 4);
+        for (std::uint32_t u : {kFileVersion, std::uint32_t(MedullaTables<T>::kThetaBins),
+                                std::uint32_t(MedullaTables<T>::kPhiBins)})
+            detail::put_bytes(buf, &u, 4);
+        for (double d : table_parameters(params_)) detail::put_bytes(buf, &d, 8);
+        for_each_value(tables_, [&](const T& v, double, double, const char*) {
+            const double d = double(v);
+            detail::put_bytes(buf, &d, 8);
+        });
+        detail::write_table_file(path, std::move(buf), "fur medulla tables");
+    }
+
+    // The material of params with the tables of a file written by save() (no simulation).
+    // Throws std::invalid_argument for bad params (as the constructor), std::runtime_error
+    // naming the file for a wrong magic, version, table size, file size or checksum, a
+    // value outside what the simulation produces, or tables built for other parameters
+    // (those the tables depend on must agree to 1e-6 relative; β_m, β_n and α may differ).
+    static FurMaterial load(const FurParams<T>& params, const std::string& path) {
+        require_valid(params);
+        auto fail = [&](const std::string& why) {
+            return std::runtime_error("hairscatter: '" + path + "' is not a valid fur medulla table file: " + why);
+        };
+        std::ifstream f(path, std::ios::binary);
+        if (!f) HAIRSCATTER_THROW(std::runtime_error("hairscatter: cannot open fur medulla tables '" + path + "'"));
+        constexpr int kTheta = MedullaTables<T>::kThetaBins, kPhi = MedullaTables<T>::kPhiBins;
+        constexpr std::size_t kParams = 10, kValues = std::size_t(kTheta) * (2 * kPhi + 1 + 3);
+        constexpr std::size_t kExpected = 4 + 3 * 4 + (kParams + kValues) * 8 + 8;
+        // One byte more than a valid file holds: a longer file (or pipe) is seen as such.
+        std::vector<unsigned char> buf(kExpected + 1);
+        f.read(reinterpret_cast<char*>(buf.data()), std::streamsize(buf.size()));
+        buf.resize(std::size_t(f.gcount()));
+        if (buf.size() < 16 || std::memcmp(buf.data(), "HSFT", 4) != 0) HAIRSCATTER_THROW(fail("bad magic or too short"));
+        std::size_t at = 4;
+        const std::uint32_t version = detail::get_bytes<std::uint32_t>(buf, at);
+        if (version != kFileVersion)
+            HAIRSCATTER_THROW(fail("version " + std::to_string(version) + ", this library reads version " +
+                                   std::to_string(kFileVersion)));
+        const std::uint32_t theta = detail::get_bytes<std::uint32_t>(buf, at), phi = detail::get_bytes<std::uint32_t>(buf, at);
+        if (theta != std::uint32_t(kTheta) || phi != std::uint32_t(kPhi))
+            HAIRSCATTER_THROW(fail("tables of " + std::to_string(theta) + " x " + std::to_string(phi) +
+                                   " bins, this library's are " + std::to_string(kTheta) + " x " + std::to_string(kPhi)));
+        if (buf.size() != kExpected)
+            HAIRSCATTER_THROW(fail(buf.size() < kExpected ? "size " + std::to_string(buf.size()) + " bytes, expected " +
+                                                                std::to_string(kExpected) + " (truncated?)"
+                                                          : "longer than the " + std::to_string(kExpected) + " bytes expected"));
+        std::size_t end = kExpected - 8;
+        if (detail::get_bytes<std::uint64_t>(buf, end) != detail::fnv1a(buf.data(), kExpected - 8))
+            HAIRSCATTER_THROW(fail("checksum mismatch (corrupt file)"));
+        static const char* kName[kParams] = {"eta", "sigma_a.r", "sigma_a.g", "sigma_a.b", "kappa",
+                                             "sigma_s", "sigma_a_medulla.r", "sigma_a_medulla.g", "sigma_a_medulla.b", "g"};
+        const auto given = table_parameters(params);
+        for (std::size_t k = 0; k < kParams; ++k) {
+            const double in_file = detail::get_bytes<double>(buf, at), want = given[k];
+            if (!(std::fabs(in_file - want) <= 1e-6 * std::fmax(std::fabs(in_file), std::fabs(want))))
+                HAIRSCATTER_THROW(fail(std::string("built for other fur parameters: ") + kName[k] + " " +
+                                       std::to_string(in_file) + " in the file, " + std::to_string(want) + " given"));
+        }
+        MedullaTables<T> tables;
+        for_each_value(tables, [&](T& v, double lo, double hi, const char* what) {
+            v = T(detail::get_bytes<double>(buf, at));  // checked in T (1e300 is a double, not a float)
+            if (!(std::isfinite(double(v)) && double(v) >= lo && double(v) <= hi))
+                HAIRSCATTER_THROW(fail(std::string(what) + " = " + std::to_string(double(v)) + " outside [" +
+                                       std::to_string(lo) + ", " + std::to_string(hi) + "]"));
+        });
+        for (int t = 0; t < kTheta; ++t) {
+            if (tables.cdf[t][0] != T(0) || tables.cdf[t][kPhi] != T(1)) HAIRSCATTER_THROW(fail("a cdf not from 0 to 1"));
+            for (int k = 0; k < kPhi; ++k)
+                if (tables.cdf[t][k + 1] < tables.cdf[t][k]) HAIRSCATTER_THROW(fail("a decreasing cdf"));
+        }
+        return FurMaterial(params, tables);
+    }
+
   private:
+    FurMaterial(const FurParams<T>& params, const MedullaTables<T>& tables)
+        : DeonLobes<T>(params.cortex.beta_m, params.cortex.alpha), params_(params),
+          n_(logistic_scale(params.cortex.beta_n)), tables_(tables) {}
+
+    // What the tables depend on, in the file's order.
+    static std::array<double, 10> table_parameters(const FurParams<T>& p) {
+        return {double(p.cortex.eta), double(p.cortex.sigma_a[0]), double(p.cortex.sigma_a[1]),
+                double(p.cortex.sigma_a[2]), double(p.kappa), double(p.sigma_s), double(p.sigma_a_medulla[0]),
+                double(p.sigma_a_medulla[1]), double(p.sigma_a_medulla[2]), double(p.g)};
+    }
+    // f(value, lo, hi, name) over every value of the tables in the file's order, with the
+    // range the simulation keeps it in (a density is at most 1/width when all its mass is
+    // in one bin).
+    template <class Tables, class F> static void for_each_value(Tables& tab, F&& f) {
+        constexpr int kTheta = MedullaTables<T>::kThetaBins, kPhi = MedullaTables<T>::kPhiBins;
+        const double max_density = double(kPhi) / kPi<double> * 1.001;
+        for (int t = 0; t < kTheta; ++t) {
+            for (int k = 0; k < kPhi; ++k) f(tab.density[t][k], 0.0, max_density, "a density value");
+            for (int k = 0; k <= kPhi; ++k) f(tab.cdf[t][k], 0.0, 1.0, "a cdf value");
+            for (int c = 0; c < 3; ++c) f(tab.escape[t][c], 0.0, 1.0, "an escape fraction");
+        }
+    }
+
     FurParams<T> params_;
     TrimmedLogistic<T> n_;
     MedullaTables<T> tables_;
