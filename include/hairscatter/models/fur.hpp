@@ -33,6 +33,7 @@
 #include "../lobes/attenuation.hpp"
 #include "../lobes/azimuthal.hpp"
 #include "../lobes/deon_lobes.hpp"
+#include "../lobes/lobe_controls.hpp"
 #include "../math/constants.hpp"
 #include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
@@ -73,6 +74,39 @@ template <typename T> void require_valid(const FurParams<T>& p) { detail::throw_
 template <typename T> const FurParams<T>& validated(const FurParams<T>& p) {
     require_valid(p);
     return p;
+}
+
+// The fur fibre's lobe controls (docs/controls.md): LobeControls' gains, tints and tilts on
+// R, TT, TRT and the residual, and a gain and tint of its own for S, the light scattered in
+// the medulla. Like LobeControls, they scale each lobe's energy, so f, the lobe selection
+// weights, the albedo and lobe_split all follow. The defaults change nothing.
+template <typename T> struct FurControls {
+    LobeControls<T> lobes;
+    T gain_s = T(1);                          // [0, kMaxLobeGain]
+    glm::vec<3, T> tint_s{T(1)};              // channels in [0, kMaxLobeGain]
+
+    HAIRSCATTER_HD glm::vec<3, T> weight_s() const { return gain_s * tint_s; }
+};
+
+// Empty when valid, else one message per bad field naming it (the four lobes' names as
+// validate(LobeControls)). Never throws.
+template <typename T> std::string validate(const FurControls<T>& c) {
+    using detail::in_range;
+    detail::Complaints bad;
+    const std::string lobes = validate(c.lobes);
+    if (!lobes.empty()) bad.add_text(lobes);
+    if (!in_range(c.gain_s, T(0), kMaxLobeGain<T>)) bad.add("gain_s", double(c.gain_s), "[0, 1e6]");
+    const char* channel[3] = {"tint_s.r", "tint_s.g", "tint_s.b"};
+    for (int ch = 0; ch < 3; ++ch)
+        if (!in_range(c.tint_s[ch], T(0), kMaxLobeGain<T>)) bad.add(channel[ch], double(c.tint_s[ch]), "[0, 1e6]");
+    return bad.str();
+}
+
+template <typename T> void require_valid(const FurControls<T>& c) { detail::throw_if_invalid(validate(c), "fur lobe controls"); }
+
+template <typename T> const FurControls<T>& validated(const FurControls<T>& c) {
+    require_valid(c);
+    return c;
 }
 
 // The medulla-scattered lobe's tables: per bin of |θo|, the azimuthal density of the
@@ -390,19 +424,24 @@ template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& 
 
 }  // namespace detail
 
-// Everything that depends only on the fur parameters, computed once per material on the
-// host (validated: the constructor throws std::invalid_argument naming the bad parameter;
-// docs/models.md gives the medulla tables' build time). Trivially copyable.
-// Its d'Eon ingredients (longitudinal(p), tilt()) are DeonLobes', as ChiangMaterial's.
+// Everything that depends only on the fur parameters and the lobe controls, computed once
+// per material on the host (validated: the constructor throws std::invalid_argument naming
+// the bad parameter; docs/models.md gives the medulla tables' build time). Trivially
+// copyable. Its d'Eon ingredients (longitudinal(p), tilt()) are DeonLobes', with the
+// controls' per-lobe tilts, as ChiangMaterial's.
 template <typename T> class FurMaterial : public DeonLobes<T> {
   public:
     static constexpr int kLobes = DeonLobes<T>::kLobes;
 
-    explicit FurMaterial(const FurParams<T>& params)
-        : DeonLobes<T>(validated(params).cortex.beta_m, params.cortex.alpha), params_(params),
-          n_(logistic_scale(params.cortex.beta_n)), tables_(detail::build_medulla_tables(params)) {}
+    explicit FurMaterial(const FurParams<T>& params, const FurControls<T>& controls = FurControls<T>())
+        : FurMaterial(params, validated(controls), detail::build_medulla_tables(validated(params))) {}
 
     HAIRSCATTER_HD const FurParams<T>& params() const { return params_; }
+    HAIRSCATTER_HD const FurControls<T>& controls() const { return controls_; }
+    // Lobe p's factor on its energy: gain × tint of R, TT, TRT, the residual (p < 4) and S
+    // (p = 4); 1 without controls, and then the fiber skips the products.
+    HAIRSCATTER_HD glm::vec<3, T> lobe_weight(int p) const { return p < 4 ? weights_[p] : weight_s_; }
+    HAIRSCATTER_HD bool has_lobe_weights() const { return any_weight_; }
     HAIRSCATTER_HD const TrimmedLogistic<T>& azimuthal() const { return n_; }
     HAIRSCATTER_HD const MedullaTables<T>& medulla() const { return tables_; }
 
@@ -430,8 +469,10 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
     // naming the file for a wrong magic, version, table size, file size or checksum, a
     // value outside what the simulation produces, or tables built for other parameters
     // (those the tables depend on must agree to 1e-6 relative; β_m, β_n and α may differ).
-    static FurMaterial load(const FurParams<T>& params, const std::string& path) {
+    static FurMaterial load(const FurParams<T>& params, const std::string& path,
+                            const FurControls<T>& controls = FurControls<T>()) {
         require_valid(params);
+        require_valid(controls);
         auto fail = [&](const std::string& why) {
             return std::runtime_error("hairscatter: '" + path + "' is not a valid fur medulla table file: " + why);
         };
@@ -482,13 +523,16 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
             for (int k = 0; k < kPhi; ++k)
                 if (tables.cdf[t][k + 1] < tables.cdf[t][k]) HAIRSCATTER_THROW(fail("a decreasing cdf"));
         }
-        return FurMaterial(params, tables);
+        return FurMaterial(params, controls, tables);
     }
 
   private:
-    FurMaterial(const FurParams<T>& params, const MedullaTables<T>& tables)
-        : DeonLobes<T>(params.cortex.beta_m, params.cortex.alpha), params_(params),
-          n_(logistic_scale(params.cortex.beta_n)), tables_(tables) {}
+    // (params and controls validated by the caller.)
+    FurMaterial(const FurParams<T>& params, const FurControls<T>& controls, const MedullaTables<T>& tables)
+        : DeonLobes<T>(params.cortex.beta_m, controls.lobes.cuticle_tilt(params.cortex.alpha)), params_(params),
+          controls_(controls), weights_(controls.lobes), weight_s_(controls.weight_s()),
+          any_weight_(weights_.any() || weight_s_ != glm::vec<3, T>(T(1))), n_(logistic_scale(params.cortex.beta_n)),
+          tables_(tables) {}
 
     // What the tables depend on, in the file's order.
     static std::array<double, 10> table_parameters(const FurParams<T>& p) {
@@ -510,6 +554,10 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
     }
 
     FurParams<T> params_;
+    FurControls<T> controls_;
+    LobeWeights<T> weights_;
+    glm::vec<3, T> weight_s_;
+    bool any_weight_;
     TrimmedLogistic<T> n_;
     MedullaTables<T> tables_;
 };
@@ -622,6 +670,13 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             o.a[kS][c] = (T(1) - fresnel) * chord.first_scatter[c] / (denom > kMinNormal<T> ? denom : kMinNormal<T>) *
                          mat_->medulla().escape[o.theta_bin][c];
         }
+        // The lobe controls, in this one place: f, the selection weights, albedo and lobe_split
+        // all read the scaled energies (the per-lobe tilts are in the material's DeonLobes).
+        if (mat_->has_lobe_weights())
+            for (int p = 0; p <= kS; ++p) {
+                const V3 weight = mat_->lobe_weight(p);
+                for (int c = 0; c < 3; ++c) o.a[p][c] *= weight[c];
+            }
         mat_->tilt_all(sin_o, cos_o, o.sin_p, o.cos_p);
         const T gamma_t = elem::asin(path.sin_gamma_t);
         for (int p = 0; p < kLobes; ++p) o.phi_p[p] = exit_azimuth_wrapped(p, gamma_o_, gamma_t);
