@@ -1,5 +1,5 @@
 // hairscatter examples — every fiber model the library ships behind one switch, shared by
-// the renderer and the lobe explorer: --model chiang|farfield|tabulated|marschner|huang, the
+// the renderer and the lobe explorer: --model chiang|farfield|tabulated|marschner|huang|fur, the
 // Chiang lobe subsets (--lobes R,TT,TRT,residual), the materials, and per-hit fibers
 // bound to their wo.
 #pragma once
@@ -16,10 +16,10 @@
 
 namespace hairscatter_examples {
 
-enum class FiberModel { kChiang, kFarField, kTabulated, kMarschner, kHuang };
+enum class FiberModel { kChiang, kFarField, kTabulated, kMarschner, kHuang, kFur };
 
 const char* to_string(FiberModel m);
-// "chiang" | "farfield" | "tabulated" | "marschner" | "huang"; throws std::invalid_argument naming --model.
+// "chiang" | "farfield" | "tabulated" | "marschner" | "huang" | "fur"; throws std::invalid_argument naming --model.
 FiberModel parse_model(const std::string& name);
 
 // The examples' lobe sets: bit p keeps lobe p (0 R, 1 TT, 2 TRT, 3 residual). Only
@@ -88,6 +88,27 @@ hairscatter::HuangParams<T> huang_params(const hairscatter::FiberParams<T>& p, c
     return h;
 }
 
+// The medulla of --model fur (--kappa, --medulla-sigma-s, --medulla-sigma-a, --medulla-g):
+// its radius over the fiber's, its scattering and absorption per unit fiber radius and its
+// Henyey–Greenstein anisotropy (models/fur.hpp). The default has none: the fur fiber is then
+// Chiang's.
+struct MedullaShape {
+    double kappa = 0.0, sigma_s = 0.0, g = 0.0;
+    double sigma_a[3] = {0.0, 0.0, 0.0};
+};
+
+// The fur fiber's parameters for a Chiang parameter set: the set is the cortex.
+template <typename T>
+hairscatter::FurParams<T> fur_params(const hairscatter::FiberParams<T>& p, const MedullaShape& m) {
+    hairscatter::FurParams<T> f;
+    f.cortex = p;
+    f.kappa = T(m.kappa);
+    f.sigma_s = T(m.sigma_s);
+    f.sigma_a_medulla = glm::vec<3, T>(T(m.sigma_a[0]), T(m.sigma_a[1]), T(m.sigma_a[2]));
+    f.g = T(m.g);
+    return f;
+}
+
 // A fiber bound to one wo: fiber.at(wo) where the model has it, else the fiber and wo kept
 // together. Either way: eval(wi), pdf(wi), eval_pdf(wi), sample(u).
 template <class Fiber> class BoundFiber {
@@ -141,7 +162,7 @@ template <typename T> struct FiberExtras {
 template <typename T> class FiberModels {
   public:
     FiberModels(FiberModel model, unsigned lobes, const hairscatter::FiberParams<T>& params,
-                const FiberExtras<T>& extras = {}, const SectionShape& shape = {})
+                const FiberExtras<T>& extras = {}, const SectionShape& shape = {}, const MedullaShape& medulla = {})
         : model_(model), lobes_(lobes) {
         namespace hs = hairscatter;
         if (model != FiberModel::kChiang && lobes != LobeBits::kAll)
@@ -178,6 +199,19 @@ template <typename T> class FiberModels {
                                                             "--orientation, lobe controls): ") + e.what());
                 }
                 break;
+            case FiberModel::kFur:
+                // FurMaterial takes no LobeControls (docs/models.md lists them as missing).
+                if (extras.has_controls)
+                    throw std::invalid_argument("--model fur: the lobe controls (--gain-*, --tint-*, --alpha-r/-tt/-trt) "
+                                                "are not available for the fur fiber");
+                try {
+                    fur_ = std::make_unique<hs::FurMaterial<T>>(fur_params(params, medulla));
+                } catch (const std::invalid_argument& e) {
+                    throw std::invalid_argument(std::string("--model fur (kappa = --kappa, sigma_s = --medulla-sigma-s, "
+                                                            "sigma_a_medulla = --medulla-sigma-a, g = --medulla-g): ") +
+                                                e.what());
+                }
+                break;
         }
     }
     FiberModels(const FiberModels&) = delete;
@@ -211,6 +245,10 @@ template <typename T> class FiberModels {
                 const hs::HuangMaterial<T>* m = huang_.get();
                 return f([m](T, std::uint32_t = 0) { return hs::HuangFiber<T>(*m); });
             }
+            case FiberModel::kFur: {
+                const hs::FurMaterial<T>* m = fur_.get();
+                return f([m](T h, std::uint32_t = 0) { return hs::FurFiber<T>(*m, h); });
+            }
             case FiberModel::kChiang: break;
         }
         const FiberModels* self = this;
@@ -230,6 +268,7 @@ template <typename T> class FiberModels {
     std::unique_ptr<hairscatter::TabulatedMaterial<T>> tabulated_;
     std::unique_ptr<hairscatter::MarschnerMaterial<T>> marschner_;
     std::unique_ptr<hairscatter::HuangMaterial<T>> huang_;
+    std::unique_ptr<hairscatter::FurMaterial<T>> fur_;
 };
 
 }  // namespace hairscatter_examples

@@ -22,15 +22,17 @@ const char* to_string(FiberModel m) {
         case FiberModel::kTabulated: return "tabulated";
         case FiberModel::kMarschner: return "marschner";
         case FiberModel::kHuang: return "huang";
+        case FiberModel::kFur: return "fur";
     }
     return "?";
 }
 
 FiberModel parse_model(const std::string& name) {
     for (FiberModel m : {FiberModel::kChiang, FiberModel::kFarField, FiberModel::kTabulated, FiberModel::kMarschner,
-                         FiberModel::kHuang})
+                         FiberModel::kHuang, FiberModel::kFur})
         if (name == to_string(m)) return m;
-    throw std::invalid_argument("--model: unknown model '" + name + "' (chiang | farfield | tabulated | marschner | huang)");
+    throw std::invalid_argument("--model: unknown model '" + name +
+                                "' (chiang | farfield | tabulated | marschner | huang | fur)");
 }
 
 namespace {
@@ -127,8 +129,8 @@ void add_control_options(CLI::App& app, ControlOptions& c) {
 
 void add_fiber_options(CLI::App& app, FiberOptions& o, const std::string& default_colour,
                        const std::string& model_note) {
-    app.add_option("--model", o.model, "fiber model: chiang | farfield | tabulated | marschner | huang" + model_note)
-        ->check(CLI::IsMember({"chiang", "farfield", "tabulated", "marschner", "huang"}))
+    app.add_option("--model", o.model, "fiber model: chiang | farfield | tabulated | marschner | huang | fur" + model_note)
+        ->check(CLI::IsMember({"chiang", "farfield", "tabulated", "marschner", "huang", "fur"}))
         ->capture_default_str();
     app.add_option("--lobes", o.lobes,
                    "chiang: the lobes kept, a list of R, TT, TRT, residual (e.g. R,TT), or all, primary")
@@ -170,6 +172,15 @@ void add_fiber_options(CLI::App& app, FiberOptions& o, const std::string& defaul
     app.add_option("--orientation", o.section.orientation_deg,
                    "huang: the major axis' angle about the fiber in degrees, [-180, 180]")
         ->capture_default_str();
+    app.add_option("--kappa", o.kappa, "fur: the medulla's radius over the fiber's, [0, 1) (default 0: no medulla)");
+    app.add_option("--medulla-sigma-s", o.medulla_sigma_s,
+                   "fur: the medulla's scattering coefficient per unit fiber radius, >= 0 (default 0)");
+    app.add_option("--medulla-sigma-a", o.medulla_sigma_a,
+                   "fur: the medulla's absorption per unit fiber radius, one value or R,G,B, >= 0 (default 0)")
+        ->delimiter(',')
+        ->expected(1, 3)
+        ->type_name("S|R,G,B");
+    app.add_option("--medulla-g", o.medulla_g, "fur: the medulla's Henyey-Greenstein anisotropy, (-1, 1) (default 0)");
 }
 
 namespace {
@@ -280,6 +291,27 @@ hs::FiberParams<double> fiber_params(const FiberOptions& o, const std::string& d
     if (!m.empty())
         throw std::invalid_argument("invalid fiber (--eta, --beta-m, --beta-n, --alpha in degrees, colour): " + m);
     return p;
+}
+
+MedullaShape medulla_shape(const FiberOptions& o) {
+    const double none = HairColourOptions::kNotGiven;
+    const bool given = o.kappa != none || o.medulla_sigma_s != none || o.medulla_g != none || !o.medulla_sigma_a.empty();
+    require(!given || o.model == "fur", "--kappa, --medulla-sigma-s, --medulla-sigma-a, --medulla-g: only --model fur "
+                                        "has a medulla (not --model " + o.model + ")");
+    MedullaShape m;
+    if (o.kappa != none) m.kappa = o.kappa;
+    if (o.medulla_sigma_s != none) m.sigma_s = o.medulla_sigma_s;
+    if (o.medulla_g != none) m.g = o.medulla_g;
+    require(std::isfinite(m.kappa) && m.kappa >= 0 && m.kappa < 1, "--kappa: " + num(m.kappa) + " is outside [0, 1)");
+    require(std::isfinite(m.sigma_s) && m.sigma_s >= 0,
+            "--medulla-sigma-s: " + num(m.sigma_s) + " is not a finite value >= 0");
+    require(std::isfinite(m.g) && m.g > -1 && m.g < 1, "--medulla-g: " + num(m.g) + " is outside (-1, 1)");
+    const std::vector<double>& sa = o.medulla_sigma_a;
+    require(sa.empty() || sa.size() == 1 || sa.size() == 3, "--medulla-sigma-a needs one value or three values R,G,B");
+    for (double v : sa)
+        require(std::isfinite(v) && v >= 0, "--medulla-sigma-a: " + num(v) + " is not a finite value >= 0");
+    for (int c = 0; c < 3 && !sa.empty(); ++c) m.sigma_a[c] = sa[sa.size() == 3 ? std::size_t(c) : 0];
+    return m;
 }
 
 hs::LobeControls<double> lobe_controls(const FiberOptions& o) {

@@ -58,11 +58,17 @@ struct FiberOptions {
     double beta_m = 0.3, beta_n = 0.3, alpha_deg = 2.0, eta = 1.55;
     ControlOptions controls;
     SectionShape section;  // --model huang's cross-section
+    // --model fur's medulla (--kappa, --medulla-sigma-s, --medulla-sigma-a, --medulla-g);
+    // kNotGiven where the option was not given (then medulla_shape's default).
+    double kappa = HairColourOptions::kNotGiven, medulla_sigma_s = HairColourOptions::kNotGiven,
+           medulla_g = HairColourOptions::kNotGiven;
+    std::vector<double> medulla_sigma_a;  // one value (grey) or R,G,B
 };
 
 // Adds --model, --lobes, --colour/--color, --eumelanin, --pheomelanin, --melanin,
 // --redness, --rgb, --sigma-a, --dye, --beta-m, --beta-n, --alpha, --eta, --aspect,
-// --orientation and the controls (--gain-*, --tint-*, --alpha-r/-tt/-trt, --strand-seed,
+// --orientation, the fur medulla (--kappa, --medulla-sigma-s, --medulla-sigma-a,
+// --medulla-g) and the controls (--gain-*, --tint-*, --alpha-r/-tt/-trt, --strand-seed,
 // --*-range). model_note is appended to --model's help.
 void add_fiber_options(CLI::App& app, FiberOptions& o, const std::string& default_colour,
                        const std::string& model_note = "");
@@ -75,6 +81,10 @@ glm::dvec3 sigma_a_of(const HairColourOptions& c, const std::string& default_pre
 // options' names), the model and the lobe set.
 hairscatter::FiberParams<double> fiber_params(const FiberOptions& o, const std::string& default_colour,
                                               std::string* sigma_a_source = nullptr);
+
+// The medulla of --model fur (validated: κ in [0, 1), σ finite and >= 0, |g| < 1; throws
+// std::invalid_argument naming the option, or naming the options given with another model).
+MedullaShape medulla_shape(const FiberOptions& o);
 
 // The lobe controls of the options (validated; throws std::invalid_argument naming the
 // options), and whether any differs from its default.

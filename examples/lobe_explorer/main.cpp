@@ -65,6 +65,7 @@ struct Setup {
     ex::FiberModel model = ex::FiberModel::kChiang;
     unsigned lobes = ex::LobeBits::kAll;
     ex::SectionShape section;     // --model huang's cross-section
+    ex::MedullaShape medulla;     // --model fur's medulla
     std::string sigma_a_source;  // how σa was given, for the summary
     std::vector<double> offsets;  // the h that eval is averaged over (one for --h)
     dvec3 wo{0.0};
@@ -108,6 +109,7 @@ void make_setup(const Options& o, Setup& s) {
     s.model = ex::parse_model(o.fiber.model);
     s.lobes = ex::parse_lobes(o.fiber.lobes);
     s.section = o.fiber.section;
+    s.medulla = ex::medulla_shape(o.fiber);
     if (!(o.h >= -1 && o.h <= 1)) throw std::invalid_argument("--h: " + fmt("%g", o.h) + " is outside [-1, 1]");
     if (o.per_lobe && s.model != ex::FiberModel::kChiang)
         throw std::invalid_argument("--per-lobe needs --model chiang (the other models have no lobe subsets)");
@@ -197,13 +199,14 @@ int supersample_needed(const hs::FiberParams<double>& p, const Options& o) {
 // The image of one lobe set of the chosen model: rendered, written to <base>.exr and
 // <base>.png, and summarised on stdout. Returns the exit code.
 int explore(const Options& o, const Setup& setup, unsigned lobes, const std::string& base) {
-    const ex::FiberModels<double> models(setup.model, lobes, setup.params, setup.extras, setup.section);
+    const ex::FiberModels<double> models(setup.model, lobes, setup.params, setup.extras, setup.section, setup.medulla);
     const std::string model_text =
         setup.model == ex::FiberModel::kChiang
             ? "Chiang et al. 2016 (" + ex::lobes_to_string(lobes) + ")"
             : setup.model == ex::FiberModel::kFarField ? std::string("d'Eon et al. 2011 far field")
             : setup.model == ex::FiberModel::kTabulated ? std::string("tabulated far field")
             : setup.model == ex::FiberModel::kHuang     ? std::string("Huang et al. 2022 microfacet fiber")
+            : setup.model == ex::FiberModel::kFur       ? std::string("Yan et al. 2015/2017 fur fiber")
                                                           : std::string("Marschner et al. 2003");
     Rendered r{LinearImage(1, 1), dvec3(0.0), 0.0};
     dvec3 albedo(-1.0);  // -1: the model reports none

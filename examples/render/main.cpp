@@ -212,6 +212,10 @@ int main(int argc, char** argv) {
         render::ShadingOptions so;
         so.model = ex::parse_model(fiber.model);
         so.lobes = ex::parse_lobes(fiber.lobes);
+        // The dual integrator's tables and its local scattering are Chiang's fiber's.
+        if (ro.integrator == render::Integrator::kDual && so.model == ex::FiberModel::kFur)
+            throw std::invalid_argument("--integrator dual: dual scattering is built on Chiang's fiber only; render "
+                                        "--model fur with --integrator single or path");
         if (ro.integrator == render::Integrator::kDual && (so.model != ex::FiberModel::kChiang || so.lobes != ex::LobeBits::kAll))
             throw std::invalid_argument("--integrator dual shades with the full Chiang model only: drop --model/--lobes "
                                         "or use --integrator single or path");
@@ -221,6 +225,7 @@ int main(int argc, char** argv) {
         so.fiber_extras.has_controls = ex::has_lobe_controls(fiber);
         const ex::StrandSetup strands = ex::strand_setup(fiber);
         so.section = fiber.section;
+        so.medulla = ex::medulla_shape(fiber);
         so.dual_scattering = ro.integrator == render::Integrator::kDual;
         so.two_stream = dual_formulation == "two-stream";
         so.counts = dual_counts == "exact" ? render::DualCounts::kExact
@@ -272,7 +277,8 @@ int main(int argc, char** argv) {
                 so.fiber_extras.strand_params.push_back(
                     ex::params_as<float>(ex::strand_fiber_params(params, strands, std::uint32_t(s))));
         // The materials and the grid's size are checked before the BVH is built.
-        { const hairscatter_examples::FiberModels<float> check(so.model, so.lobes, so.fiber, so.fiber_extras, so.section); }
+        { const hairscatter_examples::FiberModels<float> check(so.model, so.lobes, so.fiber, so.fiber_extras, so.section,
+                                                                   so.medulla); }
         render::check_grid(desc.hair, so);
         std::fprintf(stderr, "render: building the scene (%zu strands)\n", desc.hair.strands.size());
         const render::Scene scene(std::move(desc));

@@ -113,7 +113,7 @@ void check_field(const glm::ivec3& grid_res, const ShadingOptions& o) {
 ShadingSetup::ShadingSetup(const Scene& scene, const ShadingOptions& options) : o_(options) {
     const auto t0 = Clock::now();
     models_ = std::make_unique<hairscatter_examples::FiberModels<float>>(o_.model, o_.lobes, o_.fiber,
-                                                                          o_.fiber_extras, o_.section);
+                                                                          o_.fiber_extras, o_.section, o_.medulla);
     const Hair& hair = scene.description().hair;
     if (o_.dual_scattering && scene.has_hair()) {
         const auto t_tables = Clock::now();

@@ -33,6 +33,7 @@ struct ShadingOptions {
     // tables are built from the base fiber (with the controls); each hit uses its strand's.
     hairscatter_examples::FiberExtras<float> fiber_extras;
     hairscatter_examples::SectionShape section;  // --model huang's cross-section
+    hairscatter_examples::MedullaShape medulla;  // --model fur's medulla
     bool dual_scattering = true;  // build the dual-scattering tables and the density grid
     // How the dual integrator shades hair: the two-stream estimator at the arrival direction
     // (hairscatter/dual/two_stream.hpp, the default) or the dual-scattering BCSDF with the

@@ -48,12 +48,57 @@ TEST(ExamplesCommon, EveryLobeSetMapsToItsTemplateArgument) {
 }
 
 TEST(ExamplesCommon, ModelNames) {
-    for (const char* name : {"chiang", "farfield", "tabulated", "marschner"})
+    for (const char* name : {"chiang", "farfield", "tabulated", "marschner", "huang", "fur"})
         EXPECT_STREQ(ex::to_string(ex::parse_model(name)), name);
     EXPECT_THROW(ex::parse_model("pbrt"), std::invalid_argument);
     hs::FiberParams<float> p;
     EXPECT_THROW(ex::FiberModels<float>(ex::FiberModel::kTabulated, ex::LobeBits::kR, p), std::invalid_argument);
     EXPECT_NO_THROW(ex::FiberModels<float>(ex::FiberModel::kChiang, ex::LobeBits::kR, p));
+}
+
+// --model fur's medulla: the options' defaults are no medulla, a scalar σa is grey, each bad
+// value names its option, and the knobs need --model fur.
+TEST(ExamplesCommon, FurMedulla) {
+    ex::FiberOptions o;
+    o.model = "fur";
+    ex::MedullaShape m = ex::medulla_shape(o);
+    EXPECT_EQ(m.kappa, 0.0);
+    EXPECT_EQ(m.sigma_s, 0.0);
+    EXPECT_EQ(m.g, 0.0);
+    o.kappa = 0.6;
+    o.medulla_sigma_s = 10;
+    o.medulla_g = -0.2;
+    o.medulla_sigma_a = {0.25};
+    m = ex::medulla_shape(o);
+    EXPECT_EQ(m.kappa, 0.6);
+    EXPECT_EQ(m.g, -0.2);
+    for (double v : m.sigma_a) EXPECT_EQ(v, 0.25);
+    const hs::FurParams<float> fp = ex::fur_params(hs::FiberParams<float>(), m);
+    EXPECT_TRUE(hs::validate(fp).empty()) << hs::validate(fp);
+    EXPECT_NO_THROW(ex::FiberModels<float>(ex::FiberModel::kFur, ex::LobeBits::kAll, hs::FiberParams<float>(), {}, {}, m));
+    auto refused = [](ex::FiberOptions bad, const char* named) {
+        try {
+            ex::medulla_shape(bad);
+            ADD_FAILURE() << "accepted " << named;
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
+        }
+    };
+    ex::FiberOptions bad = o;
+    bad.kappa = 1;
+    refused(bad, "--kappa");
+    bad = o, bad.medulla_sigma_s = -1;
+    refused(bad, "--medulla-sigma-s");
+    bad = o, bad.medulla_sigma_a = {1, 2};
+    refused(bad, "--medulla-sigma-a");
+    bad = o, bad.medulla_g = 1;
+    refused(bad, "--medulla-g");
+    bad = o, bad.model = "chiang";
+    refused(bad, "only --model fur");
+    ex::FiberExtras<float> controls;
+    controls.has_controls = true;
+    EXPECT_THROW(ex::FiberModels<float>(ex::FiberModel::kFur, ex::LobeBits::kAll, hs::FiberParams<float>(), controls),
+                 std::invalid_argument);
 }
 
 TEST(ExamplesCommon, WhereSigmaAComesFrom) {

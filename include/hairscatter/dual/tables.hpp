@@ -26,6 +26,7 @@
 #include "../math/constants.hpp"
 #include "../math/elementary.hpp"
 #include "../math/functions.hpp"
+#include "../io/table_file.hpp"
 #include "../math/quadrature.hpp"
 #include "settings.hpp"
 
@@ -498,22 +499,17 @@ template <typename T> class DualScatteringTables {
     // shapes, entries and windows as doubles, and an FNV-1a checksum of everything before it.
     void save(const std::string& path) const {
         std::vector<unsigned char> buf;
-        put(buf, "HSDT", 4);
+        detail::put_bytes(buf, "HSDT", 4);
         for (std::uint32_t u : {kFileVersion, std::uint32_t(n_theta_), std::uint32_t(n_psi_), std::uint32_t(lobes_),
                                 std::uint32_t(h_nodes_), std::uint32_t(settings_.formulation)})
-            put(buf, &u, 4);
-        for (double d : {double(settings_.d_f), double(settings_.d_b)}) put(buf, &d, 8);
+            detail::put_bytes(buf, &u, 4);
+        for (double d : {double(settings_.d_f), double(settings_.d_b)}) detail::put_bytes(buf, &d, 8);
         for (int p = 0; p < kMaxLobes; ++p)
-            for (double d : {double(lobe_angle_[p]), double(lobe_variance_[p])}) put(buf, &d, 8);
+            for (double d : {double(lobe_angle_[p]), double(lobe_variance_[p])}) detail::put_bytes(buf, &d, 8);
         for (const Entry& e : entries_)
             for (int k = 0; k < Entry::kFields; ++k) put_v3(buf, e.fields()[k]);
         for (const V3& w : window_) put_v3(buf, w);
-        const std::uint64_t sum = fnv1a(buf.data(), buf.size());
-        put(buf, &sum, 8);
-        std::ofstream f(path, std::ios::binary);
-        if (!f) HAIRSCATTER_THROW(std::runtime_error("hairscatter: cannot write dual-scattering tables to '" + path + "'"));
-        f.write(reinterpret_cast<const char*>(buf.data()), std::streamsize(buf.size()));
-        if (!f) HAIRSCATTER_THROW(std::runtime_error("hairscatter: failed writing dual-scattering tables to '" + path + "'"));
+        detail::write_table_file(path, std::move(buf), "dual-scattering tables");
     }
 
     // Reads a file written by save(). Rejects, with a message, a wrong magic, version,
@@ -542,7 +538,7 @@ template <typename T> class DualScatteringTables {
             HAIRSCATTER_THROW(fail("bad magic or too short"));
         std::size_t at = 4;
         std::uint32_t u[6];
-        for (std::uint32_t& x : u) x = get<std::uint32_t>(buf, at);
+        for (std::uint32_t& x : u) x = detail::get_bytes<std::uint32_t>(buf, at);
         if (u[0] != kFileVersion)
             HAIRSCATTER_THROW(fail("version " + std::to_string(u[0]) + ", this library reads version " + std::to_string(kFileVersion)));
         DualScatteringTables t;
@@ -575,11 +571,11 @@ template <typename T> class DualScatteringTables {
             HAIRSCATTER_THROW(fail("longer than the " + std::to_string(expected) + " bytes its header announces"));
         std::uint64_t sum;
         std::memcpy(&sum, buf.data() + std::size_t(expected) - 8, 8);
-        if (sum != fnv1a(buf.data(), std::size_t(expected) - 8)) HAIRSCATTER_THROW(fail("checksum mismatch (corrupt file)"));
+        if (sum != detail::fnv1a(buf.data(), std::size_t(expected) - 8)) HAIRSCATTER_THROW(fail("checksum mismatch (corrupt file)"));
         // Every value is checked after its conversion to T (1e300 is finite as a double,
         // not as a float) and against the range a fiber can produce.
         auto value = [&](double lo, double hi, const char* what) {
-            const T v = T(get<double>(buf, at));
+            const T v = T(detail::get_bytes<double>(buf, at));
             if (!(std::isfinite(double(v)) && double(v) >= lo && double(v) <= hi))
                 HAIRSCATTER_THROW(fail(std::string(what) + " = " + std::to_string(double(v)) + " outside [" + std::to_string(lo) +
                            ", " + std::to_string(hi) + "]"));
@@ -674,26 +670,11 @@ template <typename T> class DualScatteringTables {
             }
     }
 
-    static std::uint64_t fnv1a(const unsigned char* p, std::size_t n) {
-        std::uint64_t h = 1469598103934665603ull;
-        for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
-        return h;
-    }
-    static void put(std::vector<unsigned char>& b, const void* p, std::size_t n) {
-        const auto* c = static_cast<const unsigned char*>(p);
-        b.insert(b.end(), c, c + n);
-    }
     static void put_v3(std::vector<unsigned char>& b, const V3& v) {
         for (int c = 0; c < 3; ++c) {
             const double d = double(v[c]);
-            put(b, &d, 8);
+            detail::put_bytes(b, &d, 8);
         }
-    }
-    template <typename U> static U get(const std::vector<unsigned char>& b, std::size_t& at) {
-        U v;
-        std::memcpy(&v, b.data() + at, sizeof(U));
-        at += sizeof(U);
-        return v;
     }
 
     std::vector<Entry> entries_;

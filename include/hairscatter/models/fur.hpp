@@ -13,20 +13,27 @@
 // the double cylinder (docs/models.md, "Fur with a medulla").
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <fstream>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <glm/glm.hpp>
 
 #include "../config.hpp"
 #include "../fiber/frame.hpp"
 #include "../fiber/params.hpp"
+#include "../io/table_file.hpp"
 #include "../lobes/attenuation.hpp"
 #include "../lobes/azimuthal.hpp"
 #include "../lobes/deon_lobes.hpp"
+#include "../lobes/lobe_controls.hpp"
 #include "../math/constants.hpp"
 #include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
@@ -67,6 +74,39 @@ template <typename T> void require_valid(const FurParams<T>& p) { detail::throw_
 template <typename T> const FurParams<T>& validated(const FurParams<T>& p) {
     require_valid(p);
     return p;
+}
+
+// The fur fibre's lobe controls (docs/controls.md): LobeControls' gains, tints and tilts on
+// R, TT, TRT and the residual, and a gain and tint of its own for S, the light scattered in
+// the medulla. Like LobeControls, they scale each lobe's energy, so f, the lobe selection
+// weights, the albedo and lobe_split all follow. The defaults change nothing.
+template <typename T> struct FurControls {
+    LobeControls<T> lobes;
+    T gain_s = T(1);                          // [0, kMaxLobeGain]
+    glm::vec<3, T> tint_s{T(1)};              // channels in [0, kMaxLobeGain]
+
+    HAIRSCATTER_HD glm::vec<3, T> weight_s() const { return gain_s * tint_s; }
+};
+
+// Empty when valid, else one message per bad field naming it (the four lobes' names as
+// validate(LobeControls)). Never throws.
+template <typename T> std::string validate(const FurControls<T>& c) {
+    using detail::in_range;
+    detail::Complaints bad;
+    const std::string lobes = validate(c.lobes);
+    if (!lobes.empty()) bad.add_text(lobes);
+    if (!in_range(c.gain_s, T(0), kMaxLobeGain<T>)) bad.add("gain_s", double(c.gain_s), "[0, 1e6]");
+    const char* channel[3] = {"tint_s.r", "tint_s.g", "tint_s.b"};
+    for (int ch = 0; ch < 3; ++ch)
+        if (!in_range(c.tint_s[ch], T(0), kMaxLobeGain<T>)) bad.add(channel[ch], double(c.tint_s[ch]), "[0, 1e6]");
+    return bad.str();
+}
+
+template <typename T> void require_valid(const FurControls<T>& c) { detail::throw_if_invalid(validate(c), "fur lobe controls"); }
+
+template <typename T> const FurControls<T>& validated(const FurControls<T>& c) {
+    require_valid(c);
+    return c;
 }
 
 // The medulla-scattered lobe's tables: per bin of |θo|, the azimuthal density of the
@@ -384,24 +424,140 @@ template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& 
 
 }  // namespace detail
 
-// Everything that depends only on the fur parameters, computed once per material on the
-// host (validated: the constructor throws std::invalid_argument naming the bad parameter;
-// docs/models.md gives the medulla tables' build time). Trivially copyable.
-// Its d'Eon ingredients (longitudinal(p), tilt()) are DeonLobes', as ChiangMaterial's.
+// Everything that depends only on the fur parameters and the lobe controls, computed once
+// per material on the host (validated: the constructor throws std::invalid_argument naming
+// the bad parameter; docs/models.md gives the medulla tables' build time). Trivially
+// copyable. Its d'Eon ingredients (longitudinal(p), tilt()) are DeonLobes', with the
+// controls' per-lobe tilts, as ChiangMaterial's.
 template <typename T> class FurMaterial : public DeonLobes<T> {
   public:
     static constexpr int kLobes = DeonLobes<T>::kLobes;
 
-    explicit FurMaterial(const FurParams<T>& params)
-        : DeonLobes<T>(validated(params).cortex.beta_m, params.cortex.alpha), params_(params),
-          n_(logistic_scale(params.cortex.beta_n)), tables_(detail::build_medulla_tables(params)) {}
+    explicit FurMaterial(const FurParams<T>& params, const FurControls<T>& controls = FurControls<T>())
+        : FurMaterial(params, validated(controls), detail::build_medulla_tables(validated(params))) {}
 
     HAIRSCATTER_HD const FurParams<T>& params() const { return params_; }
+    HAIRSCATTER_HD const FurControls<T>& controls() const { return controls_; }
+    // Lobe p's factor on its energy: gain × tint of R, TT, TRT, the residual (p < 4) and S
+    // (p = 4); 1 without controls, and then the fiber skips the products.
+    HAIRSCATTER_HD glm::vec<3, T> lobe_weight(int p) const { return p < 4 ? weights_[p] : weight_s_; }
+    HAIRSCATTER_HD bool has_lobe_weights() const { return any_weight_; }
     HAIRSCATTER_HD const TrimmedLogistic<T>& azimuthal() const { return n_; }
     HAIRSCATTER_HD const MedullaTables<T>& medulla() const { return tables_; }
 
+    // The medulla tables in a small versioned binary file, to skip their simulation next
+    // time: "HSFT", the version, the tables' sizes, the parameters they depend on (η and
+    // σa^c of the cortex, κ, σs^m, σa^m, g), the tables as doubles and an FNV-1a checksum
+    // of everything before it. A float material's tables come back bit for bit.
+    static constexpr std::uint32_t kFileVersion = 1;
+    void save(const std::string& path) const {
+        std::vector<unsigned char> buf;
+        detail::put_bytes(buf, "HSFT", 4);
+        for (std::uint32_t u : {kFileVersion, std::uint32_t(MedullaTables<T>::kThetaBins),
+                                std::uint32_t(MedullaTables<T>::kPhiBins)})
+            detail::put_bytes(buf, &u, 4);
+        for (double d : table_parameters(params_)) detail::put_bytes(buf, &d, 8);
+        for_each_value(tables_, [&](const T& v, double, double, const char*) {
+            const double d = double(v);
+            detail::put_bytes(buf, &d, 8);
+        });
+        detail::write_table_file(path, std::move(buf), "fur medulla tables");
+    }
+
+    // The material of params with the tables of a file written by save() (no simulation).
+    // Throws std::invalid_argument for bad params (as the constructor), std::runtime_error
+    // naming the file for a wrong magic, version, table size, file size or checksum, a
+    // value outside what the simulation produces, or tables built for other parameters
+    // (those the tables depend on must agree to 1e-6 relative; β_m, β_n and α may differ).
+    static FurMaterial load(const FurParams<T>& params, const std::string& path,
+                            const FurControls<T>& controls = FurControls<T>()) {
+        require_valid(params);
+        require_valid(controls);
+        auto fail = [&](const std::string& why) {
+            return std::runtime_error("hairscatter: '" + path + "' is not a valid fur medulla table file: " + why);
+        };
+        std::ifstream f(path, std::ios::binary);
+        if (!f) HAIRSCATTER_THROW(std::runtime_error("hairscatter: cannot open fur medulla tables '" + path + "'"));
+        constexpr int kTheta = MedullaTables<T>::kThetaBins, kPhi = MedullaTables<T>::kPhiBins;
+        constexpr std::size_t kParams = 10, kValues = std::size_t(kTheta) * (2 * kPhi + 1 + 3);
+        constexpr std::size_t kExpected = 4 + 3 * 4 + (kParams + kValues) * 8 + 8;
+        // One byte more than a valid file holds: a longer file (or pipe) is seen as such.
+        std::vector<unsigned char> buf(kExpected + 1);
+        f.read(reinterpret_cast<char*>(buf.data()), std::streamsize(buf.size()));
+        buf.resize(std::size_t(f.gcount()));
+        if (buf.size() < 16 || std::memcmp(buf.data(), "HSFT", 4) != 0) HAIRSCATTER_THROW(fail("bad magic or too short"));
+        std::size_t at = 4;
+        const std::uint32_t version = detail::get_bytes<std::uint32_t>(buf, at);
+        if (version != kFileVersion)
+            HAIRSCATTER_THROW(fail("version " + std::to_string(version) + ", this library reads version " +
+                                   std::to_string(kFileVersion)));
+        const std::uint32_t theta = detail::get_bytes<std::uint32_t>(buf, at), phi = detail::get_bytes<std::uint32_t>(buf, at);
+        if (theta != std::uint32_t(kTheta) || phi != std::uint32_t(kPhi))
+            HAIRSCATTER_THROW(fail("tables of " + std::to_string(theta) + " x " + std::to_string(phi) +
+                                   " bins, this library's are " + std::to_string(kTheta) + " x " + std::to_string(kPhi)));
+        if (buf.size() != kExpected)
+            HAIRSCATTER_THROW(fail(buf.size() < kExpected ? "size " + std::to_string(buf.size()) + " bytes, expected " +
+                                                                std::to_string(kExpected) + " (truncated?)"
+                                                          : "longer than the " + std::to_string(kExpected) + " bytes expected"));
+        std::size_t end = kExpected - 8;
+        if (detail::get_bytes<std::uint64_t>(buf, end) != detail::fnv1a(buf.data(), kExpected - 8))
+            HAIRSCATTER_THROW(fail("checksum mismatch (corrupt file)"));
+        static const char* kName[kParams] = {"eta", "sigma_a.r", "sigma_a.g", "sigma_a.b", "kappa",
+                                             "sigma_s", "sigma_a_medulla.r", "sigma_a_medulla.g", "sigma_a_medulla.b", "g"};
+        const auto given = table_parameters(params);
+        for (std::size_t k = 0; k < kParams; ++k) {
+            const double in_file = detail::get_bytes<double>(buf, at), want = given[k];
+            if (!(std::fabs(in_file - want) <= 1e-6 * std::fmax(std::fabs(in_file), std::fabs(want))))
+                HAIRSCATTER_THROW(fail(std::string("built for other fur parameters: ") + kName[k] + " " +
+                                       std::to_string(in_file) + " in the file, " + std::to_string(want) + " given"));
+        }
+        MedullaTables<T> tables;
+        for_each_value(tables, [&](T& v, double lo, double hi, const char* what) {
+            v = T(detail::get_bytes<double>(buf, at));  // checked in T (1e300 is a double, not a float)
+            if (!(std::isfinite(double(v)) && double(v) >= lo && double(v) <= hi))
+                HAIRSCATTER_THROW(fail(std::string(what) + " = " + std::to_string(double(v)) + " outside [" +
+                                       std::to_string(lo) + ", " + std::to_string(hi) + "]"));
+        });
+        for (int t = 0; t < kTheta; ++t) {
+            if (tables.cdf[t][0] != T(0) || tables.cdf[t][kPhi] != T(1)) HAIRSCATTER_THROW(fail("a cdf not from 0 to 1"));
+            for (int k = 0; k < kPhi; ++k)
+                if (tables.cdf[t][k + 1] < tables.cdf[t][k]) HAIRSCATTER_THROW(fail("a decreasing cdf"));
+        }
+        return FurMaterial(params, controls, tables);
+    }
+
   private:
+    // (params and controls validated by the caller.)
+    FurMaterial(const FurParams<T>& params, const FurControls<T>& controls, const MedullaTables<T>& tables)
+        : DeonLobes<T>(params.cortex.beta_m, controls.lobes.cuticle_tilt(params.cortex.alpha)), params_(params),
+          controls_(controls), weights_(controls.lobes), weight_s_(controls.weight_s()),
+          any_weight_(weights_.any() || weight_s_ != glm::vec<3, T>(T(1))), n_(logistic_scale(params.cortex.beta_n)),
+          tables_(tables) {}
+
+    // What the tables depend on, in the file's order.
+    static std::array<double, 10> table_parameters(const FurParams<T>& p) {
+        return {double(p.cortex.eta), double(p.cortex.sigma_a[0]), double(p.cortex.sigma_a[1]),
+                double(p.cortex.sigma_a[2]), double(p.kappa), double(p.sigma_s), double(p.sigma_a_medulla[0]),
+                double(p.sigma_a_medulla[1]), double(p.sigma_a_medulla[2]), double(p.g)};
+    }
+    // f(value, lo, hi, name) over every value of the tables in the file's order, with the
+    // range the simulation keeps it in (a density is at most 1/width when all its mass is
+    // in one bin).
+    template <class Tables, class F> static void for_each_value(Tables& tab, F&& f) {
+        constexpr int kTheta = MedullaTables<T>::kThetaBins, kPhi = MedullaTables<T>::kPhiBins;
+        const double max_density = double(kPhi) / kPi<double> * 1.001;
+        for (int t = 0; t < kTheta; ++t) {
+            for (int k = 0; k < kPhi; ++k) f(tab.density[t][k], 0.0, max_density, "a density value");
+            for (int k = 0; k <= kPhi; ++k) f(tab.cdf[t][k], 0.0, 1.0, "a cdf value");
+            for (int c = 0; c < 3; ++c) f(tab.escape[t][c], 0.0, 1.0, "an escape fraction");
+        }
+    }
+
     FurParams<T> params_;
+    FurControls<T> controls_;
+    LobeWeights<T> weights_;
+    glm::vec<3, T> weight_s_;
+    bool any_weight_;
     TrimmedLogistic<T> n_;
     MedullaTables<T> tables_;
 };
@@ -514,6 +670,13 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             o.a[kS][c] = (T(1) - fresnel) * chord.first_scatter[c] / (denom > kMinNormal<T> ? denom : kMinNormal<T>) *
                          mat_->medulla().escape[o.theta_bin][c];
         }
+        // The lobe controls, in this one place: f, the selection weights, albedo and lobe_split
+        // all read the scaled energies (the per-lobe tilts are in the material's DeonLobes).
+        if (mat_->has_lobe_weights())
+            for (int p = 0; p <= kS; ++p) {
+                const V3 weight = mat_->lobe_weight(p);
+                for (int c = 0; c < 3; ++c) o.a[p][c] *= weight[c];
+            }
         mat_->tilt_all(sin_o, cos_o, o.sin_p, o.cos_p);
         const T gamma_t = elem::asin(path.sin_gamma_t);
         for (int p = 0; p < kLobes; ++p) o.phi_p[p] = exit_azimuth_wrapped(p, gamma_o_, gamma_t);
