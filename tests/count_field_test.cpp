@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <hairscatter/dual/density.hpp>
+#include <hairscatter/dual/two_stream.hpp>
 
 namespace hs = hairscatter;
 
@@ -143,6 +144,45 @@ TEST(CountField, UniformMediumMatchesTheDistanceToTheEdge) {
                 100 * sum_err / sum_exact, worst);
     EXPECT_LT(sum_err / sum_exact, 0.08);
     EXPECT_LT(worst, 0.35);
+}
+
+// stack_end: where the expected fibers along a ray end. Hair fills x in [0, 1] of a box
+// [0, 2] × [0, 1] × [0, 1.5] (strands along y, so rays along ±x cross them); rays along +x
+// from inside the hair end near x = 1, rays along -x from the empty half near x = 0, less
+// the half fiber the definition leaves. Tolerance: one and a half cells (0.375), the
+// interpolation's reach.
+TEST(CountField, StackEndFindsWhereTheHairEnds) {
+    const V3 lo(0.0f), hi(2.0f, 1.0f, 1.5f);
+    hs::DensityGrid<float> grid(lo, hi, glm::ivec3(8, 4, 6), 0.01f, hs::FiberOrientation::kIsotropic);
+    for (int i = 0; i < 4; ++i)
+        for (int k = 0; k < 6; ++k)
+            for (int r = 0; r < 25; ++r) {
+                const float x = (float(i) + (float(r % 5) + 0.5f) / 5.0f) * 0.25f;
+                const float z = (float(k) + (float(r / 5) + 0.5f) / 5.0f) * 0.25f;
+                grid.add_segment(V3(x, 0.0f, z), V3(x, 1.0f, z));
+            }
+    const hs::DirectionalCountField<float> field = hs::DirectionalCountField<float>::from_grid(grid, 12);
+    const auto view = field.view();
+    const float rate = grid.crossing_density(V3(0.5f, 0.5f, 0.75f), V3(1, 0, 0));
+    ASSERT_GT(rate, 4.0f);  // a stack many fibers deep (6.3 per unit: 5 across the hair)
+    for (float y : {0.3f, 0.6f})
+        for (float z : {0.4f, 1.1f}) {
+            const V3 inside(0.2f, y, z), outside(1.8f, y, z);
+            const float e_plus = view.stack_end(inside, V3(1, 0, 0), hs::kUnbounded<float>);
+            EXPECT_NEAR(e_plus, 0.8f - 0.5f / rate, 0.375f) << y << " " << z;
+            const float e_minus = view.stack_end(outside, V3(-1, 0, 0), hs::kUnbounded<float>);
+            EXPECT_NEAR(e_minus, 1.8f - 0.5f / rate, 0.375f) << y << " " << z;
+            // The generic bisection on the same field agrees within the two bisections' steps.
+            const float g = hs::dual_stack_end(view, outside, V3(-1, 0, 0), 1.8f);
+            EXPECT_NEAR(g, e_minus, 0.2f);
+            // Bounded by max_distance.
+            EXPECT_LE(view.stack_end(outside, V3(-1, 0, 0), 1.0f), 1.0f);
+        }
+    // Bad input and no field: 0.
+    EXPECT_EQ(view.stack_end(V3(0.5f), V3(0.0f), 1.0f), 0.0f);
+    EXPECT_EQ(view.stack_end(V3(std::nanf("")), V3(1, 0, 0), 1.0f), 0.0f);
+    EXPECT_EQ(view.stack_end(V3(0.5f), V3(1, 0, 0), -1.0f), 0.0f);
+    EXPECT_EQ(hs::DirectionalCountFieldView<float>().stack_end(V3(0.5f), V3(1, 0, 0), 1.0f), 0.0f);
 }
 
 TEST(CountField, AgreesWithTheGridMarchInABlockOfStrands) {

@@ -318,6 +318,66 @@ TEST(DualTwoStream, NoNaNAtExtremes) {
     }
 }
 
+TEST(DualTwoStream, SourceGainIsTheStacksTransmissionPlusReflection) {
+    // dual_source_gain = T_N + R_N of N fibers at the entry's θ (layered_stack), 1 with no
+    // fibers; a lossless stack gives 1 at every depth (what keeps the furnace when sources
+    // are read beyond a stack's exit); absorbing hair falls with N toward R_∞.
+    const auto lossless = tables_of<double>(-1);
+    const auto blond = tables_of<double>(0.3);
+    for (double theta : {-75.0, 0.0, 40.0}) {
+        const double sin_t = std::sin(theta * hs::kPi<double> / 180);
+        const auto el = lossless.lookup(sin_t), eb = blond.lookup(sin_t);
+        dvec3 previous(1.0);
+        for (double n : {0.0, 0.5, 1.0, 2.0, 7.0, 40.0, 1e4, hs::kUnbounded<double>}) {
+            const dvec3 gl = hs::dual_source_gain(el, n), gb = hs::dual_source_gain(eb, n);
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_NEAR(gl[c], 1.0, 2e-6) << theta << " " << n;
+                const auto st = hs::layered_stack(eb.a_f[c], eb.a_b[c], std::min(n, hs::kDeepStack<double>));
+                EXPECT_NEAR(gb[c], st.R + st.T_, 1e-9) << theta << " " << n;
+                EXPECT_LE(gb[c], previous[c] + 1e-12) << "the gain must not grow with depth";
+                EXPECT_GT(gb[c], 0.0);
+            }
+            previous = gb;
+        }
+        EXPECT_LT(previous.x, 0.5) << "a deep blond stack passes on far less than the source";
+        // Bad counts: NaN and negative are no fibers.
+        EXPECT_EQ(hs::dual_source_gain(eb, std::numeric_limits<double>::quiet_NaN()), dvec3(1.0));
+        EXPECT_EQ(hs::dual_source_gain(eb, -3.0), dvec3(1.0));
+    }
+    const auto tf = tables_of<float>(-1);
+    for (float n : {1.0f, 12.0f, 300.0f, std::numeric_limits<float>::infinity()}) {
+        const glm::vec3 g = hs::dual_source_gain(tf.view().lookup(0.3f), n);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(g[c], 1.0f, 2e-3f) << n;
+    }
+}
+
+namespace {
+// A density source with fibers at a uniform rate between distances a and b along any ray:
+// the expected count on [0, t] is rate · |[0, t] ∩ [a, b]|.
+struct SlabSource {
+    double rate, a, b;
+    double fibers_crossed(const dvec3&, const dvec3&, double t) const {
+        const double hi = std::min(t, b), lo = a;
+        return hi > lo ? rate * (hi - lo) : 0.0;
+    }
+};
+}  // namespace
+
+TEST(DualTwoStream, StackEndIsWhereLessThanHalfAFiberRemains) {
+    const dvec3 o(0.0), d(0, 0, 1);
+    // 6 fibers on [1, 4]: half a fiber remains at 4 - 0.5 / 2 = 3.75; bisection to 10/256.
+    EXPECT_NEAR(hs::dual_stack_end(SlabSource{2.0, 1.0, 4.0}, o, d, 10.0), 3.75, 10.0 / 256);
+    // 0.6 fibers on [1, 4]: half of them remain at 4 - 0.3 / 0.2 = 2.5.
+    EXPECT_NEAR(hs::dual_stack_end(SlabSource{0.2, 1.0, 4.0}, o, d, 10.0), 2.5, 10.0 / 256);
+    // Only the segment counts: fibers past max_distance are not the stack's.
+    EXPECT_NEAR(hs::dual_stack_end(SlabSource{2.0, 1.0, 4.0}, o, d, 3.0), 3.0 - 0.25, 3.0 / 256);
+    // No fibers, bad distances: 0.
+    EXPECT_EQ(hs::dual_stack_end(SlabSource{0.0, 1.0, 4.0}, o, d, 10.0), 0.0);
+    EXPECT_EQ(hs::dual_stack_end(SlabSource{2.0, 1.0, 4.0}, o, d, std::numeric_limits<double>::infinity()), 0.0);
+    EXPECT_EQ(hs::dual_stack_end(SlabSource{2.0, 1.0, 4.0}, o, d, -1.0), 0.0);
+    EXPECT_EQ(hs::dual_stack_end(SlabSource{2.0, 1.0, 4.0}, dvec3(std::nan("")), d, 5.0), 0.0);
+}
+
 TEST(DualTwoStream, WhiteFurnaceOnExplicitSlabsAtEveryDepth) {
     // Lossless fibers under a uniform environment of radiance 1: every hit must return 1,
     // from a sparse layer (0.3 fibers deep, where most directions are open) to a deep

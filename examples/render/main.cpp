@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--threads", ro.threads, "rendering threads (0: one per core; the image does not depend on it)")
         ->capture_default_str();
-    std::string dual_formulation = "two-stream", dual_counts = "field";
+    std::string dual_formulation = "two-stream", dual_counts = "field", dual_source = "beyond-exit";
     float d_f = -1, d_b = -1;
     app.add_option("--dual", dual_formulation,
                    "dual: two-stream (the default: two-stream transport at the arrival direction, surfaces "
@@ -109,6 +109,11 @@ int main(int argc, char** argv) {
                    "dual two-stream: fibers along a ray counted exactly on the hair (a ray per count), drawn from the "
                    "density grid (a march), or looked up in the directional count field (no ray)")
         ->check(CLI::IsMember({"exact", "grid", "field"}))
+        ->capture_default_str();
+    app.add_option("--dual-source", dual_source,
+                   "dual two-stream: where a stack's source light is read: beyond its last fiber, through the hair "
+                   "there (the default), or at the shading point with the hair ignored (point)")
+        ->check(CLI::IsMember({"beyond-exit", "point"}))
         ->capture_default_str();
     int field_side = 12;
     float field_spacing = 1.0f;
@@ -231,6 +236,7 @@ int main(int argc, char** argv) {
         so.counts = dual_counts == "exact" ? render::DualCounts::kExact
                     : dual_counts == "grid"  ? render::DualCounts::kGrid
                                              : render::DualCounts::kField;
+        so.source = dual_source == "point" ? render::DualSource::kPoint : render::DualSource::kBeyondExit;
         so.field_side = field_side;
         so.field_spacing = field_spacing;
         so.dual = dual_formulation == "zinke" ? hs::DualScatteringSettings<float>::zinke2008()

@@ -206,7 +206,7 @@ std::string summary_line(const Scene& scene, const ShadingSetup& shading, const 
     if (o.integrator == Integrator::kDual) {
         const ShadingOptions& so = shading.options();
         s << " dual=" << (so.two_stream ? "two-stream" : so.dual.formulation == hairscatter::DualFormulation::kZinke2008 ? "zinke" : "improved");
-        if (so.two_stream) s << " counts=" << to_string(so.counts);
+        if (so.two_stream) s << " counts=" << to_string(so.counts) << " source=" << to_string(so.source);
     }
     s << " model=" << hairscatter_examples::to_string(shading.options().model)
       << " lobes=" << hairscatter_examples::lobes_to_string(shading.options().lobes) << " width=" << r.width

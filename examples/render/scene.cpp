@@ -86,6 +86,7 @@ struct CountStrandsContext {
     std::uint32_t last = kNoStrand;        // the previous hit's: hits come in runs per strand
     std::uint32_t limit = 0xffffffffu;     // stop the traversal once this many are found
     std::uint32_t count = 0;
+    float last_t = 0.0f;                   // the farthest counted hit
     std::uint32_t strands[kCapacity];
 
     CountStrandsContext(std::uint32_t s, float t, unsigned g, const std::uint32_t* of, std::vector<std::uint32_t>* spill)
@@ -119,8 +120,10 @@ void count_strands_filter(const RTCFilterFunctionNArguments* args) {
         args->valid[i] = 0;
         if (RTCHitN_geomID(args->hit, args->N, i) != ctx->hair_geom) continue;
         const std::uint32_t s = ctx->strand_of_segment[RTCHitN_primID(args->hit, args->N, i)];
-        if (s == ctx->ignore && RTCRayN_tfar(args->ray, args->N, i) < ctx->max_t) continue;
+        const float t = RTCRayN_tfar(args->ray, args->N, i);
+        if (s == ctx->ignore && t < ctx->max_t) continue;
         ctx->add(s);
+        ctx->last_t = std::max(ctx->last_t, t);
         // Enough: accepting the hit ends an occlusion query (hits arrive in no order along
         // the ray, but any `limit` distinct strands make the count's minimum with it).
         if (ctx->count >= ctx->limit) {
@@ -334,7 +337,8 @@ bool Scene::hair_occluded(const glm::vec3& o, const glm::vec3& d, float tmax, st
 }
 
 std::uint32_t Scene::count_hair(const glm::vec3& o, const glm::vec3& d, float tmax, std::uint32_t ignore,
-                                std::uint32_t limit) const {
+                                std::uint32_t limit, float* last_t) const {
+    if (last_t) *last_t = 0.0f;
     if (!has_hair() || limit == 0) return 0;
     std::vector<std::uint32_t> overflow;
     CountStrandsContext ctx(ignore, 8.0f * d_.hair.radius, hair_geom_, strand_of_segment_.data(), &overflow);
@@ -343,6 +347,7 @@ std::uint32_t Scene::count_hair(const glm::vec3& o, const glm::vec3& d, float tm
     RTCRayHit rh = make_ray(o, d, ignore == kNoStrand ? kRayEpsilon : 0.0f, tmax);
     rtcOccluded1(hair_, &ctx.base, &rh.ray);
     if (ctx.failed) throw std::bad_alloc();
+    if (last_t) *last_t = ctx.last_t;
     if (overflow.empty()) return std::min(ctx.count, limit);
     // The array holds none of the overflow's strands (add checked it first).
     std::sort(overflow.begin(), overflow.end());

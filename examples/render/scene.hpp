@@ -117,7 +117,7 @@ class Scene {
     // with it, and the traversal stops once that many are found (limits above 64 are
     // counted in full).
     std::uint32_t count_hair(const glm::vec3& o, const glm::vec3& d, float tmax, std::uint32_t ignore = kNoStrand,
-                             std::uint32_t limit = 0xffffffffu) const;
+                             std::uint32_t limit = 0xffffffffu, float* last_t = nullptr) const;
 
   private:
     Hit hit_from(const RTCRayHit& rh, const glm::vec3& o, const glm::vec3& d) const;

@@ -159,4 +159,6 @@ const char* to_string(DualCounts c) {
     return "?";
 }
 
+const char* to_string(DualSource s) { return s == DualSource::kPoint ? "point" : "beyond-exit"; }
+
 }  // namespace render

@@ -25,6 +25,13 @@ using hairscatter_examples::FiberModel;
 enum class DualCounts { kExact, kGrid, kField };
 const char* to_string(DualCounts c);
 
+// Where the two-stream estimator reads the light its stacks pass on (docs/theory.md §5.7):
+// beyond each stack's last fiber, through the hair that lies there along the source's
+// direction (hairscatter::dual_source_gain; the default), or at the shading point with the
+// hair ignored (the estimator as first written; brighter wherever hair shields a stack's end).
+enum class DualSource { kBeyondExit, kPoint };
+const char* to_string(DualSource s);
+
 struct ShadingOptions {
     FiberModel model = FiberModel::kChiang;
     unsigned lobes = hairscatter_examples::LobeBits::kAll;  // Chiang only
@@ -42,6 +49,7 @@ struct ShadingOptions {
     // Two-stream: how the fibers along a direction are counted (DualCounts). The grid is
     // built only where something reads it (grid and field counts), the field for field counts.
     DualCounts counts = DualCounts::kField;
+    DualSource source = DualSource::kBeyondExit;
     // Field counts: the octahedral map's side (side² directions, docs/dual.md) and the
     // lattice spacing in grid cells.
     int field_side = 12;

@@ -105,15 +105,23 @@ render::SceneDescription block_scene(int hairs, const std::string& light, bool g
 render::ShadingOptions shading_options(const std::string& colour, const std::string& formulation = "two-stream") {
     render::ShadingOptions o;
     o.fiber.sigma_a = melanin_sigma_a(colour);
-    o.two_stream = formulation == "two-stream" || formulation == "two-stream-grid" || formulation == "two-stream-field";
-    o.counts = formulation == "two-stream-grid"    ? render::DualCounts::kGrid
-               : formulation == "two-stream-field" ? render::DualCounts::kField
-                                                   : render::DualCounts::kExact;
+    // A "-point" suffix reads the stacks' sources at the shading point (DualSource::kPoint).
+    const std::string point = "-point";
+    const bool at_point = formulation.size() > point.size() &&
+                          formulation.compare(formulation.size() - point.size(), point.size(), point) == 0;
+    const std::string base = at_point ? formulation.substr(0, formulation.size() - point.size()) : formulation;
+    o.two_stream = base == "two-stream" || base == "two-stream-grid" || base == "two-stream-field";
+    o.counts = base == "two-stream-grid"    ? render::DualCounts::kGrid
+               : base == "two-stream-field" ? render::DualCounts::kField
+                                            : render::DualCounts::kExact;
+    o.source = at_point ? render::DualSource::kPoint : render::DualSource::kBeyondExit;
+    if (at_point && !o.two_stream) throw std::invalid_argument("study: '-point' applies to two-stream formulations only");
     if (formulation == "zinke") o.dual = hairscatter::DualScatteringSettings<float>::zinke2008();
     else if (formulation == "improved") o.dual = hairscatter::DualScatteringSettings<float>::improved();
     else if (!o.two_stream)
         throw std::invalid_argument("study: unknown formulation '" + formulation +
-                                    "' (two-stream | two-stream-grid | two-stream-field | improved | zinke)");
+                                    "' (two-stream | two-stream-grid | two-stream-field, each optionally with -point | "
+                                    "improved | zinke)");
     return o;
 }
 
@@ -484,7 +492,8 @@ int main(int argc, char** argv) {
                   "without it the difference is the hair's own multiple scattering");
     dvp->add_option("--colours", colours, "hair colours")->capture_default_str();
     dvp->add_option("--formulations", formulations,
-                    "dual-scattering formulations: two-stream, two-stream-grid, two-stream-field, improved, zinke")
+                    "dual-scattering formulations: two-stream, two-stream-grid, two-stream-field (each also with "
+                    "-point: sources read at the shading point), improved, zinke")
         ->capture_default_str();
     dvp->add_option("--scene", kind,
                     "block | scalp | fur | fur-shell | slab (--hair-counts: strands; the slab's depth in fibers)")

@@ -75,29 +75,76 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         return L + hit.albedo / q * at_hit(c_.scene.intersect(x, d, kInf), d, depth + 1, pdf, rng);
     }
 
-    // The fibers along d from the point up to `stop` (the first surface or light; a miss
-    // is unbounded): counted on the hair up to `limit` (past which the stacks no longer
-    // change); a Poisson draw from the grid's expectation given that a ray found hair; or a
-    // Poisson draw from the count field's expectation (a lookup; given found_hair, at least 1).
-    // found_hair: a ray along d already found hair (field counts: the count is then ≥ 1).
-    float fibers(const ShadingPoint& sp, const vec3& d, const Hit& stop, std::uint32_t limit, bool found_hair,
-                 Sampler& rng) const {
-        const float tmax = stop.kind == Hit::kMiss ? kInf : stop.t;
+    // A stack of fibers along d from o: how many, and how far along d they end.
+    struct Stack {
+        float n = 0, end = 0;
+    };
+
+    // The distance along d from o to where the density source's box ends (0 outside it).
+    template <class View> static float box_distance(const View& v, const vec3& o, const vec3& d) {
+        float t0 = 0, t1 = kInf;
+        for (int k = 0; k < 3; ++k) {
+            const float inv = 1.0f / d[k];
+            float a = (v.box_min()[k] - o[k]) * inv, b = (v.box_max()[k] - o[k]) * inv;
+            if (a > b) std::swap(a, b);
+            if (!(a == a) || !(b == b)) continue;  // d[k] = 0 with o on a face: no bound from this axis
+            t0 = std::max(t0, a), t1 = std::min(t1, b);
+        }
+        return t1 > t0 ? t1 : 0.0f;
+    }
+
+    // The fibers along d from o up to `tmax` (kInf: unbounded): counted on the hair up to
+    // `limit` (past which the stacks no longer change); a Poisson draw from the grid's
+    // expectation given that a ray found hair; or a Poisson draw from the count field's
+    // expectation (a lookup; given found_hair, at least 1). found_hair: a ray along d already
+    // found hair (field counts: the count is then ≥ 1). With want_end, where the stack ends:
+    // the last fiber's hit (exact counts) or where less than half a fiber remains expected
+    // (hs::dual_stack_end on the grid or the field).
+    Stack fibers(const vec3& o, const vec3& d, float tmax, std::uint32_t ignore, std::uint32_t limit, bool found_hair,
+                 bool want_end, Sampler& rng) const {
         const float bound = std::isfinite(tmax) ? tmax : hs::kUnbounded<float>;
+        Stack st;
         switch (c_.shading.options().counts) {
-            case DualCounts::kExact: return float(c_.scene.count_hair(sp.p, d, tmax, sp.strand, limit));
+            case DualCounts::kExact:
+                st.n = float(c_.scene.count_hair(o, d, tmax, ignore, limit, want_end ? &st.end : nullptr));
+                return st;
             case DualCounts::kGrid: {
                 const float u = rng.u();
-                if (!c_.scene.hair_occluded(sp.p, d, tmax, sp.strand)) return 0.0f;
-                return hs::poisson_fiber_count(c_.shading.grid()->fibers_crossed(sp.p, d, bound), u, true);
+                if (!c_.scene.hair_occluded(o, d, tmax, ignore)) return st;
+                const hs::DensityGridView<float> grid = c_.shading.grid()->view();
+                st.n = hs::poisson_fiber_count(grid.fibers_crossed(o, d, bound), u, true);
+                if (want_end && st.n > 0) st.end = stack_end(o, d, tmax);
+                return st;
             }
-            case DualCounts::kField: {
-                // Along the arrival direction the caller's ray found hair (N ≥ 1); beyond the
-                // point the count is drawn whole (P(0) = e^{-mean}).
-                return hs::poisson_fiber_count(field_.fibers_crossed(sp.p, d, bound), rng.u(), found_hair);
-            }
+            case DualCounts::kField:
+                st.n = hs::poisson_fiber_count(field_.fibers_crossed(o, d, bound), rng.u(), found_hair);
+                if (want_end && st.n > 0) st.end = stack_end(o, d, tmax);
+                return st;
         }
-        return 0.0f;
+        return st;
+    }
+
+    // Where the grid's or the field's expected fibers along d from o end (up to tmax).
+    float stack_end(const vec3& o, const vec3& d, float tmax) const {
+        if (c_.shading.options().counts == DualCounts::kField)
+            return field_.stack_end(o, d, std::isfinite(tmax) ? tmax : hs::kUnbounded<float>);
+        const hs::DensityGridView<float> grid = c_.shading.grid()->view();
+        return hs::dual_stack_end(grid, o, d, std::min(tmax, box_distance(grid, o, d)));
+    }
+
+    // The share of L(s) that reaches the stack's far face along s (hs::dual_source_gain):
+    // the fibers from the face `from` along s, up to the first surface at t_surface from the
+    // shading point p (kInf: none).
+    vec3 source_gain(const vec3& from, const vec3& p, const vec3& s, const vec3& s_local, float t_surface,
+                     Sampler& rng) const {
+        const float tmax = std::isfinite(t_surface) ? std::max(t_surface - glm::dot(from - p, s), 0.0f) : kInf;
+        if (!(tmax > 0)) return vec3(1);
+        const hs::DualScatteringEntry<float> entry = tables_.lookup(s_local.x);
+        const std::uint32_t limit = c_.shading.options().counts == DualCounts::kExact
+                                        ? std::uint32_t(std::ceil(hs::dual_count_limit(entry, 1e-3f)))
+                                        : 0xffffffffu;
+        const Stack k = fibers(from, s, tmax, kNoStrand, limit, false, false, rng);
+        return hs::dual_source_gain(entry, k.n);
     }
 
     vec3 hair(const ShadingPoint& sp, int depth, Sampler& rng) const {
@@ -153,20 +200,47 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         const std::uint32_t limit = c_.shading.options().counts == DualCounts::kExact
                                         ? std::uint32_t(std::ceil(hs::dual_count_limit(entry, 1e-3f)))
                                         : 0xffffffffu;
-        const float n = fibers(sp, a, source, limit, true, rng);
-        if (n == 0) return L + s.weight * at_hit(source, a, depth + 1, s.pdf, rng);
+        const bool beyond = c_.shading.options().source == DualSource::kBeyondExit;
+        const bool exact = c_.shading.options().counts == DualCounts::kExact;
+        const float t_source = source.kind == Hit::kMiss ? kInf : source.t;
+        const Stack n = fibers(sp.p, a, t_source, sp.strand, limit, true, beyond, rng);
+        if (n.n == 0) return L + s.weight * at_hit(source, a, depth + 1, s.pdf, rng);
 
-        const float m = fibers(sp, -a, scene.intersect_opaque(sp.p, -a, kInf), limit, false, rng);
-        const hs::DualSourceKernel<float> kernel(s.wi, hs::dual_streams(entry, n, m));
+        const Hit behind = scene.intersect_opaque(sp.p, -a, kInf);
+        const float t_behind = behind.kind == Hit::kMiss ? kInf : behind.t;
+        // The far stack's end is found only when a source direction needs it (exact counts
+        // find it with the count, at no extra cost).
+        Stack m = fibers(sp.p, -a, t_behind, sp.strand, limit, false, beyond && exact, rng);
+        bool m_end_known = !beyond || exact || m.n == 0;
+        const hs::DualSourceKernel<float> kernel(s.wi, hs::dual_streams(entry, n.n, m.n));
+        // Sources beyond the exits (the default): light from s enters the stack on a's side
+        // past its last fiber (K_f's half-circle) and the far stack past its own (K_b's),
+        // through whatever hair lies there along s (docs/theory.md §5.7).
+        const float r = c_.scene.description().hair.radius;
+        const auto gain = [&](const vec3& d, const vec3& d_local, float t_surface) {
+            if (!beyond) return vec3(1);
+            const bool forward = s.wi.y * d_local.y + s.wi.z * d_local.z > 0;  // K_f's half-circle
+            if (forward) return source_gain(sp.p + a * (n.end + 2 * r), sp.p, d, d_local, t_surface, rng);
+            if (m.n == 0) return vec3(1);  // nothing beyond the point on that side
+            if (!m_end_known) {
+                m.end = stack_end(sp.p, -a, t_behind);
+                m_end_known = true;
+            }
+            return source_gain(sp.p - a * (m.end + 2 * r), sp.p, d, d_local, t_surface, rng);
+        };
         vec3 source_light(0);
         if (open) {
-            const auto kl = kernel.eval_pdf(sp.to_local(ls.wi));
-            source_light += kl.f * ls.Le * power_heuristic(ls.pdf, kl.pdf) / ls.pdf;
+            const vec3 dl = sp.to_local(ls.wi);
+            const auto kl = kernel.eval_pdf(dl);
+            if (kl.pdf > 0)
+                source_light += kl.f * gain(ls.wi, dl, ls.dist) * ls.Le * power_heuristic(ls.pdf, kl.pdf) / ls.pdf;
         }
         const auto ks = kernel.sample(rng.u4());
         if (ks.pdf > 0) {
             const vec3 d = sp.to_world(ks.s);
-            source_light += ks.f / ks.pdf * at_hit(scene.intersect_opaque(sp.p, d, kInf), d, depth + 1, ks.pdf, rng);
+            const Hit h = scene.intersect_opaque(sp.p, d, kInf);
+            source_light += ks.f * gain(d, ks.s, h.kind == Hit::kMiss ? kInf : h.t) / ks.pdf *
+                            at_hit(h, d, depth + 1, ks.pdf, rng);
         }
         return L + s.weight * source_light;
     }

@@ -136,6 +136,43 @@ template <typename T> class DirectionalCountFieldView {
         return all > rest ? all - rest : T(0);
     }
 
+    // Where the fibers along the ray end: the distance t in [0, max_distance] past which less
+    // than min(1/2, C/2) of the C fibers expected on the segment remain, by bisection to 1/64
+    // of the segment's length within the box. For speed the counts come from the stored
+    // direction nearest to d (8 values a query, not 32). max_distance must be finite (or
+    // kUnbounded: to the box's edge); non-finite or non-positive input gives 0.
+    HAIRSCATTER_HD T stack_end(const V3& origin, const V3& direction, T max_distance) const {
+        using std::sqrt;
+        if (counts_ == nullptr || !(max_distance > T(0))) return T(0);
+        const T len2 = glm::dot(direction, direction);
+        if (!(len2 > T(0)) || !is_finite(len2) || !is_finite(origin)) return T(0);
+        const V3 d = direction / sqrt(len2);
+        const detail::Span<T> span = detail::clip_to_box(lo_, hi_, origin, d, max_distance);
+        if (!(span.t1 > span.t0) || !is_finite(span.t1)) return T(0);
+        const Texels dir = lookup_direction(d);
+        int best = 0;
+        for (int t = 1; t < 4; ++t) best = dir.w[t] > dir.w[best] ? t : best;
+        const T* counts = counts_ + std::size_t(dir.k[best]) * per_direction_;
+        const auto C = [&](T t) {  // C at origin + t d, t within the span (corner() clamps rounding)
+            std::size_t base;
+            std::size_t stride[3];
+            T f[3];
+            corner(origin + t * d, base, stride, f);
+            return trilinear(counts + base, stride, f);
+        };
+        const T first = C(span.t0), beyond = C(span.t1);
+        const T inside = first - beyond;
+        if (!(inside > T(0))) return span.t0;
+        const T rest = beyond + (inside * T(0.5) < T(0.5) ? inside * T(0.5) : T(0.5));
+        T lo = span.t0, hi = span.t1;
+        for (int i = 0; i < 6; ++i) {
+            const T mid = T(0.5) * (lo + hi);
+            if (C(mid) > rest) lo = mid;
+            else hi = mid;
+        }
+        return hi;
+    }
+
     HAIRSCATTER_HD const V3& box_min() const { return lo_; }
     HAIRSCATTER_HD const V3& box_max() const { return hi_; }
     HAIRSCATTER_HD const glm::ivec3& points() const { return points_; }
@@ -179,6 +216,16 @@ template <typename T> class DirectionalCountFieldView {
         return t;
     }
 
+    // The trilinear interpolation of one direction's counts c (at a cell's first corner).
+    HAIRSCATTER_HD static T trilinear(const T* c, const std::size_t stride[3], const T f[3]) {
+        const T x00 = c[0] + f[0] * (c[stride[0]] - c[0]);
+        const T x10 = c[stride[1]] + f[0] * (c[stride[1] + stride[0]] - c[stride[1]]);
+        const T x01 = c[stride[2]] + f[0] * (c[stride[2] + stride[0]] - c[stride[2]]);
+        const T x11 = c[stride[2] + stride[1]] + f[0] * (c[stride[2] + stride[1] + stride[0]] - c[stride[2] + stride[1]]);
+        const T y0 = x00 + f[1] * (x10 - x00), y1 = x01 + f[1] * (x11 - x01);
+        return y0 + f[2] * (y1 - y0);
+    }
+
     // C at origin along the unit d, with d's texels.
     HAIRSCATTER_HD T to_exit(const V3& origin, const V3& d, const Texels& dir) const {
         const detail::Span<T> s = detail::clip_to_box(lo_, hi_, origin, d, kUnbounded<T>);
@@ -189,15 +236,8 @@ template <typename T> class DirectionalCountFieldView {
         T f[3];
         corner(p, base, stride, f);
         T sum = T(0);
-        for (int t = 0; t < 4; ++t) {
-            const T* c = counts_ + std::size_t(dir.k[t]) * per_direction_ + base;
-            const T x00 = c[0] + f[0] * (c[stride[0]] - c[0]);
-            const T x10 = c[stride[1]] + f[0] * (c[stride[1] + stride[0]] - c[stride[1]]);
-            const T x01 = c[stride[2]] + f[0] * (c[stride[2] + stride[0]] - c[stride[2]]);
-            const T x11 = c[stride[2] + stride[1]] + f[0] * (c[stride[2] + stride[1] + stride[0]] - c[stride[2] + stride[1]]);
-            const T y0 = x00 + f[1] * (x10 - x00), y1 = x01 + f[1] * (x11 - x01);
-            sum += dir.w[t] * (y0 + f[2] * (y1 - y0));
-        }
+        for (int t = 0; t < 4; ++t)
+            sum += dir.w[t] * trilinear(counts_ + std::size_t(dir.k[t]) * per_direction_ + base, stride, f);
         return sum > T(0) ? sum : T(0);
     }
 

@@ -182,6 +182,53 @@ HAIRSCATTER_HD DualStreams<T> dual_streams(const DualTablesView<T>& tables, T si
     return dual_streams(tables.lookup(sin_theta_a), n_fibers, m_fibers);
 }
 
+// The share of L(s) that reaches a stack's far face from direction s when `count` more
+// fibers lie between that face and the outside along s (docs/theory.md §5.7, "sources beyond
+// the exit"): T_N + R_N of that stack at the entry's θ. The face receives the light the
+// N fibers transmit, T_N L(s), and their reflection of the light on the face's own side,
+// R_N L_in, with L_in taken as L(s): exact in a furnace (a lossless stack gives 1 to
+// rounding), and no brighter than the source wherever the hair is dimmer than it. NaN or
+// negative counts give 1 (no fibers), +Inf a deep stack.
+template <typename T> HAIRSCATTER_HD glm::vec<3, T> dual_source_gain(const DualScatteringEntry<T>& e, T count) {
+    const T n = dual_stack_depth(count);
+    if (!(n > T(0))) return glm::vec<3, T>(T(1));
+    LayerLanes<T, 4> layer;
+    elem::store4(layer.a_f, e.a_f.x, e.a_f.y, e.a_f.z, T(0));
+    elem::store4(layer.a_b, e.a_b.x, e.a_b.y, e.a_b.z, T(0));
+    layer_lanes(layer);
+    const T depth[4] = {n, n, n, n};
+    T R[4], T_[4];
+    layered_stacks(layer, depth, R, T_);
+    glm::vec<3, T> g;
+    for (int k = 0; k < 3; ++k) {
+        const T v = R[k] + T_[k];
+        g[k] = is_finite(v) ? clamp(v, T(0), T(1)) : T(0);
+    }
+    return g;
+}
+
+// Where the fibers along a ray end, for a density source (density_source.hpp: anything with
+// fibers_crossed(origin, direction, max_distance)): the distance t in [0, max_distance] past
+// which less than min(1/2, C/2) of the C fibers expected on [0, max_distance] remain, by
+// bisection to 1/256 of max_distance (8 queries). The two-stream estimator reads a stack's
+// sources beyond this point. max_distance must be finite (clip it to the source's box);
+// non-finite or non-positive input gives 0.
+template <typename T, class Source>
+HAIRSCATTER_HD T dual_stack_end(const Source& source, const glm::vec<3, T>& origin, const glm::vec<3, T>& direction,
+                                T max_distance) {
+    if (!(max_distance > T(0)) || !is_finite(max_distance) || !is_finite(origin) || !is_finite(direction)) return T(0);
+    const T all = source.fibers_crossed(origin, direction, max_distance);
+    if (!(all > T(0)) || !is_finite(all)) return T(0);
+    const T rest = all * T(0.5) < T(0.5) ? all * T(0.5) : T(0.5);
+    T lo = T(0), hi = max_distance;
+    for (int i = 0; i < 8; ++i) {
+        const T mid = T(0.5) * (lo + hi);
+        if (all - source.fibers_crossed(origin, direction, mid) > rest) lo = mid;
+        else hi = mid;
+    }
+    return hi;
+}
+
 // The source of the light arriving along a: the mixture c_f K_f + c_b K_b over the direction
 // s the light came from (fiber frame), with eval (per channel, 1/sr), the mixture's pdf and a
 // sampler. A renderer estimates L̃ = ∫ eval(s) L(s) ds by light sampling, by sample(), or by
