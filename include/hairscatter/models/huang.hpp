@@ -551,6 +551,20 @@ template <typename T> HuangQuadrature huang_scaled_quadrature(T roughness, int f
     return q;
 }
 
+// A quadrature coarser than the automatic one, scaling with roughness as it does: the
+// automatic offset nodes, the automatic paths into the fiber divided by `divisor` (at least
+// 8) and one internal reflection each. docs/performance.md times it against Blender
+// Cycles' scheme and docs/models.md gives its error against the physical reference.
+template <typename T> HuangQuadrature huang_fast_quadrature(T roughness, int divisor = 2) {
+    using M = HuangMaterial<T>;
+    HuangQuadrature q;
+    q.offset_nodes = M::auto_nodes(roughness);
+    const int n = M::auto_tt_points(roughness) / (divisor < 1 ? 1 : divisor);
+    q.tt_points = n < 8 ? 8 : n;
+    q.trt_per_tt = 1;
+    return q;
+}
+
 // The fiber. Same frame and convention as every model (contract.hpp): unit vectors in the
 // fiber frame, wo toward the viewer, wi toward the light, eval with the cosine inside
 // (∫ eval dωi = 1 for σa = 0). The light is traced from wo (reciprocity of the far field):
