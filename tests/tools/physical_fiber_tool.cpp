@@ -145,7 +145,7 @@ int diagnose(long long rays, int threads, bool blond_only) {
 
 // The residual's longitudinal shape against the reference's orders ≥ TRRT, traced afresh
 // with the classes apart: per case and channel (lossless, blond G), the model's residual
-// energy times M(v; θi | θo)/2π for several variances v (the model's 4β; the sum over
+// energy times M(v; θi | θo)/2π for several variances v (the model's 4β and a wider 8β; the sum over
 // orders of a variance that grows per interface, β²(1/2 + 3/2 (2 + r̄/(1 − r̄))) with r̄ the
 // mean internal reflectance, two refractions at β²/4 and each internal reflection at
 // 3β²/2 as the TT and TRT lobes' β²/2 and 2β²; and k β²), the relative L1 of that lobe
@@ -154,11 +154,11 @@ int diagnose(long long rays, int threads, bool blond_only) {
 // azimuth-uniform residual with the right energy can do).
 int residual_shapes(long long rays, int threads) {
     const int nu = 24, nphi = 48;
-    const double kinds[] = {-1, 0, 2, 4, 6};  // -1: 4β; 0: the per-order sum; k: k β²
-    constexpr int kKinds = 5;
+    const double kinds[] = {-4, 0, 2, 4, 6, -8};  // -k: k β; 0: the per-order sum; k: k β²
+    constexpr int kKinds = 6;
     double total_sum[kKinds] = {}, total_worst[kKinds] = {}, lobe_sum[kKinds] = {}, floor_sum = 0;
     int rows = 0;
-    std::printf("| case | ch | floor | 4β: residual / total | per-order | 2β² | 4β² | 6β² |\n|---|---|---|---|---|---|---|---|\n");
+    std::printf("| case | ch | floor | 4β: residual / total | per-order | 2β² | 4β² | 6β² | 8β |\n|---|---|---|---|---|---|---|---|---|\n");
     for (const phys_fiber::Case& c : phys_fiber::physical_cases()) {
         const phys_fiber::Tracer tracer(c.fiber());
         std::vector<phys_fiber::Histogram> parts(std::size_t(threads), phys_fiber::Histogram(nu, nphi));
@@ -199,7 +199,7 @@ int residual_shapes(long long rays, int threads) {
             std::printf("| %s | %s | %.1f %% |", c.name().c_str(), blond ? "blond G" : "lossless", 100 * floor / total_ref);
             for (int k = 0; k < kKinds; ++k) {
                 const double beta = p.roughness;
-                const double v = kinds[k] < 0 ? 4 * beta
+                const double v = kinds[k] < 0 ? -kinds[k] * beta
                                  : kinds[k] == 0 ? beta * beta * (0.5 + 1.5 * (2 + r_bar / (1 - r_bar)))
                                                  : kinds[k] * beta * beta;
                 const hs::DeonLongitudinal<double> lobe(v);
@@ -231,7 +231,7 @@ int residual_shapes(long long rays, int threads) {
         }
     }
     std::printf("\nfloor mean %.1f %%\n", 100 * floor_sum / rows);
-    const char* names[kKinds] = {"4β", "per-order", "2β²", "4β²", "6β²"};
+    const char* names[kKinds] = {"4β", "per-order", "2β²", "4β²", "6β²", "8β"};
     for (int k = 0; k < kKinds; ++k)
         std::printf("%s: residual lobe mean %.1f %%, total mean %.1f %%, worst %.1f %%\n", names[k], 100 * lobe_sum[k] / rows,
                     100 * total_sum[k] / rows, 100 * total_worst[k]);
