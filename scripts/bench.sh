@@ -19,6 +19,12 @@
 #                                         bench/results/vs_pbrt.md, then regenerates the tables
 #                                         of README.md and docs/performance.md from it (~3 min)
 #   scripts/bench.sh --tables             only that last step, from the committed vs_pbrt.md
+#   scripts/bench.sh --vs-cycles          HuangFiber against Blender Cycles' scheme for the same
+#                                         model in one process (bench/vs_cycles.cpp, float and
+#                                         double; --reps N repetitions, default 5), then both
+#                                         against the physical reference's cache (the accuracy
+#                                         mode, 16 seeds of Cycles' normals; ~30 min on 2 busy
+#                                         cores): bench/results/vs_cycles_<date>.txt
 #   scripts/bench.sh --programs           only the dual and tabulated programs (no Chiang run):
 #                                         bench/results/{dual,tabulated}_<date>.txt
 #   scripts/bench.sh --ab REV             dual_bench built against REV's include/ (A) and the
@@ -69,11 +75,12 @@ while [[ $# -gt 0 ]]; do
         --no-deps) install_deps=0 ;;
         --vs-pbrt) mode=vs_pbrt ;;
         --tables) mode=tables ;;
+        --vs-cycles) mode=vs_cycles ;;
         --programs) mode=programs ;;
         --ab) mode=ab; headers_rev="${2:?--ab needs a revision}"; shift ;;
         --rounds) ab_rounds="$2"; shift ;;
         --ab-program) ab_prog="$2"; shift ;;
-        --reps) vs_reps="$2"; shift ;;
+        --reps) vs_reps="$2"; vs_reps_cycles="$2"; shift ;;
         -h | --help) hs_usage; exit 0 ;;
         *) hs_usage_error "unknown option '$1'" ;;
     esac
@@ -121,6 +128,38 @@ if [[ $mode == vs_pbrt ]]; then
     python3 "$ROOT/scripts/vs_pbrt.py" results "$VS_MD" "$header" "$BUILD/vs_pbrt_o2.txt" "$BUILD/vs_pbrt_o3.txt"
     echo "bench.sh: wrote ${VS_MD#"$ROOT"/}"
     regenerate_tables
+    exit 0
+fi
+
+# --- HuangFiber against Cycles' scheme (bench/vs_cycles.cpp) ------------------------------
+if [[ $mode == vs_cycles ]]; then
+    cmake -S "$SRC" -B "$BUILD" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF -DHAIRSCATTER_DOCS=OFF \
+        -DCMAKE_BUILD_TYPE=Release >/dev/null
+    cmake --build "$BUILD" --target vs_cycles -j "$(nproc 2>/dev/null || echo 2)"
+    [[ -x "$BUILD/bench/vs_cycles" ]] || { echo "bench.sh: vs_cycles was not built (it needs Boost.Math)" >&2; exit 1; }
+    cxx="$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$BUILD/CMakeCache.txt")"
+    out="${out:-$ROOT/bench/results/vs_cycles_$(date -u +%Y-%m-%d).txt}"
+    load_before="$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
+    args=(--benchmark_repetitions="${vs_reps_cycles:-5}" --benchmark_min_time=0.2 --benchmark_enable_random_interleaving=true
+          --benchmark_report_aggregates_only=true)
+    "$BUILD/bench/vs_cycles" "${args[@]}" 2>&1 | tee "$BUILD/vs_cycles.txt"
+    load_mid="$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
+    "$BUILD/bench/vs_cycles" --accuracy "$ROOT/tests/data/physical_fiber.txt" --seeds 16 --threads "$(nproc 2>/dev/null || echo 2)" \
+        | tee "$BUILD/vs_cycles_accuracy.txt"
+    {
+        echo "date:      $(date -u '+%Y-%m-%d %H:%M:%S UTC')"
+        dirty="$(git -C "$ROOT" status --porcelain -- include bench ':!bench/results' 2>/dev/null | head -1 || true)"
+        echo "commit:    $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')${dirty:+ (with uncommitted changes in include/ or bench/)}"
+        echo "cpu:       $(hs_cpu_line)"
+        echo "compiler:  $("$cxx" --version | head -1)"
+        echo "run:       vs_cycles ${args[*]}; medians of CPU time"
+        echo "load:      average before ${load_before}, after the timing ${load_mid}"
+        echo
+        cat "$BUILD/vs_cycles.txt"
+        echo
+        cat "$BUILD/vs_cycles_accuracy.txt"
+    } >"$out"
+    echo "bench.sh: wrote ${out#"$ROOT"/}"
     exit 0
 fi
 

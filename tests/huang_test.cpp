@@ -491,3 +491,27 @@ TEST(HuangQuadrature, ScaledSettingFollowsRoughness) {
     EXPECT_EQ(hs::huang_scaled_quadrature(0.3f).tt_points, 128);
     EXPECT_EQ(hs::huang_scaled_quadrature(0.1f).tt_points, 384);
 }
+
+// huang_fast_quadrature: the automatic offset nodes, the automatic paths over the divisor (at
+// least 8), one internal normal each; every divisor, extreme ones included, constructs.
+TEST(HuangQuadrature, FastSettingFollowsRoughness) {
+    using M = hs::HuangMaterial<float>;
+    for (float beta : {0.02f, 0.05f, 0.1f, 0.2f, 0.3f, 0.6f, 1.0f})
+        for (int divisor : {-3, 0, 1, 2, 4, 1000}) {
+            const hs::HuangQuadrature q = hs::huang_fast_quadrature(beta, divisor);
+            EXPECT_EQ(q.offset_nodes, M::auto_nodes(beta)) << beta;
+            const int d = divisor < 1 ? 1 : divisor;
+            EXPECT_EQ(q.tt_points, std::max(8, M::auto_tt_points(beta) / d)) << beta << " " << divisor;
+            EXPECT_EQ(q.trt_per_tt, 1);
+            hs::HuangParams<float> p;
+            p.roughness = beta;
+            const M m(p, q);
+            EXPECT_EQ(m.tt_points(), q.tt_points);
+            const hs::HuangFiber<float> fiber(m);
+            const glm::vec3 wo = glm::normalize(glm::vec3(0.3f, 0.2f, 0.9f));
+            // Lossless: the energies stay exact whatever the rule (the lossless albedo is 1).
+            EXPECT_NEAR(fiber.albedo(wo).x, 1.0f, 1e-3f) << beta << " " << divisor;
+        }
+    EXPECT_EQ(hs::huang_fast_quadrature(0.3f).tt_points, 32);
+    EXPECT_EQ(hs::huang_fast_quadrature(0.1f).tt_points, 96);
+}

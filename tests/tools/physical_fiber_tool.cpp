@@ -4,6 +4,8 @@
 //
 //   physical_fiber_tool generate --rays N --threads T --out FILE
 //   physical_fiber_tool report --cache FILE [--quadrature default|fine]
+//   physical_fiber_tool residual --rays N --threads T   the residual's θ shape against the
+//                                                       reference's orders ≥ TRRT
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -141,6 +143,101 @@ int diagnose(long long rays, int threads, bool blond_only) {
     return 0;
 }
 
+// The residual's longitudinal shape against the reference's orders ≥ TRRT, traced afresh
+// with the classes apart: per case and channel (lossless, blond G), the model's residual
+// energy times M(v; θi | θo)/2π for several variances v (the model's 4β and a wider 8β; the sum over
+// orders of a variance that grows per interface, β²(1/2 + 3/2 (2 + r̄/(1 − r̄))) with r̄ the
+// mean internal reflectance, two refractions at β²/4 and each internal reflection at
+// 3β²/2 as the TT and TRT lobes' β²/2 and 2β²; and k β²), the relative L1 of that lobe
+// against the ≥ TRRT class and of the whole f, both over the reference's total energy, and
+// "floor": the reference's own θ profile spread uniformly in φ (the best any
+// azimuth-uniform residual with the right energy can do).
+int residual_shapes(long long rays, int threads) {
+    const int nu = 24, nphi = 48;
+    const double kinds[] = {-4, 0, 2, 4, 6, -8};  // -k: k β; 0: the per-order sum; k: k β²
+    constexpr int kKinds = 6;
+    double total_sum[kKinds] = {}, total_worst[kKinds] = {}, lobe_sum[kKinds] = {}, floor_sum = 0;
+    int rows = 0;
+    std::printf("| case | ch | floor | 4β: residual / total | per-order | 2β² | 4β² | 6β² | 8β |\n|---|---|---|---|---|---|---|---|---|\n");
+    for (const phys_fiber::Case& c : phys_fiber::physical_cases()) {
+        const phys_fiber::Tracer tracer(c.fiber());
+        std::vector<phys_fiber::Histogram> parts(std::size_t(threads), phys_fiber::Histogram(nu, nphi));
+        std::vector<std::thread> pool;
+        for (int t = 0; t < threads; ++t)
+            pool.emplace_back([&, t] { tracer.trace(c.wo(), rays / threads, 77 + std::uint64_t(t), parts[std::size_t(t)]); });
+        for (auto& th : pool) th.join();
+        phys_fiber::Histogram h(nu, nphi);
+        for (const auto& p : parts) h.add(p);
+        CachedCase cc;
+        cc.c = c;
+        cc.n_u = nu;
+        cc.n_phi = nphi;
+        const double dw = h.bin_solid_angle();
+        const glm::dvec3 wo = c.wo();
+        const double so = wo.x, co = std::sqrt(1 - so * so);
+        for (int blond = 0; blond < 2; ++blond) {
+            const int ch = blond ? 2 : 0, mch = blond ? 1 : 0;
+            const hs::HuangParams<double> p = phys_fiber::huang_params(c, blond != 0);
+            hs::LobeControls<double> no_res, only_res;
+            no_res.gain[3] = 0;
+            only_res.gain[0] = only_res.gain[1] = only_res.gain[2] = 0;
+            const hs::HuangMaterial<double> m0(p, no_res), m1(p, only_res);
+            const hs::HuangFiber<double> f0(m0), f1(m1);
+            const std::vector<glm::dvec3> others =
+                phys_fiber::model_bins(cc, [&](const glm::dvec3& a, const glm::dvec3& b) { return f0.eval(a, b); });
+            const double e_res = f1.albedo(wo)[mch];
+            double r_bar = 0;
+            for (int k = 0; k <= 64; ++k) r_bar += m0.total_reflectance_inside(k / 64.0) / 65;
+            double total_ref = 0, floor = 0;
+            for (int b = 0; b < nu * nphi; ++b) total_ref += h.f(b, ch) * dw;
+            for (int iu = 0; iu < nu; ++iu) {
+                double row = 0;
+                for (int ip = 0; ip < nphi; ++ip) row += h.f(iu * nphi + ip, ch, phys_fiber::kHigher) / nphi;
+                for (int ip = 0; ip < nphi; ++ip) floor += std::fabs(row - h.f(iu * nphi + ip, ch, phys_fiber::kHigher)) * dw;
+            }
+            floor_sum += floor / total_ref;
+            std::printf("| %s | %s | %.1f %% |", c.name().c_str(), blond ? "blond G" : "lossless", 100 * floor / total_ref);
+            for (int k = 0; k < kKinds; ++k) {
+                const double beta = p.roughness;
+                const double v = kinds[k] < 0 ? -kinds[k] * beta
+                                 : kinds[k] == 0 ? beta * beta * (0.5 + 1.5 * (2 + r_bar / (1 - r_bar)))
+                                                 : kinds[k] * beta * beta;
+                const hs::DeonLongitudinal<double> lobe(v);
+                double e_lobe = 0, e_total = 0;
+                for (int iu = 0; iu < nu; ++iu) {
+                    // M averaged over the bin's row: 64 midpoints in θ.
+                    const double t0 = std::asin(std::max(-1.0, -1 + 2.0 * iu / nu));
+                    const double t1 = std::asin(std::min(1.0, -1 + 2.0 * (iu + 1) / nu));
+                    double m = 0;
+                    for (int j = 0; j < 64; ++j) {
+                        const double th = t0 + (t1 - t0) * (j + 0.5) / 64;
+                        m += lobe.eval(std::sin(th), std::cos(th), so, co) * std::cos(th) * (t1 - t0) / 64;
+                    }
+                    const double f = e_res * m / (2.0 / nu) / (2 * phys_fiber::kPi);
+                    for (int ip = 0; ip < nphi; ++ip) {
+                        const int b = iu * nphi + ip;
+                        e_lobe += std::fabs(f - h.f(b, ch, phys_fiber::kHigher)) * dw;
+                        e_total += std::fabs(f + others[std::size_t(b)][mch] - h.f(b, ch)) * dw;
+                    }
+                }
+                lobe_sum[k] += e_lobe / total_ref;
+                total_sum[k] += e_total / total_ref;
+                total_worst[k] = std::max(total_worst[k], e_total / total_ref);
+                std::printf(" %.1f / %.1f %% |", 100 * e_lobe / total_ref, 100 * e_total / total_ref);
+            }
+            std::printf("\n");
+            std::fflush(stdout);
+            ++rows;
+        }
+    }
+    std::printf("\nfloor mean %.1f %%\n", 100 * floor_sum / rows);
+    const char* names[kKinds] = {"4β", "per-order", "2β²", "4β²", "6β²", "8β"};
+    for (int k = 0; k < kKinds; ++k)
+        std::printf("%s: residual lobe mean %.1f %%, total mean %.1f %%, worst %.1f %%\n", names[k], 100 * lobe_sum[k] / rows,
+                    100 * total_sum[k] / rows, 100 * total_worst[k]);
+    return 0;
+}
+
 int generate(long long rays, int threads, const std::string& out, int n_u, int n_phi) {
     std::vector<CachedCase> cases;
     const auto t0 = std::chrono::steady_clock::now();
@@ -180,6 +277,7 @@ int main(int argc, char** argv) {
         if (mode == "report") return report(cache, quadrature, threads);
         if (mode == "lobes") return lobes(cache);
         if (mode == "diagnose") return diagnose(rays, threads, quadrature == "blond");
+        if (mode == "residual") return residual_shapes(rays, threads);
         throw std::invalid_argument("unknown mode " + mode);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "physical_fiber_tool: %s\n", e.what());

@@ -122,7 +122,12 @@ template <typename T> class Ggx {
     }
     // The same with the cap's azimuth given by its cosine and sine (fixed nodes precompute them).
     HAIRSCATTER_HD V3 sample_visible_local(const V3& v, T cos_phi, T sin_phi, T u2) const {
-        const V3 vs = glm::normalize(V3(a_ * v.x, a_ * v.y, v.z));
+        return sample_visible_stretched(stretch(v), cos_phi, sin_phi, u2);
+    }
+    // v stretched to the α = 1 configuration, and the sampler from it: several normals
+    // drawn for one v stretch it once.
+    HAIRSCATTER_HD V3 stretch(const V3& v) const { return glm::normalize(V3(a_ * v.x, a_ * v.y, v.z)); }
+    HAIRSCATTER_HD V3 sample_visible_stretched(const V3& vs, T cos_phi, T sin_phi, T u2) const {
         const T z = (T(1) - u2) * (T(1) + vs.z) - vs.z;
         const T sin_theta = cos_from_sin(clamp(z, T(-1), T(1)));
         const V3 hs = V3(sin_theta * cos_phi, sin_theta * sin_phi, z) + vs;

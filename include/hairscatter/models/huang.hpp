@@ -551,6 +551,20 @@ template <typename T> HuangQuadrature huang_scaled_quadrature(T roughness, int f
     return q;
 }
 
+// A quadrature coarser than the automatic one, scaling with roughness as it does: the
+// automatic offset nodes, the automatic paths into the fiber divided by `divisor` (at least
+// 8) and one internal reflection each. docs/performance.md times it against Blender
+// Cycles' scheme and docs/models.md gives its error against the physical reference.
+template <typename T> HuangQuadrature huang_fast_quadrature(T roughness, int divisor = 2) {
+    using M = HuangMaterial<T>;
+    HuangQuadrature q;
+    q.offset_nodes = M::auto_nodes(roughness);
+    const int n = M::auto_tt_points(roughness) / (divisor < 1 ? 1 : divisor);
+    q.tt_points = n < 8 ? 8 : n;
+    q.trt_per_tt = 1;
+    return q;
+}
+
 // The fiber. Same frame and convention as every model (contract.hpp): unit vectors in the
 // fiber frame, wo toward the viewer, wi toward the light, eval with the cosine inside
 // (∫ eval dωi = 1 for σa = 0). The light is traced from wo (reciprocity of the far field):
@@ -897,8 +911,12 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
             T f[Material::kMaxTrtPerTT], sum = T(0);
             const T e_mean = mat_->reflectance_inside(cos2);
             const T share = e_mean > T(0) ? e_in / (T(m) * e_mean) : T(0);
+            // The path's m normals share one frame and one stretched v2.
+            const TangentFrame<T> frame(m_in, v2);
+            const V3 v2_stretched = mat_->ggx().stretch(frame.to_local(v2));
             for (int l = 0; l < m; ++l) {
-                const V3 h = visible_normal(m_in, v2, mat_->reflect_point(i, l));
+                const typename Material::NormalPoint& q = mat_->reflect_point(i, l);
+                const V3 h = frame.to_world(mat_->ggx().sample_visible_stretched(v2_stretched, q.cos_u1, q.sin_u1, q.u2));
                 r_dir[l] = glm::normalize(reflect_about(v2, h));
                 f[l] = glm::dot(r_dir[l], m_in) > T(0) ? share * fresnel_any(glm::dot(v2, h), inv_eta) : T(0);
                 sum += f[l];
