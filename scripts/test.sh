@@ -16,7 +16,8 @@
 #   fastmath  -ffast-math must stop at config.hpp's #error; with HAIRSCATTER_ALLOW_FAST_MATH
 #             the robustness tests pass under it (GCC Release -Werror, build/test-fastmath)
 #   consumer  install to build/prefix; consume via find_package, pkg-config and add_subdirectory
-#   cuda      nvcc compile check of tests/cuda/*.cu (skipped without nvcc)
+#   cuda      nvcc compile check of tests/cuda/*.cu (skipped without nvcc); with a GPU the
+#             example programs among them (tests/cuda/per_hit_shading.cu) also run
 #   example   build examples/ and bench/ with -Werror, run the lobe explorer and the renderer
 #             small, and the origin study at a tiny size (scripts/study.sh --tiny)
 #   python    the Python module: build at -O1 and run its pytest suite (bit-for-bit
@@ -494,7 +495,7 @@ finish_fuzz_in_background() {
 start_fuzz_in_background
 run_step fastmath "-ffast-math: the #error, and the robustness tests under it (build/test-fastmath)" step_fastmath
 run_step consumer "Install + downstream consumer (find_package, pkg-config, add_subdirectory)" step_consumer
-run_step cuda     "CUDA compile check (nvcc -c tests/cuda/*.cu)"                   step_cuda
+run_step cuda     "CUDA compile check (nvcc -c tests/cuda/*.cu; examples run on a GPU)"                  step_cuda
 finish_fuzz_in_background
 run_step example  "Example and benchmarks build (-Werror); the example runs small" step_example
 run_step python   "Python module: build (-O1), pytest, install and import (build/test-python)" step_python

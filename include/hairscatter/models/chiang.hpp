@@ -38,10 +38,15 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
     static constexpr int kLobes = DeonLobes<T>::kLobes;  // R, TT, TRT explicit; index 3 is the residual
 
     explicit ChiangMaterial(const FiberParams<T>& params, const LobeControls<T>& controls = LobeControls<T>())
-        : DeonLobes<T>(validated(params).beta_m, validated(controls).cuticle_tilt(params.alpha)), params_(params),
-          controls_(controls), n_(logistic_scale(params.beta_n)), weights_(controls) {
-        for (int c = 0; c < kChannelLanes; ++c) sigma_a_lanes_[c] = T(0);  // the padding: 0
-        for (int c = 0; c < 3; ++c) sigma_a_lanes_[c] = params.sigma_a[c];
+        : ChiangMaterial(Unchecked{}, validated(params), validated(controls)) {}
+
+    // The material built per hit, on the host or the device: no validation, and bit for bit
+    // the checked constructor's material. The caller guarantees valid parameters: params from
+    // FiberParamBounds::clamp (fiber/params.hpp), whose bounds were checked once on the host,
+    // and controls checked there (validate(controls)). Debug builds assert both.
+    HAIRSCATTER_HD static ChiangMaterial unchecked(const FiberParams<T>& params,
+                                                   const LobeControls<T>& controls = LobeControls<T>()) {
+        return ChiangMaterial(Unchecked{}, params, controls);
     }
 
     HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
@@ -57,6 +62,15 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
     HAIRSCATTER_HD const T (&sigma_a_lanes() const)[kChannelLanes] { return sigma_a_lanes_; }
 
   private:
+    struct Unchecked {};
+    HAIRSCATTER_HD ChiangMaterial(Unchecked, const FiberParams<T>& params, const LobeControls<T>& controls)
+        : DeonLobes<T>(params.beta_m, controls.cuticle_tilt(params.alpha)), params_(params), controls_(controls),
+          n_(logistic_scale(params.beta_n)), weights_(controls) {
+        HAIRSCATTER_DCHECK(detail::params_in_range(params) && detail::controls_in_range(controls));
+        for (int c = 0; c < kChannelLanes; ++c) sigma_a_lanes_[c] = T(0);  // the padding: 0
+        for (int c = 0; c < 3; ++c) sigma_a_lanes_[c] = params.sigma_a[c];
+    }
+
     FiberParams<T> params_;
     LobeControls<T> controls_;
     TrimmedLogistic<T> n_;
