@@ -6,6 +6,7 @@
 // The defaults change nothing.
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -83,7 +84,7 @@ template <typename T> class LobeWeights {
     HAIRSCATTER_HD const T (&channel_lanes(int p) const)[kChannelLanes] { return w_[p]; }
 
   private:
-    T w_[kLobes][kChannelLanes];
+    T w_[std::size_t(kLobes)][std::size_t(kChannelLanes)];
     bool any_ = false;
 };
 
