@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Compile tests/cuda/kernel.cu with nvcc (compile only: no GPU is needed).
+# Compile tests/cuda/*.cu with nvcc (compile only: no GPU is needed).
 # Checks that the HAIRSCATTER_HD API (ChiangFiber construction, eval, pdf,
 # sample; float and double) is valid device code. Any nvcc diagnostic other
 # than GLM's harmless #20012 ("__host__ __device__ ignored on a defaulted
-# function") is an error.
+# function") is an error. A source with a main() (tests/cuda/per_hit_shading.cu)
+# is an example program: where a GPU is present (nvidia-smi lists one) it is
+# also linked and run, and must exit 0.
 #
 #   scripts/cuda-check.sh            # uses nvcc from PATH, $CUDA_HOME, /usr/local/cuda
 #   NVCC=/path/to/nvcc scripts/cuda-check.sh
@@ -48,6 +50,11 @@ flags=(
     -Xcompiler -Wall,-Wextra,-Werror
 )
 
+gpu=0
+if command -v nvidia-smi >/dev/null 2>&1 && nvidia-smi -L 2>/dev/null | grep -q '^GPU'; then
+    gpu=1
+fi
+
 status=0
 for src in "$ROOT"/tests/cuda/*.cu; do
     obj="$out_dir/$(basename "${src%.cu}").o"
@@ -56,6 +63,20 @@ for src in "$ROOT"/tests/cuda/*.cu; do
         echo "cuda-check: OK ${src#"$ROOT"/}"
     else
         echo "cuda-check: FAILED ${src#"$ROOT"/}" >&2
+        status=1
+        continue
+    fi
+    grep -q '^int main(' "$src" || continue
+    if [[ "$gpu" == 0 ]]; then
+        echo "cuda-check: no GPU, ${src#"$ROOT"/} compiled only"
+        continue
+    fi
+    exe="${obj%.o}"
+    echo "+ nvcc ${obj#"$ROOT"/} -o ${exe#"$ROOT"/} && ${exe#"$ROOT"/}"
+    if "$nvcc" "$obj" -o "$exe" && "$exe"; then
+        echo "cuda-check: RAN ${src#"$ROOT"/}"
+    else
+        echo "cuda-check: FAILED running ${src#"$ROOT"/}" >&2
         status=1
     fi
 done

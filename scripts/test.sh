@@ -15,8 +15,10 @@
 #             statistical tests and integrations                (build/test-asan)
 #   fastmath  -ffast-math must stop at config.hpp's #error; with HAIRSCATTER_ALLOW_FAST_MATH
 #             the robustness tests pass under it (GCC Release -Werror, build/test-fastmath)
-#   consumer  install to build/prefix; consume via find_package, pkg-config and add_subdirectory
-#   cuda      nvcc compile check of tests/cuda/*.cu (skipped without nvcc)
+#   consumer  install to build/prefix (the docs pages the headers cite included); consume via
+#             find_package, pkg-config and add_subdirectory
+#   cuda      nvcc compile check of tests/cuda/*.cu (skipped without nvcc); with a GPU the
+#             example programs among them (tests/cuda/per_hit_shading.cu) also run
 #   example   build examples/ and bench/ with -Werror, run the lobe explorer and the renderer
 #             small, and the origin study at a tiny size (scripts/study.sh --tiny)
 #   python    the Python module: build at -O1 and run its pytest suite (bit-for-bit
@@ -282,6 +284,17 @@ pkg_config_consumer() {
     "$out"
 }
 
+# installed_docs_check INCLUDEDIR DOCDIR: every docs/<page> that an installed header cites,
+# and every page of docs/, is installed in DOCDIR (the headers' comments point there).
+installed_docs_check() {
+    local includedir="$1" docdir="$2" page missing=()
+    while IFS= read -r page; do
+        [[ -f "$docdir/${page#docs/}" ]] || missing+=("${page#docs/}")
+    done < <({ grep -rhoE 'docs/[a-z_]+\.(md|txt)' "$includedir/hairscatter"; (cd "$ROOT" && ls docs/*.md); } | sort -u)
+    [[ ${#missing[@]} -eq 0 ]] || { echo "consumer: pages not installed in $docdir: ${missing[*]}" >&2; return 1; }
+    echo "consumer: the documentation pages are installed in $docdir"
+}
+
 step_consumer() {
     local prefix="$ROOT/build/prefix"
     rm -rf "$prefix" build/consumer-find_package build/consumer-pkg-config build/consumer-subdirectory
@@ -296,6 +309,7 @@ step_consumer() {
              share/cmake/hairscatter/hairscatterTargets.cmake share/pkgconfig/hairscatter.pc; do
         [[ -f "$prefix/$f" ]] || { echo "consumer: missing installed file $f" >&2; return 1; }
     done
+    installed_docs_check "$prefix/include" "$prefix/share/doc/hairscatter"
 
     echo "+ consumer via find_package(hairscatter CONFIG)"
     cmake -S tests/consumer -B build/consumer-find_package -DCMAKE_BUILD_TYPE=Release \
@@ -387,9 +401,11 @@ step_package() {
 package_checks() {
     local build="$1" files="$2" f
     for f in /usr/include/hairscatter/hairscatter.hpp /usr/share/cmake/hairscatter/hairscatterConfig.cmake \
-             /usr/share/pkgconfig/hairscatter.pc /usr/lib/python3/dist-packages/hairscatter/__init__.py; do
+             /usr/share/pkgconfig/hairscatter.pc /usr/lib/python3/dist-packages/hairscatter/__init__.py \
+             /usr/share/doc/hairscatter/theory.md /usr/share/doc/hairscatter/integration.md; do
         grep -qxF "$f" <<<"$files" || { echo "package: $f is in neither package" >&2; return 1; }
     done
+    installed_docs_check /usr/include /usr/share/doc/hairscatter
 
     echo "+ consumer via pkg-config from /usr"
     (unset PKG_CONFIG_PATH; pkg_config_consumer /usr/include "$build/consumer-pkg-config/consumer")
@@ -494,7 +510,7 @@ finish_fuzz_in_background() {
 start_fuzz_in_background
 run_step fastmath "-ffast-math: the #error, and the robustness tests under it (build/test-fastmath)" step_fastmath
 run_step consumer "Install + downstream consumer (find_package, pkg-config, add_subdirectory)" step_consumer
-run_step cuda     "CUDA compile check (nvcc -c tests/cuda/*.cu)"                   step_cuda
+run_step cuda     "CUDA compile check (nvcc -c tests/cuda/*.cu; examples run on a GPU)"                  step_cuda
 finish_fuzz_in_background
 run_step example  "Example and benchmarks build (-Werror); the example runs small" step_example
 run_step python   "Python module: build (-O1), pytest, install and import (build/test-python)" step_python

@@ -1,6 +1,8 @@
 // hairscatter — physically based hair and fur scattering, header-only.
 // The umbrella header of the single-fiber core: include this, or the individual headers
 // below. Dual scattering (host-side tables, density grids) has its own: <hairscatter/dual.hpp>.
+// Comments citing docs/<page>.md mean the repository's docs/ directory, which an install
+// (and the libhairscatter-dev package) puts in <prefix>/share/doc/hairscatter/<page>.md.
 #pragma once
 
 #include "config.hpp"

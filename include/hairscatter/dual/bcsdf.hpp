@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <type_traits>
 #include <utility>
 
@@ -427,7 +428,7 @@ template <typename Fiber> class DualScatteringBcsdf {
             static_assert(kMaxLobes == 4 && kBackLane == 4 && kGlobalBackLane == 5 && (kLanes == 6 || kLanes == 8),
                           "the lane layout below");
             // Each array written whole (elem::store4, store8): set() reads them as vectors.
-            T v[kLanes], s[kLanes], c[kLanes];
+            T v[std::size_t(kLanes)], s[std::size_t(kLanes)], c[std::size_t(kLanes)];
             const auto lobe = [&](int p, T value, T unit) { return p < t_.lobes ? value : unit; };
             const T v0 = lobe(0, t_.lobe_variance[0] + spread, T(1)), v1 = lobe(1, t_.lobe_variance[1] + spread, T(1)),
                     v2 = lobe(2, t_.lobe_variance[2] + spread, T(1)), v3 = lobe(3, t_.lobe_variance[3] + spread, T(1));
@@ -470,7 +471,7 @@ template <typename Fiber> class DualScatteringBcsdf {
             const T sin_i = clamp(wi.x, T(-1), T(1)), cos_i = cos_from_sin(sin_i);
             const T a = abs_value(psi);
             const bool backward = a < kHalfPi<T>;
-            T m[kLanes];
+            T m[std::size_t(kLanes)];
             pdf_lanes_.eval_all(sin_i, cos_i, m);
             T pdf = w_[4] * T(0.25) * kInvPi<T> + w_[0] * pdf_single;
             if (w_[1] > T(0) && backward) pdf += w_[1] * m[kBackLane] * kInvPi<T>;
@@ -552,7 +553,7 @@ template <typename Fiber> class DualScatteringBcsdf {
             // Every M at θi in one batch (f_back's, the global lobes', f_back^G's).
             Lanes lanes;
             lobe_lanes(lanes, fw.spread, s2b, sb, cb);
-            T m[kLanes];
+            T m[std::size_t(kLanes)];
             lanes.eval_all(sin_i, cos_i, m);
             if (lit_back) f += kBack * df * s.d_b * ab * (m[kBackLane] * kInvPi<T>);
 
@@ -571,11 +572,11 @@ template <typename Fiber> class DualScatteringBcsdf {
         T sin_o_ = T(0), cos_o_ = T(1), theta_o_ = T(0), node_o_ = T(0);
         typename View::Cell cell_o_{0, T(0)};
         int row_ = 0;  // the θ row the sampler's window CDFs are read from (nearest to θo)
-        T sin_l_[kMaxLobes] = {}, cos_l_[kMaxLobes] = {};
+        T sin_l_[std::size_t(kMaxLobes)] = {}, cos_l_[std::size_t(kMaxLobes)] = {};
         static constexpr T kUniformShare = T(0.05);
         T w_[5] = {};              // mixture weights: single, back, global, global back, uniform
-        T g_[kMaxLobes] = {};      // lobe probabilities inside the global component
-        T total_[kMaxLobes] = {};  // each lobe's row total ∫_0^π W̄_p
+        T g_[std::size_t(kMaxLobes)] = {};      // lobe probabilities inside the global component
+        T total_[std::size_t(kMaxLobes)] = {};  // each lobe's row total ∫_0^π W̄_p
         T s2_back_ = T(1e-6), s2_spread_ = T(0);
         T sin_back_ = T(0), cos_back_ = T(1);  // θo - Δ_b at the specular cone
         // The sampler's lobes (lobe_lanes), for density(): set by mixture(), left unset (not

@@ -111,13 +111,13 @@ template <typename T> struct LayerCoefficients {
 // structure of arrays: every branch is a select, so that in float the loops over the lanes
 // vectorise. layer_coefficients and layered_stack below are these with N = 1.
 template <typename T, int N> struct LayerLanes {
-    T a_f[N], a_b[N];
-    T kappa[N], e_k[N], q[N];
+    T a_f[std::size_t(N)], a_b[std::size_t(N)];
+    T kappa[std::size_t(N)], e_k[std::size_t(N)], q[std::size_t(N)];
 };
 // κ, e^{-κ} and q from the lanes' a_f and a_b. An opaque layer (a_f = 0) keeps κ = 0,
 // e^{-κ} = 1, q = 0: layered_stacks treats it apart.
 template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void layer_lanes(LayerLanes<T, N>& c) {
-    T delta[N], x[N];
+    T delta[std::size_t(N)], x[std::size_t(N)];
     for (int k = 0; k < N; ++k) {
         // cosh κ = 1 + δ, δ = ((1 - a_f)² - a_b²) / 2a_f without cancellation.
         const T af = select(c.a_f[k] > T(0), c.a_f[k], T(1));
@@ -174,9 +174,9 @@ template <typename T> HAIRSCATTER_HD T deep_reflectance(const LayerCoefficients<
 }
 // R_N and T_N of every lane at its depth layers[k] (clamped to [0, 1e12]; NaN → 0).
 template <typename T, int N>
-HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void layered_stacks(const LayerLanes<T, N>& c, const T (&layers)[N], T (&R)[N],
-                                                            T (&T_)[N]) {
-    T n[N], big[N], d[N];
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void layered_stacks(const LayerLanes<T, N>& c, const T (&layers)[std::size_t(N)],
+                                                            T (&R)[std::size_t(N)], T (&T_)[std::size_t(N)]) {
+    T n[std::size_t(N)], big[std::size_t(N)], d[std::size_t(N)];
     for (int k = 0; k < N; ++k) {
         const T l = layers[k];
         n[k] = select(l > T(0), select(l < T(1e12), l, T(1e12)), T(0));  // NaN → 0, +Inf → 1e12
@@ -294,7 +294,7 @@ template <typename T> struct DualTablesView {
     // compilers vectorise; a loop over the vec3 fields stayed scalar).
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE Entry lookup(const Cell& c) const {
         constexpr int kReals = int(sizeof(Entry) / sizeof(T));
-        T a[kReals], b[kReals], o[kReals];
+        T a[std::size_t(kReals)], b[std::size_t(kReals)], o[std::size_t(kReals)];
         std::memcpy(a, &entries[c.i], sizeof a);
         std::memcpy(b, &entries[c.i + 1], sizeof b);
         // GCC -O2 vectorises only loops whose trip count the vector divides: a body of a
@@ -682,8 +682,8 @@ template <typename T> class DualScatteringTables {
     std::vector<T> cdf_;
     View shape_;  // shape_view() as of finish(), without the arrays
     int n_theta_ = 0, n_psi_ = 0, lobes_ = 0, h_nodes_ = 0;
-    T lobe_angle_[kMaxLobes] = {}, lobe_variance_[kMaxLobes] = {};
-    T lobe_sin_[kMaxLobes] = {}, lobe_cos_[kMaxLobes] = {T(1), T(1), T(1), T(1)};
+    T lobe_angle_[std::size_t(kMaxLobes)] = {}, lobe_variance_[std::size_t(kMaxLobes)] = {};
+    T lobe_sin_[std::size_t(kMaxLobes)] = {}, lobe_cos_[std::size_t(kMaxLobes)] = {T(1), T(1), T(1), T(1)};
     DualScatteringSettings<T> settings_{};
 };
 

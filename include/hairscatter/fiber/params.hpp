@@ -33,9 +33,23 @@ template <typename T> inline constexpr T kMaxCuticleTilt = kPi<T> / T(8);
 // no NaN, Inf, negative value or sample/pdf mismatch at it.
 template <typename T> inline constexpr T kMinRoughness = T(1e-3);
 
+// The largest finite value: the upper end of η's and σa's ranges (device-callable, unlike
+// std::numeric_limits<T>::max() without nvcc's --expt-relaxed-constexpr).
+template <typename T> inline constexpr T kMaxFinite = T(0);
+template <> inline constexpr float kMaxFinite<float> = 3.40282346638528859811704183484516925e+38f;
+template <> inline constexpr double kMaxFinite<double> = 1.79769313486231570814527423731704357e+308;
+
 namespace detail {
 // x ∈ [lo, hi] and finite, decided without relying on NaN comparisons (fast-math safe).
-template <typename T> bool in_range(T x, T lo, T hi) { return is_finite(x) && x >= lo && x <= hi; }
+template <typename T> HAIRSCATTER_HD bool in_range(T x, T lo, T hi) { return is_finite(x) && x >= lo && x <= hi; }
+
+// Every field of p inside its range (validate()'s test, without the message; device-callable).
+template <typename T> HAIRSCATTER_HD bool params_in_range(const FiberParams<T>& p) {
+    bool ok = in_range(p.eta, T(1), kMaxFinite<T>) && p.eta != T(1) && in_range(p.beta_m, kMinRoughness<T>, T(1)) &&
+              in_range(p.beta_n, kMinRoughness<T>, T(1)) && in_range(p.alpha, -kMaxCuticleTilt<T>, kMaxCuticleTilt<T>);
+    for (int c = 0; c < 3; ++c) ok = ok && in_range(p.sigma_a[c], T(0), kMaxFinite<T>);
+    return ok;
+}
 
 // The messages of a validate(), joined by "; ": "name = value is outside its range R" or a text.
 class Complaints {
@@ -66,12 +80,9 @@ inline void throw_if_invalid(const std::string& message, const char* what) {
 // under -ffast-math too.
 template <typename T> std::string validate(const FiberParams<T>& p) {
     using detail::in_range;
-    const T inf = std::numeric_limits<T>::max();
+    const T inf = kMaxFinite<T>;
+    if (detail::params_in_range(p)) return std::string();  // the common case builds no stream (materials may be made per strand)
     const bool eta_ok = in_range(p.eta, T(1), inf) && p.eta != T(1);
-    bool ok = eta_ok && in_range(p.beta_m, kMinRoughness<T>, T(1)) && in_range(p.beta_n, kMinRoughness<T>, T(1)) &&
-              in_range(p.alpha, -kMaxCuticleTilt<T>, kMaxCuticleTilt<T>);
-    for (int c = 0; c < 3; ++c) ok = ok && in_range(p.sigma_a[c], T(0), inf);
-    if (ok) return std::string();  // the common case builds no stream (materials may be made per strand)
     detail::Complaints bad;
     if (!eta_ok) bad.add("eta", double(p.eta), "(1, inf) (finite)");
     if (!in_range(p.beta_m, kMinRoughness<T>, T(1))) bad.add("beta_m", double(p.beta_m), "[1e-3, 1]");
@@ -94,6 +105,84 @@ template <typename T> void require_valid(const FiberParams<T>& p) {
 template <typename T> const FiberParams<T>& validated(const FiberParams<T>& p) {
     require_valid(p);
     return p;
+}
+
+// The ranges a renderer's per-hit parameters come from (textured melanin or roughness,
+// per-strand variation), checked once on the host, and clamp(), which puts any per-hit
+// value into them on the host or the device. Every FiberParams that clamp() returns passes
+// validate(), so a material may be built from it without a check
+// (ChiangMaterial<T>::unchecked, models/chiang.hpp).
+//   FiberParamBounds<T>()              every valid value (η in (1, max], β in [1e-3, 1],
+//                                      |α| ≤ π/8, σa in [0, max]): clamp() only repairs
+//   FiberParamBounds<T>::checked(lo, hi)  per field [lo, hi]; both valid parameter sets and
+//                                      lo ≤ hi field by field, else std::invalid_argument
+//                                      naming the field (validate(lo, hi): the message only)
+// clamp() maps a value below a range to its lower end, above to its upper end, and a
+// non-finite one (NaN, ±Inf, read from the bits: -ffast-math safe) to its lower end.
+// Trivially copyable: pass it to a kernel by value.
+template <typename T> class FiberParamBounds {
+  public:
+    HAIRSCATTER_HD FiberParamBounds() {
+        lo_.eta = T(1) + kEpsilon<T>;  // the smallest η above 1
+        hi_.eta = kMaxFinite<T>;
+        lo_.beta_m = lo_.beta_n = kMinRoughness<T>;
+        hi_.beta_m = hi_.beta_n = T(1);
+        lo_.alpha = -kMaxCuticleTilt<T>;
+        hi_.alpha = kMaxCuticleTilt<T>;
+        lo_.sigma_a = glm::vec<3, T>(T(0));
+        hi_.sigma_a = glm::vec<3, T>(kMaxFinite<T>);
+    }
+    static FiberParamBounds checked(const FiberParams<T>& lo, const FiberParams<T>& hi);
+
+    HAIRSCATTER_HD const FiberParams<T>& lo() const { return lo_; }
+    HAIRSCATTER_HD const FiberParams<T>& hi() const { return hi_; }
+
+    HAIRSCATTER_HD FiberParams<T> clamp(const FiberParams<T>& p) const {
+        FiberParams<T> r;
+        r.eta = clamp_field(p.eta, lo_.eta, hi_.eta);
+        r.beta_m = clamp_field(p.beta_m, lo_.beta_m, hi_.beta_m);
+        r.beta_n = clamp_field(p.beta_n, lo_.beta_n, hi_.beta_n);
+        r.alpha = clamp_field(p.alpha, lo_.alpha, hi_.alpha);
+        for (int c = 0; c < 3; ++c) r.sigma_a[c] = clamp_field(p.sigma_a[c], lo_.sigma_a[c], hi_.sigma_a[c]);
+        return r;
+    }
+
+  private:
+    HAIRSCATTER_HD static T clamp_field(T x, T lo, T hi) {
+        if (!is_finite(x)) return lo;
+        return x < lo ? lo : (x > hi ? hi : x);
+    }
+    FiberParams<T> lo_, hi_;
+};
+
+// Empty when [lo, hi] is a valid bounds box (both valid, lo ≤ hi per field), else the
+// messages: validate()'s of lo and hi, prefixed "lo: " / "hi: ", and each field whose lo
+// exceeds its hi. Never throws.
+template <typename T> std::string validate(const FiberParams<T>& lo, const FiberParams<T>& hi) {
+    detail::Complaints bad;
+    const std::string lo_msg = validate(lo), hi_msg = validate(hi);
+    if (!lo_msg.empty()) bad.add_text("lo: " + lo_msg);
+    if (!hi_msg.empty()) bad.add_text("hi: " + hi_msg);
+    const auto order = [&](const char* name, T l, T h) {
+        if (!(l <= h)) bad.add_text(std::string(name) + ": lo = " + std::to_string(double(l)) + " exceeds hi = " +
+                                    std::to_string(double(h)));
+    };
+    order("eta", lo.eta, hi.eta);
+    order("beta_m", lo.beta_m, hi.beta_m);
+    order("beta_n", lo.beta_n, hi.beta_n);
+    order("alpha", lo.alpha, hi.alpha);
+    const char* channel[3] = {"sigma_a.r", "sigma_a.g", "sigma_a.b"};
+    for (int c = 0; c < 3; ++c) order(channel[c], lo.sigma_a[c], hi.sigma_a[c]);
+    return bad.str();
+}
+
+template <typename T>
+FiberParamBounds<T> FiberParamBounds<T>::checked(const FiberParams<T>& lo, const FiberParams<T>& hi) {
+    detail::throw_if_invalid(validate(lo, hi), "fiber parameter bounds");
+    FiberParamBounds b;
+    b.lo_ = lo;
+    b.hi_ = hi;
+    return b;
 }
 
 // Absorption from eumelanin and pheomelanin concentrations ce, cp ≥ 0 per unit fiber

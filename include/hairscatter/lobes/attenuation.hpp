@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <type_traits>
 
@@ -70,8 +71,9 @@ template <typename T> HAIRSCATTER_HD T fresnel_bravais(T cos_i, T eta_perp, T et
 // reflectance (equal for one index by reciprocity), Marschner et al. 2003 their
 // F(1/η', 1/η'', γt), which differs when η' ≠ η''.
 template <typename T, int P, int C>
-HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void attenuation_channels(T fresnel, T fresnel_internal, const T (&transmittance)[C],
-                                                                  T (&a)[P + 1][C]) {
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void attenuation_channels(T fresnel, T fresnel_internal,
+                                                                  const T (&transmittance)[std::size_t(C)],
+                                                                  T (&a)[std::size_t(P + 1)][std::size_t(C)]) {
     static_assert(P >= 1, "at least the R lobe and the residual");
     const T f = fresnel, fi = fresnel_internal, entry = sqr(T(1) - f);
 #if HAIRSCATTER_HAS_VECTOR_EXT && defined(__clang__)
@@ -123,13 +125,13 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void attenuation_channels(T fresnel, T f
 // The same as colours: A_p as RGB vectors.
 template <typename T, int P> struct Attenuation {
     static_assert(P >= 1, "at least the R lobe and the residual");
-    glm::vec<3, T> a[P + 1];
+    glm::vec<3, T> a[std::size_t(P + 1)];
 };
 
 template <typename T, int P>
 HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE Attenuation<T, P> attenuation(T fresnel, T fresnel_internal, const glm::vec<3, T>& transmittance) {
     const T t[3] = {transmittance.x, transmittance.y, transmittance.z};
-    T a[P + 1][3];
+    T a[std::size_t(P + 1)][3];
     attenuation_channels<T, P, 3>(fresnel, fresnel_internal, t, a);
     Attenuation<T, P> r;
     for (int p = 0; p <= P; ++p) r.a[p] = glm::vec<3, T>(a[p][0], a[p][1], a[p][2]);

@@ -6,6 +6,7 @@
 // The defaults change nothing.
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -83,14 +84,15 @@ template <typename T> class LobeWeights {
     HAIRSCATTER_HD const T (&channel_lanes(int p) const)[kChannelLanes] { return w_[p]; }
 
   private:
-    T w_[kLobes][kChannelLanes];
+    T w_[std::size_t(kLobes)][std::size_t(kChannelLanes)];
     bool any_ = false;
 };
 
 // Empty when the controls are valid, else one message per bad field naming it, its value
 // and the allowed range. Never throws.
-template <typename T> std::string validate(const LobeControls<T>& c) {
-    using detail::in_range;
+namespace detail {
+// Every control inside its range (validate()'s test, without the message; device-callable).
+template <typename T> HAIRSCATTER_HD bool controls_in_range(const LobeControls<T>& c) {
     const T max = kMaxLobeGain<T>;
     bool ok = (c.alpha_override & ~7u) == 0u;
     for (int p = 0; p < LobeControls<T>::kLobes; ++p) {
@@ -98,7 +100,14 @@ template <typename T> std::string validate(const LobeControls<T>& c) {
         for (int ch = 0; ch < 3; ++ch) ok = ok && in_range(c.tint[p][ch], T(0), max);
     }
     for (int p = 0; p < 3; ++p) ok = ok && in_range(c.lobe_alpha(p, T(0)), -kMaxCuticleTilt<T>, kMaxCuticleTilt<T>);
-    if (ok) return std::string();
+    return ok;
+}
+}  // namespace detail
+
+template <typename T> std::string validate(const LobeControls<T>& c) {
+    using detail::in_range;
+    const T max = kMaxLobeGain<T>;
+    if (detail::controls_in_range(c)) return std::string();
     detail::Complaints bad;
     const char* lobe[4] = {"r", "tt", "trt", "residual"};
     const char* channel = "rgb";

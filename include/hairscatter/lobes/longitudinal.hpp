@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 
 #include "../config.hpp"
 #include "../math/constants.hpp"
@@ -36,10 +37,10 @@ template <typename T> HAIRSCATTER_HD T longitudinal_variance(T beta_m) {
 // its own range so that the unused one stays finite): which side a lobe falls on depends
 // on θi and is not predictable.
 template <typename T, int N> struct DeonLanes {
-    T sin_o[N], cos_o[N];  // θo' per lane (cos folded ≥ 0)
-    T a_scale[N];          // cosθo' / v: a = cosθi · a_scale
-    T sqrt_a_scale[N];     // its square root: 1/√a = 1/(√cosθi √a_scale), no sqrt per lane
-    T half_inv_v[N], norm[N];
+    T sin_o[std::size_t(N)], cos_o[std::size_t(N)];  // θo' per lane (cos folded ≥ 0)
+    T a_scale[std::size_t(N)];          // cosθo' / v: a = cosθi · a_scale
+    T sqrt_a_scale[std::size_t(N)];     // its square root: 1/√a = 1/(√cosθi √a_scale), no sqrt per lane
+    T half_inv_v[std::size_t(N)], norm[std::size_t(N)];
 
     // sqrt_a_scale from a_scale, after the lanes are conditioned: a step of its own, since
     // a sqrt (which may set errno) keeps the compilers from vectorising a loop it is in
@@ -68,8 +69,9 @@ template <typename T, int N> struct DeonLanes {
     // Every lane k as the lobe of variance v[k] conditioned on θo' = (s[k], c[k]), for lanes
     // whose variance changes per call (dual scattering widens its lobes by the light's
     // spread): DeonLongitudinal's constants, each as one loop over the lanes.
-    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void set(const T (&v)[N], const T (&s)[N], const T (&c)[N]) {
-        T e[N];
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void set(const T (&v)[std::size_t(N)], const T (&s)[std::size_t(N)],
+                                                     const T (&c)[std::size_t(N)]) {
+        T e[std::size_t(N)];
         for (int k = 0; k < N; ++k) {
             const T inv_v = T(1) / v[k];
             sin_o[k] = s[k];
@@ -84,10 +86,10 @@ template <typename T, int N> struct DeonLanes {
     }
 
     // M of every lane at (sinθi, cosθi): the terms, then their exps as one batch.
-    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void eval_all(T sin_i, T cos_i, T (&m)[N]) const {
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void eval_all(T sin_i, T cos_i, T (&m)[std::size_t(N)]) const {
         using std::sqrt;
         const T sqrt_cos_i = sqrt(cos_i);
-        T e[elem::exp_batch<T>(N)] = {}, factor[N];
+        T e[std::size_t(elem::exp_batch<T>(N))] = {}, factor[std::size_t(N)];
         for (int k = 0; k < N; ++k) terms(k, sin_i, cos_i, sqrt_cos_i, e[k], factor[k]);
         elem::exp_each_nonpositive(e);  // (the exponents are ≤ 0)
         for (int k = 0; k < N; ++k) m[k] = factor[k] * e[k];
@@ -143,24 +145,25 @@ template <typename T> class DeonLongitudinal {
     // the logs and square roots of the lobes one vector each in float (a sampler that draws
     // θi for every lobe before it knows which lobe it picked). Lane j is bit for bit the
     // one-lobe call's.
-    template <int N>
+    template <std::size_t N>
     static HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sample_sin_theta_each(const T (&v)[N], const T (&exp_m2_over_v)[N],
                                                                            const T* sin_o, const T* cos_o, T u1, T u2,
                                                                            T (&out)[N]) {
         T arg[N], omc[N], s[N];
-        for (int j = 0; j < N; ++j) {
+        for (int j = 0; j < int(N); ++j) {
             const T a = u1 + (T(1) - u1) * exp_m2_over_v[j];
             arg[j] = a > kMinNormal<T> ? a : kMinNormal<T>;
         }
         elem::log_each(arg);
-        for (int j = 0; j < N; ++j) {
+        for (int j = 0; j < int(N); ++j) {
             omc[j] = clamp(-v[j] * arg[j], T(0), T(2));  // 1 - c
             s[j] = omc[j] * (T(2) - omc[j]);            // ≥ 0
         }
         elem::sqrt_each(s);
         T sin_az, cos_az;
         elem::sincos(kTwoPi<T> * u2, sin_az, cos_az);
-        for (int j = 0; j < N; ++j) out[j] = clamp(-(T(1) - omc[j]) * sin_o[j] + s[j] * cos_az * cos_o[j], T(-1), T(1));
+        for (int j = 0; j < int(N); ++j)
+            out[j] = clamp(-(T(1) - omc[j]) * sin_o[j] + s[j] * cos_az * cos_o[j], T(-1), T(1));
     }
 
   private:

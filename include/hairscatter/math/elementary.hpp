@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
@@ -227,10 +228,10 @@ struct PowLanes {  // v^y as e^(y ln v), pow_each's form
 // their lanes in groups of four (the Chiang N and M exponents), and one 32-byte load of two
 // 16-byte stores cannot take its data from the store buffer (it waits for the stores to
 // reach the cache: measured, it ate the whole saving of the wider exp).
-template <int N, typename Op> HAIRSCATTER_FORCE_INLINE bool each_group(float (&x)[N], Op op) {
+template <std::size_t N, typename Op> HAIRSCATTER_FORCE_INLINE bool each_group(float (&x)[N], Op op) {
 #if defined(__AVX__)
     if constexpr (N % 8 == 0) {
-        for (int k = 0; k < N; k += 8) {
+        for (int k = 0; k < int(N); k += 8) {
             F32x4 lo, hi;
             std::memcpy(&lo, x + k, sizeof lo);
             std::memcpy(&hi, x + k + 4, sizeof hi);
@@ -245,7 +246,7 @@ template <int N, typename Op> HAIRSCATTER_FORCE_INLINE bool each_group(float (&x
     }
 #endif
     if constexpr (N % 4 == 0) {
-        for (int k = 0; k < N; k += 4) {
+        for (int k = 0; k < int(N); k += 4) {
             F32x4 v;
             std::memcpy(&v, x + k, sizeof v);
             v = op(v);
@@ -404,23 +405,23 @@ template <typename T> HAIRSCATTER_HD constexpr int exp_batch(int n) {
     while (b < n) b *= 2;
     return b;
 }
-template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void exp_each(T (&x)[N]) {
-    for (int k = 0; k < N; ++k) x[k] = exp(x[k]);
+template <typename T, std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void exp_each(T (&x)[N]) {
+    for (int k = 0; k < int(N); ++k) x[k] = exp(x[k]);
 }
-template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void exp_each(float (&x)[N]) {
+template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void exp_each(float (&x)[N]) {
 #if defined(__CUDA_ARCH__)
-    for (int k = 0; k < N; ++k) x[k] = ::expf(x[k]);
+    for (int k = 0; k < int(N); ++k) x[k] = ::expf(x[k]);
 #else
 #if HAIRSCATTER_HAS_VECTOR_EXT
     // One vector per group of four or eight lanes (detail::each_group).
     if (detail::each_group(x, detail::ExpLanes<>{})) return;
 #endif
-    for (int k = 0; k < N; ++k) x[k] = detail::exp_float<true>(x[k]);
+    for (int k = 0; k < int(N); ++k) x[k] = detail::exp_float<true>(x[k]);
 #endif
 }
 // exp_each for exponents x ≤ 0 (NaN and -Inf allowed): the lobes' and the transmittances'.
 // The same results; in float the vector groups skip the clamp at 88 (exp_float_lanes).
-template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void exp_each_nonpositive(T (&x)[N]) {
+template <typename T, std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void exp_each_nonpositive(T (&x)[N]) {
 #if HAIRSCATTER_HAS_VECTOR_EXT && !defined(__CUDA_ARCH__)
     if constexpr (std::is_same<T, float>::value)
         if (detail::each_group(x, detail::ExpLanes<false>{})) return;
@@ -540,17 +541,17 @@ template <> HAIRSCATTER_HD inline float expm1(float x) {
 // expm1 of every element, in one loop: the same two forms as expm1, the choice between them
 // a select, so that in float the compilers vectorise the loop (both forms stay finite for
 // the x ≤ 88 it takes; the unused one is discarded).
-template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void expm1_each(T (&x)[N]) {
-    for (int k = 0; k < N; ++k) x[k] = expm1(x[k]);
+template <typename T, std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void expm1_each(T (&x)[N]) {
+    for (int k = 0; k < int(N); ++k) x[k] = expm1(x[k]);
 }
-template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void expm1_each(float (&x)[N]) {
+template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void expm1_each(float (&x)[N]) {
 #if defined(__CUDA_ARCH__)
-    for (int k = 0; k < N; ++k) x[k] = ::expm1f(x[k]);
+    for (int k = 0; k < int(N); ++k) x[k] = ::expm1f(x[k]);
 #else
 #if HAIRSCATTER_HAS_VECTOR_EXT
     if (detail::each_group(x, detail::Expm1Lanes{})) return;
 #endif
-    for (int k = 0; k < N; ++k)
+    for (int k = 0; k < int(N); ++k)
         x[k] = select(std::fabs(x[k]) < 0.5f, detail::expm1_series(x[k]), detail::exp_float<true>(x[k]) - 1.0f);
 #endif
 }
@@ -575,7 +576,7 @@ template <> HAIRSCATTER_HD inline float log1p(float x) {
 // such: GCC -O3 vectorised the plain loop of Chiang's lobe gains (a branch that is not even
 // taken by default) with its own 64-, 16- and 8-byte pieces, and to do so kept the attenuation
 // rows in memory on every path; the stateless pdf was 4 % slower for it (GCC 12, Zen 5).
-template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void mul_each(T (&x)[N], const T (&y)[N]) {
+template <typename T, std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void mul_each(T (&x)[N], const T (&y)[N]) {
 #if HAIRSCATTER_HAS_VECTOR_EXT && !defined(__CUDA_ARCH__)
     if constexpr (std::is_same<T, float>::value && N == 4) {
         detail::F32x4 a, b;
@@ -586,34 +587,34 @@ template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void mul_ea
         return;
     }
 #endif
-    for (int k = 0; k < N; ++k) x[k] *= y[k];
+    for (int k = 0; k < int(N); ++k) x[k] *= y[k];
 }
 
 // log of every element, each a positive normal number (as log_float): in float the lanes
 // of one vector (bit-identical to elem::log), elsewhere one call each.
-template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void log_each(T (&x)[N]) {
-    for (int k = 0; k < N; ++k) x[k] = log(x[k]);
+template <typename T, std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void log_each(T (&x)[N]) {
+    for (int k = 0; k < int(N); ++k) x[k] = log(x[k]);
 }
-template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void log_each(float (&x)[N]) {
+template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void log_each(float (&x)[N]) {
 #if HAIRSCATTER_HAS_VECTOR_EXT && !defined(__CUDA_ARCH__)
     if (detail::each_group(x, detail::LogLanes{})) return;
 #endif
-    for (int k = 0; k < N; ++k) x[k] = log(x[k]);
+    for (int k = 0; k < int(N); ++k) x[k] = log(x[k]);
 }
 
 // log1p of every element x ≥ 0 (or +Inf, NaN), in one loop: log1p's two forms, the choice a
 // select, so that in float the loop vectorises.
-template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void log1p_each(T (&x)[N]) {
-    for (int k = 0; k < N; ++k) x[k] = log1p(x[k]);
+template <typename T, std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void log1p_each(T (&x)[N]) {
+    for (int k = 0; k < int(N); ++k) x[k] = log1p(x[k]);
 }
-template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void log1p_each(float (&x)[N]) {
+template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void log1p_each(float (&x)[N]) {
 #if defined(__CUDA_ARCH__)
-    for (int k = 0; k < N; ++k) x[k] = ::log1pf(x[k]);
+    for (int k = 0; k < int(N); ++k) x[k] = ::log1pf(x[k]);
 #else
 #if HAIRSCATTER_HAS_VECTOR_EXT
     if (detail::each_group(x, detail::Log1pLanes{})) return;
 #endif
-    for (int k = 0; k < N; ++k) {
+    for (int k = 0; k < int(N); ++k) {
         const bool near0 = (x[k] > -0.29f) & (x[k] < 0.41f);  // & not &&: no branch
         const float r = select(near0, detail::log1p_series(x[k]), detail::log_float(1.0f + x[k]));
         x[k] = select(x[k] <= 3.0e38f, r, x[k]);  // +Inf stays +Inf, NaN NaN
@@ -624,18 +625,18 @@ template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void log1p_each(float (
 // x^y of every element, for x ∈ [0, 1] and y ≥ 1 (a transmittance through y layers): in
 // float e^(y ln x) as one loop that vectorises (relative error about 2e-7 |y ln x|, x = 0
 // gives 0), in double the standard library's pow.
-template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void pow_each(T (&x)[N], T y) {
+template <typename T, std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void pow_each(T (&x)[N], T y) {
     using std::pow;
-    for (int k = 0; k < N; ++k) x[k] = pow(x[k], y);
+    for (int k = 0; k < int(N); ++k) x[k] = pow(x[k], y);
 }
-template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void pow_each(float (&x)[N], float y) {
+template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void pow_each(float (&x)[N], float y) {
 #if defined(__CUDA_ARCH__)
-    for (int k = 0; k < N; ++k) x[k] = ::powf(x[k], y);
+    for (int k = 0; k < int(N); ++k) x[k] = ::powf(x[k], y);
 #else
 #if HAIRSCATTER_HAS_VECTOR_EXT
     if (detail::each_group(x, detail::PowLanes{y})) return;
 #endif
-    for (int k = 0; k < N; ++k) x[k] = y * detail::log_float(x[k]);  // log 0 reads as -88: e^(-88 y) flushes to 0
+    for (int k = 0; k < int(N); ++k) x[k] = y * detail::log_float(x[k]);  // log 0 reads as -88: e^(-88 y) flushes to 0
     exp_each(x);
 #endif
 }
@@ -644,18 +645,18 @@ template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void pow_each(float (&x
 // and a branch per element, because each sqrt may set errno (unless -fno-math-errno); x86
 // has a vector square root that never does, so there four lanes are one SQRTPS (the one
 // intrinsic of the library, with this loop as the portable form everywhere else).
-template <typename T, int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sqrt_each(T (&x)[N]) {
+template <typename T, std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sqrt_each(T (&x)[N]) {
     using std::sqrt;
-    for (int k = 0; k < N; ++k) x[k] = sqrt(x[k]);
+    for (int k = 0; k < int(N); ++k) x[k] = sqrt(x[k]);
 }
-template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sqrt_each(float (&x)[N]) {
+template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sqrt_each(float (&x)[N]) {
 #if HAIRSCATTER_HAS_SSE_SQRT
     if constexpr (N % 4 == 0) {
-        for (int k = 0; k < N; k += 4) _mm_storeu_ps(x + k, _mm_sqrt_ps(_mm_loadu_ps(x + k)));
+        for (int k = 0; k < int(N); k += 4) _mm_storeu_ps(x + k, _mm_sqrt_ps(_mm_loadu_ps(x + k)));
         return;
     }
 #endif
-    for (int k = 0; k < N; ++k) x[k] = std::sqrt(x[k]);
+    for (int k = 0; k < int(N); ++k) x[k] = std::sqrt(x[k]);
 }
 
 }  // namespace elem

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -38,10 +39,15 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
     static constexpr int kLobes = DeonLobes<T>::kLobes;  // R, TT, TRT explicit; index 3 is the residual
 
     explicit ChiangMaterial(const FiberParams<T>& params, const LobeControls<T>& controls = LobeControls<T>())
-        : DeonLobes<T>(validated(params).beta_m, validated(controls).cuticle_tilt(params.alpha)), params_(params),
-          controls_(controls), n_(logistic_scale(params.beta_n)), weights_(controls) {
-        for (int c = 0; c < kChannelLanes; ++c) sigma_a_lanes_[c] = T(0);  // the padding: 0
-        for (int c = 0; c < 3; ++c) sigma_a_lanes_[c] = params.sigma_a[c];
+        : ChiangMaterial(Unchecked{}, validated(params), validated(controls)) {}
+
+    // The material built per hit, on the host or the device: no validation, and bit for bit
+    // the checked constructor's material. The caller guarantees valid parameters: params from
+    // FiberParamBounds::clamp (fiber/params.hpp), whose bounds were checked once on the host,
+    // and controls checked there (validate(controls)). Debug builds assert both.
+    HAIRSCATTER_HD static ChiangMaterial unchecked(const FiberParams<T>& params,
+                                                   const LobeControls<T>& controls = LobeControls<T>()) {
+        return ChiangMaterial(Unchecked{}, params, controls);
     }
 
     HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
@@ -57,6 +63,15 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
     HAIRSCATTER_HD const T (&sigma_a_lanes() const)[kChannelLanes] { return sigma_a_lanes_; }
 
   private:
+    struct Unchecked {};
+    HAIRSCATTER_HD ChiangMaterial(Unchecked, const FiberParams<T>& params, const LobeControls<T>& controls)
+        : DeonLobes<T>(params.beta_m, controls.cuticle_tilt(params.alpha)), params_(params), controls_(controls),
+          n_(logistic_scale(params.beta_n)), weights_(controls) {
+        HAIRSCATTER_DCHECK(detail::params_in_range(params) && detail::controls_in_range(controls));
+        for (int c = 0; c < kChannelLanes; ++c) sigma_a_lanes_[c] = T(0);  // the padding: 0
+        for (int c = 0; c < 3; ++c) sigma_a_lanes_[c] = params.sigma_a[c];
+    }
+
     FiberParams<T> params_;
     LobeControls<T> controls_;
     TrimmedLogistic<T> n_;
@@ -163,13 +178,13 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
 
     // The terms that depend on wo only, shared by eval, pdf and sample, per lane.
     struct Outgoing {
-        T a[kLanes][kCh];              // A_p per channel (channel 3 is padding)
+        T a[std::size_t(kLanes)][std::size_t(kCh)];              // A_p per channel (channel 3 is padding)
         // The lobe selection weights, not normalised (only when asked for): lane p is chosen
         // with probability w_p / w_total, and pdf = Σ_p M_p N_p w_p · inv_w_total.
-        T w[kLanes];
+        T w[std::size_t(kLanes)];
         T w_total, inv_w_total;        // Σ_p w_p, and its reciprocal (0 where it is 0)
         DeonLanes<T, kLanes> m;        // M_p conditioned on the tilted θo'
-        T phi_p[kLanes];               // Φ(p, h), wrapped to [-π, π] (0 for the residual)
+        T phi_p[std::size_t(kLanes)];               // Φ(p, h), wrapped to [-π, π] (0 for the residual)
     };
 
     // The colour of one lane's channels (the padding channel dropped).
@@ -217,7 +232,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
             // resolves only then, and where it guessed wrong (as often as the choice is
             // uncertain) the sample's own chain started over. Measured: 7 % off the stateless
             // sample, 8 % onto the bound one (whose branch resolves early).
-            T v[kLanes], e[kLanes], lane_sin[kLanes];
+            T v[std::size_t(kLanes)], e[std::size_t(kLanes)], lane_sin[std::size_t(kLanes)];
             for (int j = 0; j < kLanes; ++j) {
                 const int q = lane_lobe(kKept, j < kKeptLanes ? j : 0);  // (the padding lane: a copy)
                 v[j] = mat_->lobe_variance(q);
@@ -259,7 +274,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
             if constexpr (kKept == LobeSet::kAll) {  // lane k is lobe k: straight into the lanes
                 attenuation_channels<T, kLobes, kCh>(fresnel, fresnel, path.transmittance, o.a);
             } else {
-                T att[kLobes + 1][kCh];
+                T att[std::size_t(kLobes + 1)][std::size_t(kCh)];
                 attenuation_channels<T, kLobes, kCh>(fresnel, fresnel, path.transmittance, att);
                 for (int k = 0; k < kLanes; ++k)
                     for (int c = 0; c < kCh; ++c) o.a[k][c] = k < kKeptLanes ? att[lane_lobe(kKept, k)][c] : T(0);
@@ -284,7 +299,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
             // weights with u·Σ_p w_p. (w is built in a local array and written whole, once:
             // writing it lane by lane and then rescaling it made GCC reload it as a vector
             // from narrower stores, a store-forwarding stall on the sampling path.)
-            T w[kLanes];
+            T w[std::size_t(kLanes)];
             for (int k = 0; k < kLanes; ++k) w[k] = o.a[k][0] + o.a[k][1] + o.a[k][2];
             T total = pairwise_sum<kLanes>(w);  // (a tree: the chain to the total is shorter)
             // With R kept at a gain above 0, total ≥ gain F > 0. Otherwise every kept lobe can
@@ -312,7 +327,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         using std::sqrt;
         const TrimmedLogistic<T>& n = mat_->azimuthal();
         constexpr int kM = kAzimuthal;  // where the M_p exponents start in e
-        T e[kAzimuthal + kLanes], m_factor[kLanes];
+        T e[std::size_t(kAzimuthal + kLanes)], m_factor[std::size_t(kLanes)];
         // The residual's lane (float: part of the vector) gets the exponent -0, so e = 1,
         // and its density is then 1/2π through the same arithmetic as N's (e·scale over
         // (1 + e·0)², bit for bit as a select after it): no select on the chain.
@@ -321,7 +336,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         const T sqrt_cos_i = sqrt(cos_i);
         for (int k = 0; k < kLanes; ++k) o.m.terms(k, sin_i, cos_i, sqrt_cos_i, e[kM + k], m_factor[k]);
         elem::exp_each_nonpositive(e);  // (every exponent ≤ 0) in float whole vectors (math/elementary.hpp)
-        T mn[kLanes];
+        T mn[std::size_t(kLanes)];
         // The residual lumps all orders: uniform in φ. Where its lane's N is computed with
         // the others (float), by the same arithmetic, so that mn is written as one vector.
         // N's density e/(1 + e)² (times its scale) as one quotient with M in the numerator,
@@ -363,7 +378,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         if constexpr (kPdf) {
             // Σ mn w as a tree (two dependent additions after the products instead of four),
             // then normalised.
-            T terms[kLanes];
+            T terms[std::size_t(kLanes)];
             for (int k = 0; k < kLanes; ++k) terms[k] = mn[k] * o.w[k];
             r.pdf = pairwise_sum<kLanes>(terms) * o.inv_w_total;
         }

@@ -21,6 +21,7 @@
 // and lobe_variance(p).
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -260,8 +261,8 @@ template <typename F> inline constexpr bool has_lobe_split_v = detail::has_lobe_
 // lobe's energy where its azimuthal shape depends on the channel. These are what the
 // dual-scattering tables integrate (dual/tables.hpp).
 template <typename T, int kLobes> struct LobeSplit {
-    glm::vec<3, T> a[kLobes + 1];
-    T backward[kLobes + 1];
+    glm::vec<3, T> a[std::size_t(kLobes + 1)];
+    T backward[std::size_t(kLobes + 1)];
 };
 
 // No energy, each lobe split evenly: what lobe_split returns for a non-finite or zero wo.

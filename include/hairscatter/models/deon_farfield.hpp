@@ -137,7 +137,7 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
     // The terms that depend on wo only.
     struct Outgoing {
         T sin_o, cos_o;
-        T sin_p[kLobes + 1], cos_p[kLobes + 1];  // tilted θo' per lobe
+        T sin_p[std::size_t(kLobes + 1)], cos_p[std::size_t(kLobes + 1)];  // tilted θo' per lobe
         DeonLanes<T, kLobes + 1> m;               // M_p at θo', side by side
         FiberRefraction<T> refraction;            // γt and the chord, per h
     };
@@ -148,7 +148,7 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
         const Outgoing o = outgoing<false>(wo);
         const T sigma = mat_->azimuthal().sigma();
         LobeSplit r;
-        T back[kLobes + 1] = {};
+        T back[std::size_t(kLobes + 1)] = {};
         for (int p = 0; p <= kLobes; ++p) r.a[p] = V3(T(0));
         for (int j = 0; j < mat_->half_nodes(); ++j) {
             const Node nd = node(o, j);
@@ -217,7 +217,7 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
 
         // The lobe ∝ mean(A_p(h_j)).
         const Node nd = node(o, j);
-        T w[kLobes + 1], wsum = T(0);
+        T w[std::size_t(kLobes + 1)], wsum = T(0);
         for (int p = 0; p <= kLobes; ++p) {
             w[p] = nd.att.a[p].x + nd.att.a[p].y + nd.att.a[p].z;
             wsum += w[p];
@@ -248,7 +248,7 @@ template <typename T> class DeonFarFieldFiber : public FiberModel<DeonFarFieldFi
 
     // f and pdf at (θi, φ): the four M_p once, then per node A_p · D for both signs of h.
     HAIRSCATTER_HD HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
-        T m[kLobes + 1];
+        T m[std::size_t(kLobes + 1)];
         o.m.eval_all(sin_i, cos_i, m);
         const WrappedGaussian<T>& d = mat_->azimuthal();
         V3 f(T(0)), alb(T(0));

@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -263,7 +264,7 @@ inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int
     const double eta = p.cortex.eta, sin_o = std::sin(theta_o), cos_o = std::cos(theta_o);
     const double eta_p = std::sqrt(eta * eta - sin_o * sin_o) / cos_o;  // Bravais' η' (docs/theory.md §3.1)
     const double h_max = std::min(1.0, p.kappa * eta_p);
-    FurRng rng(0x5EEDF00Dull + std::uint64_t(bin));
+    FurRng rng(static_cast<std::uint64_t>(0x5EEDF00Du) + static_cast<std::uint64_t>(bin));
     double fourier[kFurFourierTerms + 1] = {}, at_exit[3] = {}, at_first[3] = {};
     long long events = 0;
     int paths = 0;
@@ -635,11 +636,11 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
     static constexpr int kS = kLobes + 1;  // the scattered lobe's index here
 
     struct Outgoing {
-        T a[kS + 1][3];           // A_0 … A_3 and E_S per channel
-        T w[kS + 1];              // selection weights (channel sums)
+        T a[std::size_t(kS + 1)][3];           // A_0 … A_3 and E_S per channel
+        T w[std::size_t(kS + 1)];              // selection weights (channel sums)
         T w_total, inv_w_total;
-        T sin_p[kLobes + 1], cos_p[kLobes + 1];  // θo tilted per lobe
-        T phi_p[kLobes];          // Φ(p, h), wrapped
+        T sin_p[std::size_t(kLobes + 1)], cos_p[std::size_t(kLobes + 1)];  // θo tilted per lobe
+        T phi_p[std::size_t(kLobes)];          // Φ(p, h), wrapped
         int theta_bin;
     };
 
@@ -658,7 +659,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         const FiberRefraction<T> refraction(sin_o, cos_o, prm.cortex.eta);
         const typename FiberRefraction<T>::Path path = refraction.path(h_);
         const detail::MedullaChord<T> chord = detail::medulla_chord(prm, path.sin_gamma_t, path.chord, refraction.chord_scale);
-        T att[kLobes + 1][3];
+        T att[std::size_t(kLobes + 1)][3];
         attenuation_channels<T, kLobes, 3>(fresnel, fresnel, chord.transmittance, att);
         for (int p = 0; p <= kLobes; ++p)
             for (int c = 0; c < 3; ++c) o.a[p][c] = att[p][c];
@@ -690,7 +691,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
     }
 
     // Each lobe's angular density M_p N_p at (θi, φ): the products f and pdf weigh.
-    HAIRSCATTER_HD void densities(const Outgoing& o, T sin_i, T cos_i, T phi, T (&mn)[kS + 1]) const {
+    HAIRSCATTER_HD void densities(const Outgoing& o, T sin_i, T cos_i, T phi, T (&mn)[std::size_t(kS + 1)]) const {
         for (int p = 0; p <= kLobes; ++p) {
             const T m = mat_->longitudinal(p).eval(sin_i, cos_i, o.sin_p[p], o.cos_p[p]);
             mn[p] = m * (p < kLobes ? azimuthal_logistic(mat_->azimuthal(), phi, o.phi_p[p]) : kInvTwoPi<T>);
@@ -710,7 +711,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
 
     template <bool kF, bool kPdf>
     HAIRSCATTER_HD HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
-        T mn[kS + 1];
+        T mn[std::size_t(kS + 1)];
         densities(o, sin_i, cos_i, phi, mn);
         HairEvalPdf<T> r;
         if constexpr (kF)

@@ -644,7 +644,7 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         // Panels graded toward the half's edges φ = centre ± π/2, where the forward lobes'
         // tails and abrupt ends cross into it: edges at (π/2) sin(π x / 2), x uniform.
         const int panels_theta = 12, panels_phi = 10;
-        double back[kLobes] = {};
+        double back[std::size_t(kLobes)] = {};
         for (int a = 0; a < panels_theta * kSplitNodes; ++a) {
             const double x = 0.5 + 0.5 * gl.nodes[std::size_t(a % kSplitNodes)];
             const double theta = -pi / 2 + pi * (a / kSplitNodes + x) / panels_theta;
@@ -685,7 +685,7 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         const double pi = 3.14159265358979323846;
         const T eta = mat_->params().eta;
         std::vector<double> back(out.size() * kLobes, 0.0);
-        double total[kLobes] = {};
+        double total[std::size_t(kLobes)] = {};
         const auto visit = [&](const End& end) {
             const double energy = double(mean(end.energy));
             if (!(energy > 0)) return;
@@ -1012,11 +1012,11 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
     // Σ energy·q, and the energy. kF, kPdf: whether f and the density are wanted (neither:
     // the energies only, no lobe is evaluated).
     struct Lobes {
-        V3 f[kLobes + 1], q[kLobes + 1], energy[kLobes + 1];
+        V3 f[std::size_t(kLobes + 1)], q[std::size_t(kLobes + 1)], energy[std::size_t(kLobes + 1)];
         Scales scales;
     };
     template <bool kF, bool kPdf> HAIRSCATTER_HD Lobes lobes(const Outgoing& o, const V3& w, T sin_i) const {
-        V3 f[kLobes], q[kLobes], energy[kLobes];
+        V3 f[std::size_t(kLobes)], q[std::size_t(kLobes)], energy[std::size_t(kLobes)];
         for (int p = 0; p < kLobes; ++p) f[p] = q[p] = energy[p] = V3(T(0));
         const auto add = [&](const End& e) {
             energy[e.p] += e.energy;
@@ -1064,7 +1064,7 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
     // visible normal of the end's interface or θi of the residual, u.w the residual's φ.
     HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
         const Lobes e = lobes<false, false>(o, V3(T(0)), T(0));
-        T w[kLobes + 1], total = T(0);
+        T w[std::size_t(kLobes + 1)], total = T(0);
         for (int p = 0; p <= kLobes; ++p) {
             w[p] = mean(e.energy[p]);
             total += w[p];

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -312,8 +313,8 @@ template <typename T> class MarschnerFiber : public FiberModel<MarschnerFiber<T>
     // Terms of wo alone.
     struct Outgoing {
         T sin_o, cos_o, theta_o, phi_o;
-        T sin_p[kLobes], cos_p[kLobes];  // θo rotated by -α_p (the sampler's proposal)
-        T w[kLobes];                     // lobe probabilities
+        T sin_p[std::size_t(kLobes)], cos_p[std::size_t(kLobes)];  // θo rotated by -α_p (the sampler's proposal)
+        T w[std::size_t(kLobes)];                     // lobe probabilities
     };
     // The cross-section's optics at one θd and index η*: Bravais η', η'', the chord.
     struct Section {

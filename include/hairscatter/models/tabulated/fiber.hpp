@@ -3,6 +3,8 @@
 // models/tabulated/material.hpp.
 #pragma once
 
+#include <cstddef>
+
 #include <glm/glm.hpp>
 
 #include "../../config.hpp"
@@ -71,12 +73,12 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
         const T* n1;
         V3 residual;      // Ã_3 / 2π
         T t;              // weight of the second row
-        T s[kLobes + 1];  // interpolated channel sums of the lobe masses (outgoing<true>)
+        T s[std::size_t(kLobes + 1)];  // interpolated channel sums of the lobe masses (outgoing<true>)
         T total;          // their sum: 3 × mean(albedo) (outgoing<true>)
-        T sin_p[kLobes + 1], cos_p[kLobes + 1];  // tilted θo' per lobe
+        T sin_p[std::size_t(kLobes + 1)], cos_p[std::size_t(kLobes + 1)];  // tilted θo' per lobe
         DeonLanes<T, kLobes + 1> m;               // !kTable: the exact M_p at θo', side by side
         int row;
-        typename DeonLongitudinalTable<T>::Conditioned mc[kLobes + 1];  // kTable: M̂_p at θo'
+        typename DeonLongitudinalTable<T>::Conditioned mc[std::size_t(kLobes + 1)];  // kTable: M̂_p at θo'
     };
 
   public:
@@ -171,7 +173,7 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
     // f and (kPdf) pdf at (θi, φ): the four M_p, then the bilinear lobes.
     template <bool kPdf>
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
-        T m[kLobes + 1];
+        T m[std::size_t(kLobes + 1)];
         if (v_->longitudinal_tabulated())
             for (int p = 0; p <= kLobes; ++p) m[p] = v_->longitudinal_table(p).eval(o.mc[p], sin_i);
         else
@@ -186,7 +188,7 @@ template <typename T> class TabulatedFiber : public FiberModel<TabulatedFiber<T>
         // at -O2 GCC vectorises only loops without a remainder) and the 9th apart, then
         // weighted by M_p.
         constexpr int S = View::kNodeStride, kVec = S & ~3;
-        T n[S];
+        T n[std::size_t(S)];
         for (int k = 0; k < kVec; ++k) n[k] = w00 * a[k] + w01 * a[S + k] + w10 * b[k] + w11 * b[S + k];
         for (int k = kVec; k < S; ++k) n[k] = w00 * a[k] + w01 * a[S + k] + w10 * b[k] + w11 * b[S + k];
         V3 f = m[kLobes] * o.residual;

@@ -89,15 +89,15 @@ template <typename T> class TabulatedMaterial {
         const double step = kPi<double> / (n - 1);
 
         struct Terms {
-            glm::dvec3 a[kLobes + 1];  // A_p(h_j)
-            double phi[kLobes];        // Φ(p, h_j); the mirror node's is -Φ(p, h_j)
+            glm::dvec3 a[std::size_t(kLobes + 1)];  // A_p(h_j)
+            double phi[std::size_t(kLobes)];        // Φ(p, h_j); the mirror node's is -Φ(p, h_j)
         };
         std::vector<Terms> terms(std::size_t(q.half_nodes()));
         for (int r = 0; r < rows; ++r) {
             const double cos_o = tabulated_row_cos(double(r) / (rows - 1));
             const double sin_o = std::sqrt((1 - cos_o) * (1 + cos_o));
             const FiberRefraction<double> refraction(sin_o, cos_o, pd.eta);
-            glm::dvec3 mass[kLobes + 1] = {};
+            glm::dvec3 mass[std::size_t(kLobes + 1)] = {};
             for (int j = 0; j < q.half_nodes(); ++j) {
                 const FarFieldNode<double, kLobes> nd = far_field_node<kLobes>(q, j, refraction, cos_o, pd);
                 for (int p = 0; p <= kLobes; ++p) terms[std::size_t(j)].a[p] = nd.att.a[p];

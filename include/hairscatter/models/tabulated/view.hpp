@@ -108,7 +108,7 @@ template <typename T> class TabulatedView : public DeonLobes<T> {
     std::size_t cdf_offset_ = 0, terms_offset_ = 0;
     T phi_scale_ = T(0), phi_step_ = T(0);
     bool m_tabulated_ = false;
-    DeonLongitudinalTable<T> mt_[kLobes];
+    DeonLongitudinalTable<T> mt_[std::size_t(kLobes)];
 };
 
 }  // namespace hairscatter
