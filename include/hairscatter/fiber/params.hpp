@@ -96,6 +96,35 @@ template <typename T> const FiberParams<T>& validated(const FiberParams<T>& p) {
     return p;
 }
 
+// The parameters moved into their ranges, for parameters that vary per hit (textures,
+// strand variation) where a renderer cannot stop for an exception: η into (1, 1e6] (its
+// smallest value the float or double just above 1), β_m and β_n into [kMinRoughness, 1],
+// α into [-kMaxCuticleTilt, kMaxCuticleTilt], each σa channel into [0, 1e30]; NaN goes to
+// the lower end. Valid parameters come back unchanged, so a material built from them per
+// hit (ChiangMaterial::per_hit) is the checked constructor's. Device-callable.
+template <typename T> HAIRSCATTER_HD FiberParams<T> clamped_params(const FiberParams<T>& p) {
+    const T eta_lo = T(1) + kEpsilon<T>;
+    const auto into = [](T x, T lo, T hi) { return x > hi ? hi : (x >= lo ? x : lo); };
+    FiberParams<T> q;
+    q.eta = into(p.eta, eta_lo, T(1e6));
+    q.beta_m = into(p.beta_m, kMinRoughness<T>, T(1));
+    q.beta_n = into(p.beta_n, kMinRoughness<T>, T(1));
+    q.alpha = into(p.alpha, -kMaxCuticleTilt<T>, kMaxCuticleTilt<T>);
+    for (int c = 0; c < 3; ++c) q.sigma_a[c] = into(p.sigma_a[c], T(0), T(1e30));
+    // Only a NaN can be left out of range (under -ffast-math, whose compares may let it
+    // through): then the sum of the clamped values is not finite (read from the bits), and
+    // the NaNs are replaced one by one. One test for all seven in the common case.
+    if (!is_finite(q.eta + q.beta_m + q.beta_n + q.alpha + (q.sigma_a[0] + q.sigma_a[1] + q.sigma_a[2]))) {
+        const auto or_lo = [](T x, T lo) { return is_finite(x) ? x : lo; };
+        q.eta = or_lo(q.eta, eta_lo);
+        q.beta_m = or_lo(q.beta_m, kMinRoughness<T>);
+        q.beta_n = or_lo(q.beta_n, kMinRoughness<T>);
+        q.alpha = or_lo(q.alpha, -kMaxCuticleTilt<T>);
+        for (int c = 0; c < 3; ++c) q.sigma_a[c] = or_lo(q.sigma_a[c], T(0));
+    }
+    return q;
+}
+
 // Absorption from eumelanin and pheomelanin concentrations ce, cp ≥ 0 per unit fiber
 // radius (pbrt-v4's SigmaAFromConcentration, Mitsuba 3's eumelanin and pheomelanin;
 // Chiang et al. 2016 §4.3): σa = ce (0.419, 0.697, 1.37) + cp (0.187, 0.4, 1.05).

@@ -44,6 +44,18 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
         for (int c = 0; c < 3; ++c) sigma_a_lanes_[c] = params.sigma_a[c];
     }
 
+    // A material for one hit, from parameters that vary per hit (textures, strand variation:
+    // fiber/strand_variation.hpp): no checks and no exceptions, device-callable. The
+    // parameters are clamped into their ranges first (clamped_params, fiber/params.hpp: NaN
+    // to the lower end), and the lobe controls are the defaults. About 15 ns in float
+    // (bench/vs_pbrt.cpp's per-hit rows); from valid parameters it is bit for bit the
+    // checked constructor's material. The fiber refers to it: keep it alive while it is used,
+    //   const auto m = ChiangMaterial<float>::per_hit(params_at_hit);
+    //   const auto f = ChiangFiber<float>(m, h).at(wo);
+    HAIRSCATTER_HD static ChiangMaterial per_hit(const FiberParams<T>& params) {
+        return ChiangMaterial(clamped_params(params), PerHit{});
+    }
+
     HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
     HAIRSCATTER_HD const LobeControls<T>& controls() const { return controls_; }
     HAIRSCATTER_HD const TrimmedLogistic<T>& azimuthal() const { return n_; }
@@ -57,6 +69,15 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
     HAIRSCATTER_HD const T (&sigma_a_lanes() const)[kChannelLanes] { return sigma_a_lanes_; }
 
   private:
+    struct PerHit {};
+    // per_hit's: parameters in range and default controls, so nothing to validate.
+    HAIRSCATTER_HD ChiangMaterial(const FiberParams<T>& params, PerHit)
+        : DeonLobes<T>(params.beta_m, CuticleTilt<T>(params.alpha)), params_(params), controls_(),
+          n_(logistic_scale(params.beta_n)), weights_() {
+        for (int c = 0; c < kChannelLanes; ++c) sigma_a_lanes_[c] = T(0);
+        for (int c = 0; c < 3; ++c) sigma_a_lanes_[c] = params.sigma_a[c];
+    }
+
     FiberParams<T> params_;
     LobeControls<T> controls_;
     TrimmedLogistic<T> n_;
