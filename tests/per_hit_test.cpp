@@ -112,13 +112,19 @@ TEST(PerHit, ClampedParamsKeepValidOnesAndMoveTheRestIntoRange) {
             EXPECT_TRUE(std::isfinite(s.pdf) && s.pdf >= 0.0f) << field << " " << x;
         }
     }
-    // NaN goes to the lower end, a value above the range to the upper one.
+    // NaN goes to the lower end, a value above the range to the upper one. (Under
+    // -ffast-math, allowed by HAIRSCATTER_ALLOW_FAST_MATH, the compares may send a NaN to
+    // either end; the sweep above holds there too.)
     hs::FiberParams<float> p;
     p.beta_m = nan;
     p.beta_n = 5.0f;
     p.eta = 1.0f;
     const auto q = hs::clamped_params(p);
+#if defined(__FAST_MATH__)
+    EXPECT_TRUE(q.beta_m == hs::kMinRoughness<float> || q.beta_m == 1.0f);
+#else
     EXPECT_EQ(q.beta_m, hs::kMinRoughness<float>);
+#endif
     EXPECT_EQ(q.beta_n, 1.0f);
     EXPECT_GT(q.eta, 1.0f);
 }

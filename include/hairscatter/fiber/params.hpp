@@ -100,7 +100,8 @@ template <typename T> const FiberParams<T>& validated(const FiberParams<T>& p) {
 // strand variation) where a renderer cannot stop for an exception: η into (1, 1e6] (its
 // smallest value the float or double just above 1), β_m and β_n into [kMinRoughness, 1],
 // α into [-kMaxCuticleTilt, kMaxCuticleTilt], each σa channel into [0, 1e30]; NaN goes to
-// the lower end. Valid parameters come back unchanged, so a material built from them per
+// the lower end (under -ffast-math, where HAIRSCATTER_ALLOW_FAST_MATH permits it, to one
+// of the two ends). Valid parameters come back unchanged, so a material built from them per
 // hit (ChiangMaterial::per_hit) is the checked constructor's. Device-callable.
 template <typename T> HAIRSCATTER_HD FiberParams<T> clamped_params(const FiberParams<T>& p) {
     const T eta_lo = T(1) + kEpsilon<T>;
