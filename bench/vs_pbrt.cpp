@@ -22,6 +22,7 @@
 // and `RESULT float <label> unit <ns> <ns (minimum)>`, which scripts/bench.sh reads.
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -115,6 +116,128 @@ template <typename T> void BM_RefVertex(benchmark::State& state) {
     });
 }
 
+// Stateless calls as a renderer makes them: the fiber is built from h inside the timed call
+// (ours: ChiangFiber(material, h), which takes asin(h); the reference: HairBxDF(h, ...), as
+// pbrt builds its BxDF per hit), so the prebuilt fibers' stored γo is not in our favour.
+template <typename T> void BM_OursFreshEval(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) {
+        return hairscatter::ChiangFiber<T>(in.materials[kBeta], in.h[i]).eval(in.wo[i], wi_uniform<T>()[i]);
+    });
+}
+template <typename T> void BM_RefFreshEval(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) { return bench_ref::make_ref<T>(int(kBeta), in.h[i]).f(in.wo[i], wi_uniform<T>()[i]); });
+}
+template <typename T> void BM_OursFreshPdf(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) {
+        return hairscatter::ChiangFiber<T>(in.materials[kBeta], in.h[i]).pdf(in.wo[i], wi_uniform<T>()[i]);
+    });
+}
+template <typename T> void BM_RefFreshPdf(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) { return bench_ref::make_ref<T>(int(kBeta), in.h[i]).PDF(in.wo[i], wi_uniform<T>()[i]); });
+}
+template <typename T> void BM_OursFreshSample(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) { return hairscatter::ChiangFiber<T>(in.materials[kBeta], in.h[i]).sample(in.wo[i], in.u[i]); });
+}
+template <typename T> void BM_RefFreshSample(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) { return bench_ref::make_ref<T>(int(kBeta), in.h[i]).Sample_f(in.wo[i], in.u[i]); });
+}
+
+// Parameters that vary per hit (textures, strand variation): every one of the 65536 inputs
+// has its own η ∈ [1.5, 1.6], β_m and β_n ∈ [0.25, 0.35], α ∈ [1°, 3°] and eumelanin
+// concentration ∈ [0.8, 1.8], and both sides build their material per call: ours
+// ChiangMaterial::per_hit (then the fiber), the reference its HairBxDF (as pbrt does).
+template <typename T> const std::vector<hairscatter::FiberParams<T>>& hit_params() {
+    static const std::vector<hairscatter::FiberParams<T>> params = [] {
+        std::vector<hairscatter::FiberParams<T>> v;
+        std::uint64_t x = 0x9E3779B97F4A7C15ull;
+        auto uniform = [&x]() {  // (splitmix64)
+            x += 0x9E3779B97F4A7C15ull;
+            std::uint64_t z = x;
+            z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+            z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+            return double((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+        };
+        for (std::size_t i = 0; i <= kMask; ++i) {
+            hairscatter::FiberParams<T> p;
+            p.eta = T(1.5 + 0.1 * uniform());
+            p.beta_m = T(0.25 + 0.1 * uniform());
+            p.beta_n = T(0.25 + 0.1 * uniform());
+            p.alpha = hairscatter::radians(T(1.0 + 2.0 * uniform()));
+            p.sigma_a = hairscatter::sigma_a_from_concentrations(T(0.8 + uniform()), T(0));
+            v.push_back(p);
+        }
+        return v;
+    }();
+    return params;
+}
+template <typename T> bench_ref::HairBxDF<T> ref_at_hit(std::size_t i, T h) {
+    const hairscatter::FiberParams<T>& p = hit_params<T>()[i];
+    return bench_ref::HairBxDF<T>(h, p.eta, p.sigma_a, p.beta_m, p.beta_n, p.alpha);
+}
+template <typename T> void BM_OursHitEval(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) {
+        const auto m = hairscatter::ChiangMaterial<T>::per_hit(hit_params<T>()[i]);
+        return hairscatter::ChiangFiber<T>(m, in.h[i]).eval(in.wo[i], wi_uniform<T>()[i]);
+    });
+}
+template <typename T> void BM_RefHitEval(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) { return ref_at_hit<T>(i, in.h[i]).f(in.wo[i], wi_uniform<T>()[i]); });
+}
+template <typename T> void BM_OursHitVertex(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) {
+        const auto m = hairscatter::ChiangMaterial<T>::per_hit(hit_params<T>()[i]);
+        const auto at = hairscatter::ChiangFiber<T>(m, in.h[i]).at(in.wo[i]);
+        return std::make_pair(at.eval(wi_uniform<T>()[i]), at.sample(in.u[i]));
+    });
+}
+template <typename T> void BM_RefHitVertex(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) {
+        const auto ref = ref_at_hit<T>(i, in.h[i]);
+        return std::make_pair(ref.f(in.wo[i], wi_uniform<T>()[i]), ref.Sample_f(in.wo[i], in.u[i]));
+    });
+}
+// The per-hit material alone (its build cost in ns).
+template <typename T> void BM_OursHitBuild(benchmark::State& state) {
+    cycle(state, [&](std::size_t i) { return hairscatter::ChiangMaterial<T>::per_hit(hit_params<T>()[i]); });
+}
+template <typename T> void BM_OursCheckedBuild(benchmark::State& state) {
+    cycle(state, [&](std::size_t i) { return hairscatter::ChiangMaterial<T>(hit_params<T>()[i]); });
+}
+
+// eval, pdf and sample at β_m = β_n = 0.05 and 1 as well (argument: bench_ref::kBetaM's
+// index), prebuilt fibers as above: where the reference takes other paths (its log-space
+// M_p below v = 0.1, its I0 series' subnormals at β_m = 1).
+template <typename T> void BM_OursEvalB(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const std::size_t b = std::size_t(state.range(0));
+    cycle(state, [&](std::size_t i) { return in.fibers[b][i].eval(in.wo[i], in.wi[0][b][i]); });
+}
+template <typename T> void BM_RefEvalB(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const std::size_t b = std::size_t(state.range(0));
+    cycle(state, [&](std::size_t i) { return in.refs[b][i].f(in.wo[i], in.wi[0][b][i]); });
+}
+template <typename T> void BM_OursSampleB(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const std::size_t b = std::size_t(state.range(0));
+    cycle(state, [&](std::size_t i) { return in.fibers[b][i].sample(in.wo[i], in.u[i]); });
+}
+template <typename T> void BM_RefSampleB(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    const std::size_t b = std::size_t(state.range(0));
+    cycle(state, [&](std::size_t i) { return in.refs[b][i].Sample_f(in.wo[i], in.u[i]); });
+}
+
 // 64 fibers bound to their wo, cycled against the 65536 wi.
 template <typename T> void BM_OursAtEval(benchmark::State& state) {
     const auto& in = inputs<T>();
@@ -148,17 +271,28 @@ class Collector : public benchmark::ConsoleReporter {
 };
 
 void print_results(const Collector& c) {
-    const char* calls[][3] = {{"eval", "BM_OursEval", "BM_RefEval"},
+    const char* calls[][4] = {{"eval", "BM_OursEval", "BM_RefEval"},
                               {"pdf", "BM_OursPdf", "BM_RefPdf"},
                               {"sample", "BM_OursSample", "BM_RefSample"},
                               {"vertex", "BM_OursVertex", "BM_RefVertex"},
-                              {"at.eval", "BM_OursAtEval", "BM_RefEval"}};
+                              {"at.eval", "BM_OursAtEval", "BM_RefEval"},
+                              {"fresh.eval", "BM_OursFreshEval", "BM_RefFreshEval"},
+                              {"fresh.pdf", "BM_OursFreshPdf", "BM_RefFreshPdf"},
+                              {"fresh.sample", "BM_OursFreshSample", "BM_RefFreshSample"},
+                              {"hit.eval", "BM_OursHitEval", "BM_RefHitEval"},
+                              {"hit.vertex", "BM_OursHitVertex", "BM_RefHitVertex"},
+                              {"b0.05.eval", "BM_OursEvalB", "BM_RefEvalB", "/0"},
+                              {"b1.eval", "BM_OursEvalB", "BM_RefEvalB", "/2"},
+                              {"b0.05.sample", "BM_OursSampleB", "BM_RefSampleB", "/0"},
+                              {"b1.sample", "BM_OursSampleB", "BM_RefSampleB", "/2"}};
     std::printf("\n");
     for (const char* type : {"float", "double"}) {
         const std::string t = std::string("<") + type + ">";
         for (const auto& call : calls) {
-            const double ours = c.quantile(call[1] + t, 0.5), ref = c.quantile(call[2] + t, 0.5);
-            const double ours_min = c.quantile(call[1] + t, 0.0), ref_min = c.quantile(call[2] + t, 0.0);
+            const std::string arg = call[3] ? call[3] : "";
+            const std::string o = call[1] + t + arg, rf = call[2] + t + arg;
+            const double ours = c.quantile(o, 0.5), ref = c.quantile(rf, 0.5);
+            const double ours_min = c.quantile(o, 0.0), ref_min = c.quantile(rf, 0.0);
             if (ours > 0.0 && ref > 0.0)
                 std::printf("RESULT %s %s %s %.2f %.2f %.3f %.2f %.2f %.3f\n", type, HAIRSCATTER_BENCH_LABEL, call[0],
                             ours, ref, ref / ours, ours_min, ref_min, ref_min / ours_min);
@@ -166,6 +300,13 @@ void print_results(const Collector& c) {
     }
     const double unit = c.quantile("BM_Calib<float>", 0.5), unit_min = c.quantile("BM_Calib<float>", 0.0);
     if (unit > 0.0) std::printf("RESULT float %s unit %.2f %.2f\n", HAIRSCATTER_BENCH_LABEL, unit, unit_min);
+    for (const char* type : {"float", "double"}) {  // the per-hit material's own cost
+        const std::string t = std::string("<") + type + ">";
+        const double hit = c.quantile("BM_OursHitBuild" + t, 0.5), checked = c.quantile("BM_OursCheckedBuild" + t, 0.5);
+        if (hit > 0.0 && checked > 0.0)
+            std::printf("RESULT %s %s build %.2f %.2f %.2f %.2f\n", type, HAIRSCATTER_BENCH_LABEL, hit, checked,
+                        c.quantile("BM_OursHitBuild" + t, 0.0), c.quantile("BM_OursCheckedBuild" + t, 0.0));
+    }
 }
 
 }  // namespace
@@ -189,6 +330,23 @@ BENCHMARK_TEMPLATE(BM_RefSample, double);
 BENCHMARK_TEMPLATE(BM_OursVertex, double);
 BENCHMARK_TEMPLATE(BM_RefVertex, double);
 BENCHMARK_TEMPLATE(BM_OursAtEval, double);
+#define HAIRSCATTER_BOTH(bm) BENCHMARK_TEMPLATE(bm, float); BENCHMARK_TEMPLATE(bm, double)
+HAIRSCATTER_BOTH(BM_OursFreshEval);
+HAIRSCATTER_BOTH(BM_RefFreshEval);
+HAIRSCATTER_BOTH(BM_OursFreshPdf);
+HAIRSCATTER_BOTH(BM_RefFreshPdf);
+HAIRSCATTER_BOTH(BM_OursFreshSample);
+HAIRSCATTER_BOTH(BM_RefFreshSample);
+HAIRSCATTER_BOTH(BM_OursHitEval);
+HAIRSCATTER_BOTH(BM_RefHitEval);
+HAIRSCATTER_BOTH(BM_OursHitVertex);
+HAIRSCATTER_BOTH(BM_RefHitVertex);
+HAIRSCATTER_BOTH(BM_OursHitBuild);
+HAIRSCATTER_BOTH(BM_OursCheckedBuild);
+BENCHMARK_TEMPLATE(BM_OursEvalB, float)->Arg(0)->Arg(2);
+BENCHMARK_TEMPLATE(BM_RefEvalB, float)->Arg(0)->Arg(2);
+BENCHMARK_TEMPLATE(BM_OursSampleB, float)->Arg(0)->Arg(2);
+BENCHMARK_TEMPLATE(BM_RefSampleB, float)->Arg(0)->Arg(2);
 
 int main(int argc, char** argv) {
     benchmark::Initialize(&argc, argv);
@@ -196,6 +354,8 @@ int main(int argc, char** argv) {
     benchmark::AddCustomContext("flags", HAIRSCATTER_BENCH_FLAGS_STRING);
     (void)inputs<float>();  // build the inputs before the first timing
     (void)inputs<double>();
+    (void)hit_params<float>();
+    (void)hit_params<double>();
     Collector collector;
     benchmark::RunSpecifiedBenchmarks(&collector);
     print_results(collector);

@@ -14,10 +14,12 @@
 #                                         build/bench-REV; default file chiang_<date>_<REV>.txt
 #   scripts/bench.sh --no-deps            skip the apt package check (or HAIRSCATTER_SKIP_DEPS=1)
 #   scripts/bench.sh --vs-pbrt            ours against pbrt-v4's algorithm in one process
-#                                         (bench/vs_pbrt.cpp, built at -O2 and at -O3, float and
-#                                         double; --reps N repetitions, default 15): writes
-#                                         bench/results/vs_pbrt.md, then regenerates the tables
-#                                         of README.md and docs/performance.md from it (~3 min)
+#                                         (bench/vs_pbrt.cpp, built at -O2 and at -O3, each at
+#                                         -march=native, x86-64-v3 and x86-64-v2 (x86-64 only),
+#                                         float and double; --reps N repetitions, default 15):
+#                                         writes bench/results/vs_pbrt.md, then regenerates the
+#                                         tables of README.md and docs/performance.md from it
+#                                         (~12 min)
 #   scripts/bench.sh --tables             only that last step, from the committed vs_pbrt.md
 #   scripts/bench.sh --vs-cycles          HuangFiber against Blender Cycles' scheme for the same
 #                                         model in one process (bench/vs_cycles.cpp, float and
@@ -104,14 +106,19 @@ fi
 if [[ $mode == vs_pbrt ]]; then
     cmake -S "$SRC" -B "$BUILD" -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_BUILD_TESTS=OFF -DHAIRSCATTER_DOCS=OFF \
         -DCMAKE_BUILD_TYPE=Release >/dev/null
-    cmake --build "$BUILD" --target vs_pbrt_o2 vs_pbrt_o3 -j "$(nproc 2>/dev/null || echo 2)"
+    # -march=native, then x86-64-v3 and x86-64-v2 where the compiler targets x86-64.
+    vs_targets=(vs_pbrt_o2 vs_pbrt_o3)
+    if grep -q 'vs_pbrt_o2_v3' "$BUILD/bench/Makefile" "$BUILD/build.ninja" 2>/dev/null; then
+        vs_targets+=(vs_pbrt_o2_v3 vs_pbrt_o3_v3 vs_pbrt_o2_v2 vs_pbrt_o3_v2)
+    fi
+    cmake --build "$BUILD" --target "${vs_targets[@]}" -j "$(nproc 2>/dev/null || echo 2)"
     cxx="$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$BUILD/CMakeCache.txt")"
     header="$BUILD/vs_pbrt.header.txt"
     load_before="$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
     args=(--benchmark_repetitions="$vs_reps" --benchmark_min_time=0.1 --benchmark_enable_random_interleaving=true)
-    for level in 2 3; do
-        echo "bench.sh: vs_pbrt_o$level ${args[*]}"
-        "$BUILD/bench/vs_pbrt_o$level" "${args[@]}" 2>&1 | tee "$BUILD/vs_pbrt_o$level.txt"
+    for t in "${vs_targets[@]}"; do
+        echo "bench.sh: $t ${args[*]}"
+        "$BUILD/bench/$t" "${args[@]}" 2>&1 | tee "$BUILD/$t.txt"
     done
     {
         echo "date:      $(date -u '+%Y-%m-%d %H:%M:%S UTC')"
@@ -119,13 +126,15 @@ if [[ $mode == vs_pbrt ]]; then
         echo "commit:    $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo '?')${dirty:+ (with uncommitted changes in include/ or bench/)}"
         echo "cpu:       $(hs_cpu_line)"
         echo "compiler:  $("$cxx" --version | head -1)"
-        for level in 2 3; do
-            echo "flags -O$level: $(sed -n 's/.*"flags": "\(.*\)".*/\1/p; s/^flags: //p' "$BUILD/vs_pbrt_o$level.txt" | head -1)"
+        for t in "${vs_targets[@]}"; do
+            echo "flags $t: $(sed -n 's/.*"flags": "\(.*\)".*/\1/p; s/^flags: //p' "$BUILD/$t.txt" | head -1)"
         done
-        echo "run:       vs_pbrt_o2, then vs_pbrt_o3, each ${args[*]}"
+        echo "run:       ${vs_targets[*]}, one after the other, each ${args[*]}"
         echo "load:      average before ${load_before}, after $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo '?')"
     } >"$header"
-    python3 "$ROOT/scripts/vs_pbrt.py" results "$VS_MD" "$header" "$BUILD/vs_pbrt_o2.txt" "$BUILD/vs_pbrt_o3.txt"
+    vs_runs=()
+    for t in "${vs_targets[@]}"; do vs_runs+=("$BUILD/$t.txt"); done
+    python3 "$ROOT/scripts/vs_pbrt.py" results "$VS_MD" "$header" "${vs_runs[@]}"
     echo "bench.sh: wrote ${VS_MD#"$ROOT"/}"
     regenerate_tables
     exit 0

@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """The tables of bench/vs_pbrt.cpp's results (called by scripts/bench.sh --vs-pbrt).
 
-  vs_pbrt.py results OUT.md HEADER.txt RUN_O2.txt RUN_O3.txt
+  vs_pbrt.py results OUT.md HEADER.txt RUN.txt...
       writes bench/results/vs_pbrt.md: the header lines (machine, compiler, flags, load),
-      one table per real type with both optimisation levels, and the raw RESULT lines.
+      per real type a table per instruction set (native, x86-64-v3, x86-64-v2) with both
+      optimisation levels, the summaries, the material build costs and the raw RESULT lines.
   vs_pbrt.py tables RESULTS.md FILE...
       regenerates the table between the markers <!-- vs_pbrt:begin --> and
       <!-- vs_pbrt:end --> in each FILE (README.md, docs/performance.md) from RESULTS.md's
@@ -13,35 +14,53 @@ import re
 import sys
 
 CALLS = [("eval", "`eval(wo, wi)`"), ("pdf", "`pdf(wo, wi)`"), ("sample", "`sample(wo, u)`"),
-         ("vertex", "path vertex"), ("at.eval", "`at(wo).eval(wi)`")]
+         ("vertex", "path vertex"), ("at.eval", "`at(wo).eval(wi)`"),
+         ("fresh.eval", "stateless `eval`: fiber(h) + eval"), ("fresh.pdf", "stateless `pdf`: fiber(h) + pdf"),
+         ("fresh.sample", "stateless `sample`: fiber(h) + sample"),
+         ("hit.eval", "per-hit material + `eval`"), ("hit.vertex", "per-hit material + path vertex"),
+         ("b0.05.eval", "`eval`, β 0.05"), ("b1.eval", "`eval`, β 1"),
+         ("b0.05.sample", "`sample`, β 0.05"), ("b1.sample", "`sample`, β 1")]
+# The builds, in table order: -march=native, x86-64-v3, x86-64-v2 (bench/CMakeLists.txt).
+LEVELS = ["-O2", "-O3", "-O2/v3", "-O3/v3", "-O2/v2", "-O3/v2"]
+LEVEL_NAMES = {"-O2": "-O2 native", "-O3": "-O3 native", "-O2/v3": "-O2 v3", "-O3/v3": "-O3 v3",
+               "-O2/v2": "-O2 v2", "-O3/v2": "-O3 v2"}
 BEGIN, END = "<!-- vs_pbrt:begin -->", "<!-- vs_pbrt:end -->"
 
 
 def parse(lines):
-    """RESULT lines -> {(type, level, call): (ours, ref, ratio, ours_min, ref_min, ratio_min)}, units."""
-    rows, units = {}, {}
+    """RESULT lines -> {(type, level, call): (ours, ref, ratio, ours_min, ref_min, ratio_min)}, units, builds."""
+    rows, units, builds = {}, {}, {}
     for line in lines:
         f = line.split()
         if len(f) < 5 or f[0] != "RESULT":
             continue
         if f[3] == "unit":
             units[f[2]] = (float(f[4]), float(f[5]))
+        elif f[3] == "build":
+            builds[(f[1], f[2])] = tuple(float(x) for x in f[4:8])
         else:
             rows[(f[1], f[2], f[3])] = tuple(float(x) for x in f[4:10])
-    return rows, units
+    return rows, units, builds
 
 
-def detail_table(rows, units, real):
-    out = ["| call | -O2 ours ns | pbrt-v4 alg. ns | ratio | ratio (minima) | -O3 ours ns | pbrt-v4 alg. ns | ratio | ratio (minima) |",
+def levels_in(rows):
+    present = {k[1] for k in rows}
+    return [l for l in LEVELS if l in present] + sorted(present - set(LEVELS))
+
+
+def detail_table(rows, units, real, pair):
+    out = ["| call | %s ours ns | pbrt-v4 alg. ns | ratio | ratio (minima) | %s ours ns | pbrt-v4 alg. ns | ratio | ratio (minima) |"
+           % (LEVEL_NAMES.get(pair[0], pair[0]), LEVEL_NAMES.get(pair[1], pair[1])),
            "|---|---|---|---|---|---|---|---|---|"]
     for call, label in CALLS:
         cells = [label]
-        for level in ("-O2", "-O3"):
+        for level in pair:
             r = rows.get((real, level, call))
             cells += ["%.1f" % r[0], "%.1f" % r[1], "%.2f×" % r[2], "%.2f×" % r[5]] if r else ["–"] * 4
-        out.append("| " + " | ".join(cells) + " |")
+        if any(c != "–" for c in cells[1:]):
+            out.append("| " + " | ".join(cells) + " |")
     if real == "float":
-        for level in ("-O2", "-O3"):
+        for level in pair:
             u = units.get(level)
             r = rows.get(("float", level, "at.eval"))
             if u and r:
@@ -51,40 +70,67 @@ def detail_table(rows, units, real):
     return out
 
 
-def summary_table(rows):
-    out = ["| pbrt-v4's algorithm ÷ ours | float -O2 | float -O3 | double -O2 | double -O3 |",
-           "|---|---|---|---|---|"]
+def summary_table(rows, real, levels):
+    out = ["| pbrt-v4's algorithm ÷ ours, %s | %s |" % (real, " | ".join(LEVEL_NAMES.get(l, l) for l in levels)),
+           "|---|" + "---|" * len(levels)]
     for call, label in CALLS:
         cells = [label]
-        for real in ("float", "double"):
-            for level in ("-O2", "-O3"):
-                r = rows.get((real, level, call))
-                cells.append("%.2f×" % r[2] if r else "–")
-        out.append("| " + " | ".join(cells) + " |")
+        for level in levels:
+            r = rows.get((real, level, call))
+            cells.append("%.2f×" % r[2] if r else "–")
+        if any(c != "–" for c in cells[1:]):
+            out.append("| " + " | ".join(cells) + " |")
     return out
 
 
-def cmd_results(out_md, header, run_o2, run_o3):
-    runs = [open(run_o2).read().splitlines(), open(run_o3).read().splitlines()]
-    rows, units = parse(runs[0] + runs[1])
+def build_table(builds, levels):
+    out = ["| material build, ns (median) | " + " | ".join(LEVEL_NAMES.get(l, l) for l in levels) + " |",
+           "|---|" + "---|" * len(levels)]
+    for real in ("float", "double"):
+        for k, label in ((0, "`ChiangMaterial::per_hit`"), (1, "`ChiangMaterial(params)` (checked)")):
+            cells = ["%s, %s" % (label, real)]
+            for level in levels:
+                b = builds.get((real, level))
+                cells.append("%.1f" % b[k] if b else "–")
+            out.append("| " + " | ".join(cells) + " |")
+    return out
+
+
+def cmd_results(out_md, header, *runs_paths):
+    runs = [open(p).read().splitlines() for p in runs_paths]
+    lines = [l for run in runs for l in run]
+    rows, units, builds = parse(lines)
+    levels = levels_in(rows)
     text = ["# Chiang fiber against pbrt-v4's algorithm, one process", "",
             "Written by `scripts/bench.sh --vs-pbrt` (bench/vs_pbrt.cpp); do not edit. Times are the",
-            "medians (and minima) of the repetitions' CPU times in ns per call, β_m = β_n = 0.3, wi",
-            "uniform; ratio = the pbrt-v4-style reference's time ÷ ours (bench/reference/pbrt_style.hpp).", ""]
+            "medians (and minima) of the repetitions' CPU times in ns per call, β_m = β_n = 0.3 (but for",
+            "the β rows), wi uniform; ratio = the pbrt-v4-style reference's time ÷ ours",
+            "(bench/reference/pbrt_style.hpp), both measured in the same process. Builds: native =",
+            "-march=native, v3 = -march=x86-64-v3, v2 = -march=x86-64-v2. Stateless rows build the",
+            "fiber from h inside the timed call (the reference its HairBxDF); per-hit rows build the",
+            "material too, from parameters that differ at every input (ours ChiangMaterial::per_hit).", ""]
     text += ["```"] + open(header).read().rstrip("\n").splitlines() + ["```", ""]
     for real in ("float", "double"):
-        text += ["## %s" % real, ""] + detail_table(rows, units, real) + [""]
-    text += ["## Summary (medians)", ""] + summary_table(rows) + [""]
+        text += ["## %s" % real, ""]
+        for i in range(0, len(levels), 2):
+            text += detail_table(rows, units, real, (levels[i:i + 2] + levels[i:i + 1])[:2]) + [""]
+    text += ["## Summary (medians)", ""]
+    for real in ("float", "double"):
+        text += summary_table(rows, real, levels) + [""]
+    text += build_table(builds, levels) + [""]
     text += ["## Raw lines", "", "```"]
-    text += [l for l in runs[0] + runs[1] if l.startswith("RESULT")] + ["```", ""]
+    text += [l for l in lines if l.startswith("RESULT")] + ["```", ""]
     open(out_md, "w").write("\n".join(text))
 
 
 def cmd_tables(results_md, files):
-    rows, _ = parse(open(results_md).read().splitlines())
+    rows, _, builds = parse(open(results_md).read().splitlines())
     if not rows:
         sys.exit("vs_pbrt.py: no RESULT lines in " + results_md)
-    table = summary_table(rows)
+    levels = levels_in(rows)
+    table = summary_table(rows, "float", levels) + [""] + summary_table(rows, "double", levels)
+    if builds:
+        table += [""] + build_table(builds, levels)
     for path in files:
         text = open(path).read()
         pattern = re.compile(re.escape(BEGIN) + ".*?" + re.escape(END), re.S)
@@ -95,8 +141,8 @@ def cmd_tables(results_md, files):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) >= 6 and sys.argv[1] == "results":
-        cmd_results(*sys.argv[2:6])
+    if len(sys.argv) >= 5 and sys.argv[1] == "results":
+        cmd_results(*sys.argv[2:])
     elif len(sys.argv) >= 4 and sys.argv[1] == "tables":
         cmd_tables(sys.argv[2], sys.argv[3:])
     else:

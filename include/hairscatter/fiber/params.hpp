@@ -185,6 +185,13 @@ FiberParamBounds<T> FiberParamBounds<T>::checked(const FiberParams<T>& lo, const
     return b;
 }
 
+// The parameters moved into every valid range (FiberParamBounds<T>()'s clamp), for
+// parameters that vary per hit where a renderer cannot stop for an exception
+// (ChiangMaterial::per_hit). Valid parameters come back unchanged. Device-callable.
+template <typename T> HAIRSCATTER_HD FiberParams<T> clamped_params(const FiberParams<T>& p) {
+    return FiberParamBounds<T>().clamp(p);
+}
+
 // Absorption from eumelanin and pheomelanin concentrations ce, cp ≥ 0 per unit fiber
 // radius (pbrt-v4's SigmaAFromConcentration, Mitsuba 3's eumelanin and pheomelanin;
 // Chiang et al. 2016 §4.3): σa = ce (0.419, 0.697, 1.37) + cp (0.187, 0.4, 1.05).

@@ -50,6 +50,20 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
         return ChiangMaterial(Unchecked{}, params, controls);
     }
 
+    // A material for one hit, from parameters that vary per hit (textures, strand variation:
+    // fiber/strand_variation.hpp): no checks and no exceptions, device-callable. The
+    // parameters are clamped into their ranges first (clamped_params, fiber/params.hpp: NaN
+    // to the lower end), and the lobe controls are the defaults: unchecked() with every valid
+    // range as the bounds. 27–44 ns in float, about
+    // 60 % of the checked constructor (bench/results/vs_pbrt.md, build rows); from valid
+    // parameters it is bit for bit the checked constructor's material (tests/per_hit_test.cpp).
+    // The fiber refers to it: keep it alive while it is used,
+    //   const auto m = ChiangMaterial<float>::per_hit(params_at_hit);
+    //   const auto f = ChiangFiber<float>(m, h).at(wo);
+    HAIRSCATTER_HD static ChiangMaterial per_hit(const FiberParams<T>& params) {
+        return ChiangMaterial(Unchecked{}, clamped_params(params), LobeControls<T>());
+    }
+
     HAIRSCATTER_HD const FiberParams<T>& params() const { return params_; }
     HAIRSCATTER_HD const LobeControls<T>& controls() const { return controls_; }
     HAIRSCATTER_HD const TrimmedLogistic<T>& azimuthal() const { return n_; }

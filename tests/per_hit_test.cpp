@@ -1,0 +1,162 @@
+// Materials built per hit (ChiangMaterial::per_hit, clamped_params): the same material as
+// the checked constructor's for valid parameters, bit for bit; finite, in-range materials
+// for any input at all; and the cheaper constants they share with the checked path
+// (TrimmedLogistic's normaliser, the tilt's sine, DeonLobes' lanes) against their
+// standard-library forms.
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <hairscatter/hairscatter.hpp>
+
+namespace hs = hairscatter;
+
+namespace {
+
+template <typename T> std::vector<hs::FiberParams<T>> random_valid_params(int n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<hs::FiberParams<T>> v;
+    for (int i = 0; i < n; ++i) {
+        hs::FiberParams<T> p;
+        p.eta = T(1.0001 + 2.0 * u(rng));
+        p.beta_m = T(1e-3 + (1.0 - 1e-3) * u(rng));
+        p.beta_n = T(1e-3 + (1.0 - 1e-3) * u(rng));
+        p.alpha = T((2.0 * u(rng) - 1.0) * 0.39269908169872414);
+        p.sigma_a = hs::sigma_a_from_concentrations(T(3.0 * u(rng)), T(u(rng)));
+        v.push_back(p);
+    }
+    return v;
+}
+
+template <typename T> bool same_bits(T a, T b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// Every constant a fiber reads from its material, compared bit for bit.
+template <typename T> void expect_same_material(const hs::ChiangMaterial<T>& a, const hs::ChiangMaterial<T>& b) {
+    for (int p = 0; p <= 3; ++p) {
+        EXPECT_TRUE(same_bits(a.lobe_variance(p), b.lobe_variance(p))) << p;
+        EXPECT_TRUE(same_bits(a.lobe_exp_m2_over_v(p), b.lobe_exp_m2_over_v(p))) << p;
+        EXPECT_TRUE(same_bits(a.lobe_shift(p), b.lobe_shift(p))) << p;
+    }
+    EXPECT_TRUE(same_bits(a.azimuthal().scale(), b.azimuthal().scale()));
+    EXPECT_TRUE(same_bits(a.azimuthal().inv_scale(), b.azimuthal().inv_scale()));
+    EXPECT_TRUE(same_bits(a.azimuthal().density(T(0.5)), b.azimuthal().density(T(0.5))));
+    for (int c = 0; c < hs::kChannelLanes; ++c) EXPECT_TRUE(same_bits(a.sigma_a_lanes()[c], b.sigma_a_lanes()[c]));
+    EXPECT_TRUE(same_bits(a.params().eta, b.params().eta));
+    EXPECT_EQ(a.has_lobe_weights(), b.has_lobe_weights());
+}
+
+template <typename T> void per_hit_is_the_checked_material() {
+    const auto params = random_valid_params<T>(300, 7u);
+    std::mt19937 rng(11u);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (const auto& p : params) {
+        const hs::ChiangMaterial<T> checked(p);
+        const auto hit = hs::ChiangMaterial<T>::per_hit(p);
+        expect_same_material(checked, hit);
+        // And so the fibers' values, bit for bit.
+        const T h = T(2.0 * u(rng) - 1.0);
+        const glm::vec<3, T> wo = glm::normalize(glm::vec<3, T>(T(u(rng) - 0.5), T(u(rng) - 0.5), T(u(rng) - 0.5)));
+        const glm::vec<3, T> wi = glm::normalize(glm::vec<3, T>(T(u(rng) - 0.5), T(u(rng) - 0.5), T(u(rng) - 0.5)));
+        const glm::vec<4, T> uu(T(u(rng)), T(u(rng)), T(u(rng)), T(u(rng)));
+        const hs::ChiangFiber<T> a(checked, h), b(hit, h);
+        const auto ea = a.eval(wo, wi), eb = b.eval(wo, wi);
+        for (int c = 0; c < 3; ++c) EXPECT_TRUE(same_bits(ea[c], eb[c]));
+        EXPECT_TRUE(same_bits(a.pdf(wo, wi), b.pdf(wo, wi)));
+        const auto sa = a.sample(wo, uu), sb = b.sample(wo, uu);
+        EXPECT_TRUE(same_bits(sa.pdf, sb.pdf));
+        for (int c = 0; c < 3; ++c) EXPECT_TRUE(same_bits(sa.wi[c], sb.wi[c]));
+    }
+}
+
+}  // namespace
+
+TEST(PerHit, ValidParametersGiveTheCheckedMaterialFloat) { per_hit_is_the_checked_material<float>(); }
+TEST(PerHit, ValidParametersGiveTheCheckedMaterialDouble) { per_hit_is_the_checked_material<double>(); }
+
+TEST(PerHit, ClampedParamsKeepValidOnesAndMoveTheRestIntoRange) {
+    for (const auto& p : random_valid_params<float>(200, 3u)) {
+        const auto q = hs::clamped_params(p);
+        EXPECT_TRUE(same_bits(p.eta, q.eta) && same_bits(p.beta_m, q.beta_m) && same_bits(p.beta_n, q.beta_n) &&
+                    same_bits(p.alpha, q.alpha));
+        for (int c = 0; c < 3; ++c) EXPECT_TRUE(same_bits(p.sigma_a[c], q.sigma_a[c]));
+    }
+    // The extreme-input sweep: every field through NaN, ±Inf, ±huge, ±0, negative and just
+    // out of range, one at a time and all together; each result passes validate() and its
+    // fiber gives finite, non-negative values.
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    const float bad[] = {nan, inf, -inf, 3e38f, -3e38f, 0.0f, -0.0f, -1.0f, 1.0f, 1e-30f, 0.5f, 2.0f, 1e7f};
+    const glm::vec3 wo = glm::normalize(glm::vec3(0.3f, 0.5f, -0.8f)), wi = glm::normalize(glm::vec3(-0.2f, -0.6f, 0.7f));
+    for (int field = 0; field < 8; ++field) {
+        for (float x : bad) {
+            hs::FiberParams<float> p;
+            p.sigma_a = glm::vec3(0.5f, 0.8f, 1.5f);
+            float* f[7] = {&p.eta, &p.beta_m, &p.beta_n, &p.alpha, &p.sigma_a[0], &p.sigma_a[1], &p.sigma_a[2]};
+            if (field < 7)
+                *f[field] = x;
+            else
+                for (float* g : f) *g = x;
+            const auto q = hs::clamped_params(p);
+            EXPECT_EQ(hs::validate(q), "") << "field " << field << " = " << x;
+            const auto m = hs::ChiangMaterial<float>::per_hit(p);
+            const hs::ChiangFiber<float> fib(m, 0.3f);
+            const glm::vec3 e = fib.eval(wo, wi);
+            const float pdf = fib.pdf(wo, wi);
+            const auto s = fib.sample(wo, glm::vec4(0.3f, 0.6f, 0.2f, 0.9f));
+            for (int c = 0; c < 3; ++c) EXPECT_TRUE(std::isfinite(e[c]) && e[c] >= 0.0f) << field << " " << x;
+            EXPECT_TRUE(std::isfinite(pdf) && pdf >= 0.0f) << field << " " << x;
+            EXPECT_TRUE(std::isfinite(s.pdf) && s.pdf >= 0.0f) << field << " " << x;
+        }
+    }
+    // NaN goes to the lower end, a value above the range to the upper one. (Under
+    // -ffast-math, allowed by HAIRSCATTER_ALLOW_FAST_MATH, the compares may send a NaN to
+    // either end; the sweep above holds there too.)
+    hs::FiberParams<float> p;
+    p.beta_m = nan;
+    p.beta_n = 5.0f;
+    p.eta = 1.0f;
+    const auto q = hs::clamped_params(p);
+#if defined(__FAST_MATH__)
+    EXPECT_TRUE(q.beta_m == hs::kMinRoughness<float> || q.beta_m == 1.0f);
+#else
+    EXPECT_EQ(q.beta_m, hs::kMinRoughness<float>);
+#endif
+    EXPECT_EQ(q.beta_n, 1.0f);
+    EXPECT_GT(q.eta, 1.0f);
+}
+
+// The normaliser tanh(π/2s) as -m/(2 + m), m = expm1(-π/s), read back through the density
+// at 0, (1/s) / (4 tanh(π/2s)), against the same in double with std::tanh: within 6 float
+// ulp over every scale β_n ∈ [1e-3, 1] maps to (the float expm1 is exp - 1 beyond
+// |x| = 1/2, which loses at most a factor 2.6 of exp's 1-ulp error there; 1/s, the quotient
+// and the density's own products add an ulp each).
+TEST(PerHit, LogisticNormaliserMatchesTanh) {
+    for (int i = 0; i <= 2000; ++i) {
+        const double beta_n = 1e-3 + (1.0 - 1e-3) * i / 2000.0;
+        const float s = hs::logistic_scale(float(beta_n));
+        const hs::TrimmedLogistic<float> n(s);
+        const double truth = (1.0 / double(s)) / (4.0 * std::tanh(hs::kHalfPi<double> / double(s)));
+        EXPECT_NEAR(double(n.density(1.0f)) / truth, 1.0, 6.0 * std::numeric_limits<float>::epsilon())
+            << "beta_n " << beta_n;
+        const hs::TrimmedLogistic<double> nd{double(s)};
+        EXPECT_NEAR(nd.density(1.0) / truth, 1.0, 8.0 * std::numeric_limits<double>::epsilon()) << "beta_n " << beta_n;
+    }
+}
+
+// The tilt's sine: in float its Taylor series within |α| ≤ π/8, within 1 ulp of std::sin
+// (the truncation, 4e-13, is far below float's rounding); in double std::sin itself.
+TEST(PerHit, TiltSineMatchesStdSin) {
+    for (int i = -1000; i <= 1000; ++i) {
+        const double a = 0.39269908169872414 * i / 1000.0;
+        const hs::CuticleTilt<double> td(a);
+        const hs::CuticleTilt<float> tf{float(a)};
+        // rotate(TT) by +α at θo = 0: (sin α, cos α).
+        EXPECT_EQ(td.rotate(1, 0.0, 1.0).sin_theta, std::sin(a));
+        const float sf = tf.rotate(1, 0.0f, 1.0f).sin_theta, want = std::sin(float(a));
+        EXPECT_LE(std::fabs(sf - want), std::fabs(std::nextafter(want, 1.0f) - want)) << a;
+    }
+}
