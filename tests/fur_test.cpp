@@ -382,10 +382,10 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     std::printf("[ physical ] rough cortex: f worst %.1f %%; scattered worst %.1f %%, mean %.1f %%\n", 100 * worst_all,
                 100 * worst[0], 100 * mean[0]);
     std::printf("[ physical ] smooth cortex: scattered worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst[1], 100 * mean[1]);
-    // Measured: 60.4 %; 25.8 %, 11.6 %; 8.9 %, 5.8 % (the reference's noise: 1–3 %).
-    EXPECT_LT(worst_all, 0.65);
+    // Measured: 58.6 %; 25.8 %, 11.2 %; 6.3 %, 4.8 % (the reference's noise: 1–3 %).
+    EXPECT_LT(worst_all, 0.63);
     EXPECT_LT(worst[0], 0.28);
-    EXPECT_LT(mean[0], 0.13);
-    EXPECT_LT(worst[1], 0.10);
-    EXPECT_LT(mean[1], 0.065);
+    EXPECT_LT(mean[0], 0.125);
+    EXPECT_LT(worst[1], 0.07);
+    EXPECT_LT(mean[1], 0.052);
 }

@@ -291,8 +291,9 @@ inline glm::dvec3 fur_scatter(const glm::dvec3& d, double g, double u1, double u
 // h (only where its refracted chord meets the medulla), is carried unscattered with the
 // analytic weights of medulla_chord until it first scatters, then random-walks through the
 // medulla and the cortex (smooth boundary, Fresnel by choice) until it leaves. Per exit: the
-// relative azimuth, weighted by the lossless weight (the shape) and per channel the weight
-// at exit and at the first scattering (the escape fraction).
+// relative azimuth and sin θi, weighted by the exit's energy, the channels' mean (the shape:
+// N_S's Fourier series and q's moments), and per channel the weight at exit and at the first
+// scattering (the escape fraction).
 inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int bin, MedullaTables<double>& tab) {
     const double eta = p.cortex.eta, sin_o = std::sin(theta_o), cos_o = std::cos(theta_o);
     const double eta_p = std::sqrt(eta * eta - sin_o * sin_o) / cos_o;  // Bravais' η' (docs/theory.md §3.1)
@@ -390,9 +391,12 @@ inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int
             const double ct_out = std::sqrt(std::max(0.0, 1 - eta * eta * (1 - cos_i * cos_i)));
             const glm::dvec3 out = glm::normalize(eta * dir + (ct_out - eta * cos_i) * n);
             const double phi = std::fabs(wrap_pi(std::atan2(out.z, out.y) - kHalfPi<double>));
-            for (int k = 0; k <= kFurFourierTerms; ++k) fourier[k] += w0 * std::cos(k * phi);
-            moment[0] += w0 * out.x;
-            moment[1] += w0 * out.x * out.x;
+            // Weighted by the exit's energy, the mean over the channels (w0 when lossless):
+            // absorption favours the light that leaves early, and the shape follows it.
+            const double we = (w[0] + w[1] + w[2]) / 3;
+            for (int k = 0; k <= kFurFourierTerms; ++k) fourier[k] += we * std::cos(k * phi);
+            moment[0] += we * out.x;
+            moment[1] += we * out.x * out.x;
             for (int c = 0; c < 3; ++c) {
                 at_exit[c] += w[c];
                 at_first[c] += first[c];
