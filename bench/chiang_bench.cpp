@@ -321,6 +321,9 @@ template <typename T> void BM_FurEval(benchmark::State& state) {
         i = (i + 1) & kMask;
     }
     state.SetLabel(state.range(0) ? "beta_m=0.30 wi=sampled, fur" : "beta_m=0.30 wi=uniform, fur");
+    // The material's memory: its medulla tables and the whole FurMaterial (which holds them).
+    state.counters["table_bytes"] = double(sizeof(hairscatter::MedullaTables<T>));
+    state.counters["material_bytes"] = double(sizeof(hairscatter::FurMaterial<T>));
 }
 
 template <typename T> void BM_FurSample(benchmark::State& state) {
@@ -332,6 +335,17 @@ template <typename T> void BM_FurSample(benchmark::State& state) {
         i = (i + 1) & kMask;
     }
     state.SetLabel("beta_m=0.30, fur");
+}
+
+// Building a FurMaterial (its medulla tables' simulation) for the fibre above and for the
+// densest medulla of docs/models.md's grid (κ 0.9, σs^m 10); the goal is ≤ 1 s.
+template <typename T> void BM_FurTables(benchmark::State& state) {
+    hairscatter::FurParams<T> p;
+    p.kappa = T(state.range(0) ? 0.9 : 0.6);
+    p.sigma_s = T(10);
+    p.g = T(state.range(0) ? 0 : 0.3);
+    for (auto _ : state) benchmark::DoNotOptimize(hairscatter::FurMaterial<T>(p));
+    state.SetLabel(state.range(0) ? "kappa=0.9 sigma_s=10, fur tables" : "kappa=0.6 sigma_s=10 g=0.3, fur tables");
 }
 
 }  // namespace
@@ -371,6 +385,7 @@ BENCHMARK_TEMPLATE(BM_FurEval, float)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(BM_FurEval, double)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(BM_FurSample, float);
 BENCHMARK_TEMPLATE(BM_FurSample, double);
+BENCHMARK_TEMPLATE(BM_FurTables, float)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(2);
 BENCHMARK_TEMPLATE(BM_ControlsEval, float);
 BENCHMARK_TEMPLATE(BM_ControlsSample, float);
 BENCHMARK_TEMPLATE(BM_FiberCtor, float)->Apply(beta_args);

@@ -105,7 +105,7 @@ TEST(FurTables, RejectsBadFilesNamingThem) {
         reseal(b);
         return b;
     };
-    expect_refused(with_u32(4, 2), "version 2, this library reads version 1");
+    expect_refused(with_u32(4, 1), "version 1, this library reads version 2");
     expect_refused(with_u32(8, 7), "tables of 7 x 32 bins");
     expect_refused(with_u32(12, 16), "tables of 6 x 16 bins");
     expect_refused(std::vector<unsigned char>(good.begin(), good.end() - 9), "truncated");
@@ -125,6 +125,13 @@ TEST(FurTables, RejectsBadFilesNamingThem) {
     std::memcpy(negative.data() + 4 + 3 * 4 + 10 * 8, &minus_one, 8);
     reseal(negative);
     expect_refused(negative, "a density value = -1");
+    // The first bin's longitudinal skew (after its 32 densities, 33 cdf values, 3 escape
+    // fractions and the mix), past its range.
+    std::vector<unsigned char> skew = good;
+    const double two = 2.0;
+    std::memcpy(skew.data() + 4 + 3 * 4 + 10 * 8 + (32 + 33 + 3 + 1) * 8, &two, 8);
+    reseal(skew);
+    expect_refused(skew, "a longitudinal skew = 2");
 
     hs::FurParams<double> other = medulla_params<double>();
     other.kappa = 0.3;

@@ -5,6 +5,7 @@
 // (tests/data/physical_fur.txt, written by `physical_fur_tool cache`).
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -288,16 +289,22 @@ TEST(FurMaterial, RejectsBadParametersByName) {
 }
 
 // The tables of the densest medulla of the reference's grid (κ 0.9, σs^m 10) build in under a
-// second (an optimised build; sanitizers and debug builds only report the time).
+// second of CPU time (an optimised build; sanitizers and debug builds only report the time).
+// CPU time, not wall time: the build is single-threaded, and on a shared machine the wall
+// clock also counts the time other processes hold the core (at a load of 13 on two cores a
+// 0.3 s build took 2.8 s of wall time).
 TEST(FurMaterial, TablesBuildWithinASecond) {
     double worst = 0;
     for (double kappa : {0.3, 0.9})
         for (double sigma_s : {1.0, 10.0}) {
             const auto t0 = std::chrono::steady_clock::now();
+            const std::clock_t c0 = std::clock();
             const hs::FurMaterial<float> mat(fur_params<float>(kappa, sigma_s, 0, glm::dvec3(0.5447, 0.9061, 1.781)));
-            const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            std::printf("[ fur ] tables κ %.1f σs %g: %.3f s (%zu bytes)\n", kappa, sigma_s, s, sizeof(mat.medulla()));
-            worst = std::max(worst, s);
+            const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
+            const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            std::printf("[ fur ] tables κ %.1f σs %g: %.3f s CPU, %.3f s wall (%zu bytes)\n", kappa, sigma_s, cpu, wall,
+                        sizeof(mat.medulla()));
+            worst = std::max(worst, cpu);
         }
 #if defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__)
     EXPECT_LT(worst, 1.0);
@@ -307,13 +314,14 @@ TEST(FurMaterial, TablesBuildWithinASecond) {
 // The model, averaged over the offset h (a far-field beam, as the reference traces), against
 // the physical fur reference's bins: relative L1 over the sphere per case, lossless and blond
 // (the RGB mean), of the whole f and of the light scattered in the medulla alone (the
-// reference's scattered class against eval_scattered). With the rough cortex (GGX 0.3; the
-// model's Chiang lobes at β_m = β_n = 0.3) the whole f carries the Chiang lobes' distance
-// from that rough cylinder (κ = 0: 72 %), and so does the scattered light's energy, which
-// the cortex's paths feed; the nearly smooth cortex (GGX 0.02, the light scattered in the
-// medulla only) measures the medulla's lobe where the model's smooth-cylinder paths hold.
-// The figures of docs/models.md, printed; the bounds guard what is reached (the goal, 5 %,
-// is not reached everywhere: see docs/models.md).
+// reference's scattered class against eval_scattered). The rough cortex is GGX 0.17, matched
+// to the model's β_m = β_n = 0.3 by the width of R (fur_roughness_tool), with the 2° cuticle
+// tilt on both sides; the whole f then carries what a rough fibre does that Chiang's lobes do
+// not (κ = 0: 29.7 %; docs/models.md), and so does the scattered light's energy, which the
+// cortex's paths feed. The nearly smooth, untilted cortex (GGX 0.02, tilt 0 in both) measures
+// the medulla's lobe where the model's smooth-cylinder paths hold. The figures of
+// docs/models.md, printed; the bounds guard what is reached (the goal, 5 %, is not reached
+// everywhere: see docs/models.md).
 TEST(FurPhysical, AgainstThePhysicalFur) {
     const std::vector<phys_fur::FurCached> cases = phys_fur::read_fur_cache(HAIRSCATTER_TEST_DATA_DIR "/physical_fur.txt");
     constexpr int kH = 48;  // midpoint offsets over [-1, 1]
@@ -328,7 +336,9 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
                 const phys_fur::FurCase& fc = cases[k].fur;
                 for (int b = 0; b < 2; ++b) {
                     const glm::dvec3 sa = b ? glm::dvec3(phys_fiber::kBlond[0], phys_fiber::kBlond[1], phys_fiber::kBlond[2]) : glm::dvec3(0);
-                    const hs::FurMaterial<double> mat(fur_params<double>(fc.kappa, fc.sigma_s, fc.g, sa));
+                    hs::FurParams<double> prm = fur_params<double>(fc.kappa, fc.sigma_s, fc.g, sa);
+                    prm.cortex.alpha = fc.tilt_deg * kPi / 180;  // the reference's cuticle tilt
+                    const hs::FurMaterial<double> mat(prm);
                     std::vector<hs::FurFiber<double>> fibers;
                     for (int i = 0; i < kH; ++i) fibers.emplace_back(mat, -1 + (i + 0.5) * 2.0 / kH);
                     const bool smooth = fc.roughness < 0.1;
@@ -357,7 +367,7 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     for (std::size_t k = 0; k < cases.size(); ++k) {
         const Row& r = rows[k];
         const int smooth = cases[k].fur.roughness < 0.1;
-        std::printf("[ physical ] %-26s f: lossless %5.1f %% blond %5.1f %% | scattered: lossless %5.1f %% blond %5.1f %%"
+        std::printf("[ physical ] %-34s f: lossless %5.1f %% blond %5.1f %% | scattered: lossless %5.1f %% blond %5.1f %%"
                     " (energy lossless %.3f/%.3f, blond G %.3f/%.3f)\n",
                     cases[k].fur.name().c_str(), 100 * r.all[0], 100 * r.all[1], 100 * r.scattered[0], 100 * r.scattered[1],
                     r.energy[0][0], r.energy[0][1], r.energy[1][0], r.energy[1][1]);
@@ -372,9 +382,10 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     std::printf("[ physical ] rough cortex: f worst %.1f %%; scattered worst %.1f %%, mean %.1f %%\n", 100 * worst_all,
                 100 * worst[0], 100 * mean[0]);
     std::printf("[ physical ] smooth cortex: scattered worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst[1], 100 * mean[1]);
-    EXPECT_LT(worst_all, 1.10);
-    EXPECT_LT(worst[0], 0.37);
-    EXPECT_LT(mean[0], 0.18);
-    EXPECT_LT(worst[1], 0.19);
-    EXPECT_LT(mean[1], 0.10);
+    // Measured: 58.6 %; 25.8 %, 11.2 %; 6.3 %, 4.8 % (the reference's noise: 1–3 %).
+    EXPECT_LT(worst_all, 0.63);
+    EXPECT_LT(worst[0], 0.28);
+    EXPECT_LT(mean[0], 0.125);
+    EXPECT_LT(worst[1], 0.07);
+    EXPECT_LT(mean[1], 0.052);
 }

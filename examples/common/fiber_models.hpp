@@ -200,15 +200,15 @@ template <typename T> class FiberModels {
                 }
                 break;
             case FiberModel::kFur:
-                // FurMaterial takes no LobeControls (docs/models.md lists them as missing).
-                if (extras.has_controls)
-                    throw std::invalid_argument("--model fur: the lobe controls (--gain-*, --tint-*, --alpha-r/-tt/-trt) "
-                                                "are not available for the fur fiber");
+                // The lobe controls act on R, TT, TRT and the residual (FurControls::lobes); the
+                // medulla's lobe keeps gain and tint 1 (no command-line options for it).
                 try {
-                    fur_ = std::make_unique<hs::FurMaterial<T>>(fur_params(params, medulla));
+                    hs::FurControls<T> controls;
+                    controls.lobes = extras.controls;
+                    fur_ = std::make_unique<hs::FurMaterial<T>>(fur_params(params, medulla), controls);
                 } catch (const std::invalid_argument& e) {
                     throw std::invalid_argument(std::string("--model fur (kappa = --kappa, sigma_s = --medulla-sigma-s, "
-                                                            "sigma_a_medulla = --medulla-sigma-a, g = --medulla-g): ") +
+                                                            "sigma_a_medulla = --medulla-sigma-a, g = --medulla-g, lobe controls): ") +
                                                 e.what());
                 }
                 break;

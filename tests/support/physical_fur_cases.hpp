@@ -21,14 +21,21 @@
 
 namespace phys_fur {
 
-// The cortex of docs/fur_physical.md's table: η 1.55, tilt 2°, GGX roughness 0.3 (or nearly
-// smooth, 0.02, where the medulla's light is compared alone: a smooth cortex is what the
-// model's unscattered paths assume).
+// The cortex: η 1.55, tilt 2°, GGX roughness 0.17, the α whose single-interface R lobe has
+// the width of the model's R at β_m = 0.3 (fur_roughness_tool: 16.2–17.0° against 16.5–16.7°
+// at θo 0–30°; GGX 0.3 is 22.5–23.7° wide, about twice as rough); or, where the medulla's
+// light is compared alone, nearly smooth (0.02) and untilted: the smooth, untilted cylinder
+// is what the model's unscattered paths and its medulla tables assume (a 2° tilt of the
+// microfacets' mean normal pushes internal rays near the critical angle into total internal
+// reflection, which sends 8–16 % more light into the medulla; docs/models.md).
+// docs/fur_physical.md's table keeps GGX 0.3.
+inline constexpr double kMatchedRoughness = 0.17;
+
 struct FurCase {
-    double kappa = 0, sigma_s = 0, g = 0, theta_deg = 0, roughness = 0.3;
+    double kappa = 0, sigma_s = 0, g = 0, theta_deg = 0, roughness = kMatchedRoughness, tilt_deg = 2;
     std::string name() const {
-        char b[96];
-        std::snprintf(b, sizeof(b), "k%.1f_s%g_g%g_theta%g_r%g", kappa, sigma_s, g, theta_deg, roughness);
+        char b[112];
+        std::snprintf(b, sizeof(b), "k%.1f_s%g_g%g_theta%g_r%g_t%g", kappa, sigma_s, g, theta_deg, roughness, tilt_deg);
         return b;
     }
     // The hair case that carries θ, η, roughness and tilt for phys_fiber::model_bins.
@@ -36,6 +43,7 @@ struct FurCase {
         phys_fiber::Case c;
         c.theta_deg = theta_deg;
         c.roughness = roughness;
+        c.tilt_deg = tilt_deg;
         return c;
     }
     Fur fur() const {
@@ -62,9 +70,9 @@ inline std::vector<FurCase> fur_cases() {
     cases.push_back({0.9, 1, 0, 75});
     cases.push_back({0.6, 1, 0.5, 30});
     for (double kappa : {0.3, 0.6, 0.9})
-        for (double sigma_s : {1.0, 10.0}) cases.push_back({kappa, sigma_s, 0, 30, 0.02});
-    cases.push_back({0.6, 10, 0, 75, 0.02});
-    cases.push_back({0.9, 1, 0.5, 75, 0.02});
+        for (double sigma_s : {1.0, 10.0}) cases.push_back({kappa, sigma_s, 0, 30, 0.02, 0});
+    cases.push_back({0.6, 10, 0, 75, 0.02, 0});
+    cases.push_back({0.9, 1, 0.5, 75, 0.02, 0});
     return cases;
 }
 
@@ -118,15 +126,15 @@ inline FurCached trace_fur_case(const FurCase& fc, long long rays, int n_u, int 
 inline void write_fur_cache(const std::string& path, const std::vector<FurCached>& cases, const std::string& comment) {
     std::ofstream out(path);
     if (!out) throw std::runtime_error("cannot write " + path);
-    out << "# hairscatter physical fur reference, version 2: " << comment << "\n";
-    out << "# per case: kappa sigma_s g theta roughness n_u n_phi rays; noise (relative L1: lossless, R, G, B) of\n";
+    out << "# hairscatter physical fur reference, version 3: " << comment << "\n";
+    out << "# per case: kappa sigma_s g theta roughness tilt n_u n_phi rays; noise (relative L1: lossless, R, G, B) of\n";
     out << "# every class, then of the scattered one; energy per ray of R, TT, TRT, higher, scattered\n";
     out << "# (4 channels each); then per bin f of every class and f of the scattered class (1/sr;\n";
     out << "# 4 channels each), bins in sin(theta) (slow) and atan2(z, y) (fast)\n";
     char buf[256];
     for (const FurCached& c : cases) {
-        std::snprintf(buf, sizeof(buf), "fur %.17g %.17g %.17g %.17g %.17g %d %d %.17g\n", c.fur.kappa, c.fur.sigma_s,
-                      c.fur.g, c.fur.theta_deg, c.fur.roughness, c.bins.n_u, c.bins.n_phi, c.bins.rays);
+        std::snprintf(buf, sizeof(buf), "fur %.17g %.17g %.17g %.17g %.17g %.17g %d %d %.17g\n", c.fur.kappa, c.fur.sigma_s,
+                      c.fur.g, c.fur.theta_deg, c.fur.roughness, c.fur.tilt_deg, c.bins.n_u, c.bins.n_phi, c.bins.rays);
         out << buf;
         std::snprintf(buf, sizeof(buf), "noise %.4g %.4g %.4g %.4g %.4g %.4g %.4g %.4g\n", c.bins.noise_l1[0],
                       c.bins.noise_l1[1], c.bins.noise_l1[2], c.bins.noise_l1[3], c.scattered.noise_l1[0],
@@ -152,11 +160,13 @@ inline std::vector<FurCached> read_fur_cache(const std::string& path) {
     if (!in) throw std::runtime_error("cannot read " + path + " (physical_fur_tool cache writes it)");
     std::vector<FurCached> cases;
     std::string line, tag;
+    if (!std::getline(in, line) || line.rfind("# hairscatter physical fur reference, version 3:", 0) != 0)
+        throw std::runtime_error(path + ": not a version 3 fur cache (physical_fur_tool cache writes it)");
     while (std::getline(in, line)) {
         if (line.empty() || line[0] == '#') continue;
         std::istringstream s(line);
         FurCached c;
-        s >> tag >> c.fur.kappa >> c.fur.sigma_s >> c.fur.g >> c.fur.theta_deg >> c.fur.roughness >> c.bins.n_u >> c.bins.n_phi >>
+        s >> tag >> c.fur.kappa >> c.fur.sigma_s >> c.fur.g >> c.fur.theta_deg >> c.fur.roughness >> c.fur.tilt_deg >> c.bins.n_u >> c.bins.n_phi >>
             c.bins.rays;
         if (!s || tag != "fur" || c.bins.n_u < 1 || c.bins.n_phi < 1 || c.bins.n_u * c.bins.n_phi > 1 << 20)
             throw std::runtime_error(path + ": bad case line '" + line + "'");

@@ -267,6 +267,23 @@ TEST(RenderCli, FurRendersWithAMedulla) {
     }
 }
 
+// --model fur takes the lobe controls (docs/controls.md) on R, TT, TRT and the residual: a
+// gain of 0 on every one of them leaves only the medulla's light, darker than the whole.
+TEST(RenderCli, FurTakesTheLobeControls) {
+    const std::string base = "--integrator single --scene fur --fur-hairs 400 --width 24 --height 18 --spp 2 --model fur"
+                             " --kappa 0.6 --medulla-sigma-s 10";
+    const Outcome whole = run(base + " -o " + out_base("fur_controls_whole"));
+    const Outcome medulla_only =
+        run(base + " --gain-r 0 --gain-tt 0 --gain-trt 0 --gain-res 0 -o " + out_base("fur_controls_s"));
+    for (const Outcome* r : {&whole, &medulla_only}) {
+        EXPECT_EQ(r->status, 0) << r->output;
+        EXPECT_NE(r->output.find(" dropped=0 nonfinite_pixels=0 "), std::string::npos) << r->output;
+    }
+    const double w = mean_hair_red(whole.output), s = mean_hair_red(medulla_only.output);
+    EXPECT_GT(s, 0.0) << medulla_only.output;
+    EXPECT_LT(s, w) << medulla_only.output;
+}
+
 // The EXR and the PNG of one render carry the summary's pair_id (docs: each file is atomic
 // alone; the id tells whether two files belong together).
 TEST(RenderCli, TheImagePairCarriesTheSummarysId) {

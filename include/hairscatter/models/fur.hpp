@@ -111,15 +111,49 @@ template <typename T> const FurControls<T>& validated(const FurControls<T>& c) {
 }
 
 // The medulla-scattered lobe's tables: per bin of |θo|, the azimuthal density of the
-// scattered light's exit over |φ| (relative azimuth, symmetric) and the fraction of the
-// light scattered in the medulla that leaves the fibre, per channel (the rest is absorbed on
-// its way out). Trivially copyable.
+// scattered light's exit over |φ| (relative azimuth, symmetric), its longitudinal density
+// over sin θi (two numbers, below) and the fraction of the light scattered in the medulla
+// that leaves the fibre, per channel (the rest is absorbed on its way out). Trivially
+// copyable.
+//
+// The longitudinal density per unit sin θi, with x = sin θi · sign(sin θo):
+//   q(x) = (1 + b x) · (w/2 + (1 − w)(2/π)√(1 − x²)),
+// a mix of the uniform density of light that leaves after one isotropic scattering (no
+// memory of its direction: uniform over the sphere, so uniform in sin θi) and the cos θi law
+// of light diffused by a dense medulla (the far-field exit of a diffusely lit cylinder),
+// skewed by b toward −sin θo (forward scattering, g > 0, keeps the light's inclination).
+// w ∈ [0, 1] and b ∈ [−1, 1] match the simulated exits' E[x²] and E[x].
 template <typename T> struct MedullaTables {
     static constexpr int kThetaBins = 6;   // |θo| in [0, π/2), equal widths
     static constexpr int kPhiBins = 32;    // |φ| in [0, π], equal widths
     T density[kThetaBins][kPhiBins];       // q(|φ|), ∫_0^π q = 1 (N_s(φ) = q(|φ|) / 2)
     T cdf[kThetaBins][kPhiBins + 1];       // its integral at the bins' edges (0 … 1)
     T escape[kThetaBins][3];               // a_esc per channel, in [0, 1]
+    T longitudinal[kThetaBins][2];         // w ∈ [0, 1] and b ∈ [−1, 1] of q(x)
+
+    // q(x) for the bin t and the sign of sin θo, per unit sin θi (x = sin θi here).
+    HAIRSCATTER_HD T longitudinal_pdf(int t, T sin_o, T sin_i, T cos_i) const {
+        const T w = longitudinal[t][0], b = sin_o < T(0) ? -longitudinal[t][1] : longitudinal[t][1];
+        return (T(1) + b * sin_i) * (T(0.5) * w + (T(1) - w) * T(2) * kInvPi<T> * cos_i);
+    }
+    // sin θi drawn from q: the component by u1 (uniform: |x| = u1/w; the cos θi law: the
+    // x coordinate of a uniform point on a quarter disk, from the rest of u1 and u2), then
+    // the sign + with probability (1 + b|x|)/2 by u3 — q(x) = (1 + bx) · symmetric(x) exactly.
+    HAIRSCATTER_HD T sample_longitudinal(int t, T sin_o, T u1, T u2, T u3) const {
+        const T w = longitudinal[t][0], b = sin_o < T(0) ? -longitudinal[t][1] : longitudinal[t][1];
+        T a;
+        if (u1 < w) {
+            a = u1 / w;
+        } else {
+            const T rest = T(1) - w;
+            const T v = rest > T(0) ? clamp((u1 - w) / rest, T(0), T(1)) : T(0);
+            T s, c;
+            elem::sincos(kHalfPi<T> * u2, s, c);
+            a = safe_sqrt(v) * c;
+        }
+        a = clamp(a, T(0), T(1));
+        return u3 < T(0.5) * (T(1) + b * a) ? a : -a;
+    }
 
     HAIRSCATTER_HD static int theta_bin(T abs_sin_o) {
         const T theta = elem::asin(clamp(abs_sin_o, T(0), T(1)));
@@ -258,14 +292,15 @@ inline glm::dvec3 fur_scatter(const glm::dvec3& d, double g, double u1, double u
 // h (only where its refracted chord meets the medulla), is carried unscattered with the
 // analytic weights of medulla_chord until it first scatters, then random-walks through the
 // medulla and the cortex (smooth boundary, Fresnel by choice) until it leaves. Per exit: the
-// relative azimuth, weighted by the lossless weight (the shape) and per channel the weight
-// at exit and at the first scattering (the escape fraction).
+// relative azimuth and sin θi, weighted by the exit's energy, the channels' mean (the shape:
+// N_S's Fourier series and q's moments), and per channel the weight at exit and at the first
+// scattering (the escape fraction).
 inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int bin, MedullaTables<double>& tab) {
     const double eta = p.cortex.eta, sin_o = std::sin(theta_o), cos_o = std::cos(theta_o);
     const double eta_p = std::sqrt(eta * eta - sin_o * sin_o) / cos_o;  // Bravais' η' (docs/theory.md §3.1)
     const double h_max = std::min(1.0, p.kappa * eta_p);
     FurRng rng(static_cast<std::uint64_t>(0x5EEDF00Du) + static_cast<std::uint64_t>(bin));
-    double fourier[kFurFourierTerms + 1] = {}, at_exit[3] = {}, at_first[3] = {};
+    double fourier[kFurFourierTerms + 1] = {}, at_exit[3] = {}, at_first[3] = {}, moment[2] = {};
     long long events = 0;
     int paths = 0;
     const glm::dvec3 d_in(-sin_o, 0, -cos_o);
@@ -353,11 +388,16 @@ inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int
                 dir -= 2 * cos_i * n;
                 continue;
             }
-            // Leaves: refracted out; only its azimuth is kept.
+            // Leaves: refracted out; its azimuth and the moments of sin θi are kept.
             const double ct_out = std::sqrt(std::max(0.0, 1 - eta * eta * (1 - cos_i * cos_i)));
-            const glm::dvec3 out = eta * dir + (ct_out - eta * cos_i) * n;
+            const glm::dvec3 out = glm::normalize(eta * dir + (ct_out - eta * cos_i) * n);
             const double phi = std::fabs(wrap_pi(std::atan2(out.z, out.y) - kHalfPi<double>));
-            for (int k = 0; k <= kFurFourierTerms; ++k) fourier[k] += w0 * std::cos(k * phi);
+            // Weighted by the exit's energy, the mean over the channels (w0 when lossless):
+            // absorption favours the light that leaves early, and the shape follows it.
+            const double we = (w[0] + w[1] + w[2]) / 3;
+            for (int k = 0; k <= kFurFourierTerms; ++k) fourier[k] += we * std::cos(k * phi);
+            moment[0] += we * out.x;
+            moment[1] += we * out.x * out.x;
             for (int c = 0; c < 3; ++c) {
                 at_exit[c] += w[c];
                 at_first[c] += first[c];
@@ -385,6 +425,12 @@ inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int
         tab.density[bin][k] = mass[k] / (total * width);
         tab.cdf[bin][k + 1] = k + 1 < MedullaTables<double>::kPhiBins ? tab.cdf[bin][k] + mass[k] / total : 1.0;
     }
+    // q(x)'s w and b from E[x²] and E[x] (x = sin θi; sin θo > 0 here): the uniform part has
+    // E[x²] = 1/3, the cos θi law 1/4; (1 + bx) adds b·E_sym[x²] to E[x].
+    const double e1 = fourier[0] > 0 ? moment[0] / fourier[0] : 0, e2 = fourier[0] > 0 ? moment[1] / fourier[0] : 0.25;
+    const double w_uniform = clamp(12 * e2 - 3, 0.0, 1.0);
+    tab.longitudinal[bin][0] = w_uniform;
+    tab.longitudinal[bin][1] = clamp(e1 / (w_uniform / 3 + (1 - w_uniform) / 4), -1.0, 1.0);
     for (int c = 0; c < 3; ++c) {
         const bool lossless = p.cortex.sigma_a[c] == 0 && p.sigma_a_medulla[c] == 0;  // exactly 1 by construction
         tab.escape[bin][c] = lossless || !(at_first[c] > 0) ? 1.0 : std::min(1.0, at_exit[c] / at_first[c]);
@@ -413,12 +459,15 @@ template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& 
         }
         d.cdf[t][kPhi] = 1;
         for (int c = 0; c < 3; ++c) d.escape[t][c] = 1;
+        d.longitudinal[t][0] = 0;  // (no scattered light: the cos θi law, as before tables had a shape)
+        d.longitudinal[t][1] = 0;
     }
     MedullaTables<T> r;
     for (int t = 0; t < kTheta; ++t) {
         for (int k = 0; k < kPhi; ++k) r.density[t][k] = T(d.density[t][k]);
         for (int k = 0; k <= kPhi; ++k) r.cdf[t][k] = T(d.cdf[t][k]);
         for (int c = 0; c < 3; ++c) r.escape[t][c] = T(d.escape[t][c]);
+        for (int k = 0; k < 2; ++k) r.longitudinal[t][k] = T(d.longitudinal[t][k]);
     }
     return r;
 }
@@ -450,7 +499,7 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
     // time: "HSFT", the version, the tables' sizes, the parameters they depend on (η and
     // σa^c of the cortex, κ, σs^m, σa^m, g), the tables as doubles and an FNV-1a checksum
     // of everything before it. A float material's tables come back bit for bit.
-    static constexpr std::uint32_t kFileVersion = 1;
+    static constexpr std::uint32_t kFileVersion = 2;
     void save(const std::string& path) const {
         std::vector<unsigned char> buf;
         detail::put_bytes(buf, "HSFT", 4);
@@ -480,7 +529,7 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
         std::ifstream f(path, std::ios::binary);
         if (!f) HAIRSCATTER_THROW(std::runtime_error("hairscatter: cannot open fur medulla tables '" + path + "'"));
         constexpr int kTheta = MedullaTables<T>::kThetaBins, kPhi = MedullaTables<T>::kPhiBins;
-        constexpr std::size_t kParams = 10, kValues = std::size_t(kTheta) * (2 * kPhi + 1 + 3);
+        constexpr std::size_t kParams = 10, kValues = std::size_t(kTheta) * (2 * kPhi + 1 + 3 + 2);
         constexpr std::size_t kExpected = 4 + 3 * 4 + (kParams + kValues) * 8 + 8;
         // One byte more than a valid file holds: a longer file (or pipe) is seen as such.
         std::vector<unsigned char> buf(kExpected + 1);
@@ -551,6 +600,8 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
             for (int k = 0; k < kPhi; ++k) f(tab.density[t][k], 0.0, max_density, "a density value");
             for (int k = 0; k <= kPhi; ++k) f(tab.cdf[t][k], 0.0, 1.0, "a cdf value");
             for (int c = 0; c < 3; ++c) f(tab.escape[t][c], 0.0, 1.0, "an escape fraction");
+            f(tab.longitudinal[t][0], 0.0, 1.0, "a longitudinal mix");
+            f(tab.longitudinal[t][1], -1.0, 1.0, "a longitudinal skew");
         }
     }
 
@@ -566,14 +617,14 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
 // One fur fibre hit at offset h ∈ [-1, 1], behind the contract (models/contract.hpp), with
 // ChiangFiber's conventions. Lobes: R, TT, TRT and the residual (Chiang et al. 2016 with the
 // medulla's extinction in every chord), and S, the light scattered in the medulla:
-//   f_S = E_S(wo, h) · (2/π) cosθi · N_S(φ; θo)
+//   f_S = E_S(wo, h) · q(sinθi; θo) · N_S(φ; θo)
 // with E_S = (1 − F) first / (1 − T F) · a_esc: every pass's light that first scatters in the
 // medulla, times the fraction that then leaves (MedullaTables). For σa^c = σa^m = 0,
 // Σ_p A_p + E_S = 1 exactly (the extinction removes from the unscattered lobes what S
-// gains). The longitudinal factor (2/π) cosθi per unit sinθi is the far-field exit of a
-// diffusely lit cylinder; it does not depend on θo (the reference shows no memory of it).
-// sample: u.x picks the lobe ∝ its energy (channel sum), S is drawn exactly: sinθi as the
-// x coordinate of a uniform point on the unit disk (u.y, u.z), φ from its table (u.w).
+// gains). q, per unit sinθi, mixes the uniform exit of singly scattered light with the cos θi
+// law of diffused light, skewed for g ≠ 0 (MedullaTables). sample: u.x picks the lobe ∝ its
+// energy (channel sum), S is drawn exactly: sinθi from q (u.y, u.z and u.x's leftover), φ
+// from its table (u.w).
 // kLobes is 3: lobe_split and sample report S together with the residual.
 template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
   public:
@@ -626,7 +677,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         if (!unit_directions(wo, wi)) return V3(T(0));
         const Outgoing o = outgoing<false>(wo);
         const T sin_i = clamp(wi.x, T(-1), T(1));
-        return scattered_density(o, cos_from_sin(sin_i), relative_azimuth(wo, wi)) * V3(o.a[kS][0], o.a[kS][1], o.a[kS][2]);
+        return scattered_density(o, sin_i, cos_from_sin(sin_i), relative_azimuth(wo, wi)) * V3(o.a[kS][0], o.a[kS][1], o.a[kS][2]);
     }
 
   private:
@@ -642,6 +693,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         T sin_p[std::size_t(kLobes + 1)], cos_p[std::size_t(kLobes + 1)];  // θo tilted per lobe
         T phi_p[std::size_t(kLobes)];          // Φ(p, h), wrapped
         int theta_bin;
+        T sin_o;
     };
 
     HAIRSCATTER_HD V3 albedo_from(const Outgoing& o) const {
@@ -664,6 +716,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         for (int p = 0; p <= kLobes; ++p)
             for (int c = 0; c < 3; ++c) o.a[p][c] = att[p][c];
         o.theta_bin = MedullaTables<T>::theta_bin(abs_value(sin_o));
+        o.sin_o = sin_o;
         for (int c = 0; c < 3; ++c) {
             // Σ_k (1 − F)(T F)^(k−1) first: the light that first scatters on pass k, over k
             // (the floor as in attenuation_channels: 1 − T F = 0 only where 1 − F = 0).
@@ -696,11 +749,12 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             const T m = mat_->longitudinal(p).eval(sin_i, cos_i, o.sin_p[p], o.cos_p[p]);
             mn[p] = m * (p < kLobes ? azimuthal_logistic(mat_->azimuthal(), phi, o.phi_p[p]) : kInvTwoPi<T>);
         }
-        mn[kS] = scattered_density(o, cos_i, phi);
+        mn[kS] = scattered_density(o, sin_i, cos_i, phi);
     }
-    // S's density per steradian: (2/π) cosθi per unit sinθi times N_S(φ).
-    HAIRSCATTER_HD T scattered_density(const Outgoing& o, T cos_i, T phi) const {
-        return T(2) * kInvPi<T> * cos_i * mat_->medulla().azimuthal_pdf(o.theta_bin, phi);
+    // S's density per steradian: q(sin θi) per unit sin θi times N_S(φ).
+    HAIRSCATTER_HD T scattered_density(const Outgoing& o, T sin_i, T cos_i, T phi) const {
+        const MedullaTables<T>& m = mat_->medulla();
+        return m.longitudinal_pdf(o.theta_bin, o.sin_o, sin_i, cos_i) * m.azimuthal_pdf(o.theta_bin, phi);
     }
 
     template <bool kF, bool kPdf>
@@ -725,13 +779,12 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
     }
 
     HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
-        const int p = sample_discrete(o.w, kS + 1, u.x, o.w_total).index;
+        const DiscreteChoice<T> choice = sample_discrete(o.w, kS + 1, u.x, o.w_total);
+        const int p = choice.index;
         T sin_i, phi;
         if (p == kS) {
-            // The disk's x coordinate has the density (2/π)√(1 − x²): the lobe's in sinθi.
-            T s, c;
-            elem::sincos(kTwoPi<T> * u.z, s, c);
-            sin_i = clamp(safe_sqrt(u.y) * c, T(-1), T(1));
+            // q(sin θi) from u.y, u.z and the lobe choice's leftover, φ from its table (u.w).
+            sin_i = mat_->medulla().sample_longitudinal(o.theta_bin, o.sin_o, u.y, u.z, choice.rescaled);
             phi = mat_->medulla().sample_azimuth(o.theta_bin, u.w);
         } else {
             sin_i = mat_->longitudinal(p).sample_sin_theta(o.sin_p[p], o.cos_p[p], u.y, u.z);
