@@ -135,14 +135,14 @@ class TwoStreamIntegrator final : public PixelIntegrator {
     // The share of L(s) that reaches the stack's far face along s (hs::dual_source_gain):
     // the fibers from the face `from` along s, up to the first surface at t_surface from the
     // shading point p (kInf: none).
-    vec3 source_gain(const vec3& from, const vec3& p, const vec3& s, const vec3& s_local, float t_surface,
-                     Sampler& rng) const {
+    vec3 source_gain(const vec3& from, const vec3& p, const vec3& s, const vec3& s_local,
+                     float t_surface, Sampler& rng) const {
         const float tmax = std::isfinite(t_surface) ? std::max(t_surface - glm::dot(from - p, s), 0.0f) : kInf;
         if (!(tmax > 0)) return vec3(1);
         const hs::DualScatteringEntry<float> entry = tables_.lookup(s_local.x);
-        const std::uint32_t limit = c_.shading.options().counts == DualCounts::kExact
-                                        ? std::uint32_t(std::ceil(hs::dual_count_limit(entry, 1e-3f)))
-                                        : 0xffffffffu;
+        const DualCounts counts = c_.shading.options().counts;
+        const std::uint32_t limit =
+            counts == DualCounts::kExact ? std::uint32_t(std::ceil(hs::dual_count_limit(entry, 1e-3f))) : 0xffffffffu;
         const Stack k = fibers(from, s, tmax, kNoStrand, limit, false, false, rng);
         return hs::dual_source_gain(entry, k.n);
     }
