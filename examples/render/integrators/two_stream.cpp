@@ -96,8 +96,8 @@ class TwoStreamIntegrator final : public PixelIntegrator {
     // The fibers along d from o up to `tmax` (kInf: unbounded): counted on the hair up to
     // `limit` (past which the stacks no longer change); a Poisson draw from the grid's
     // expectation given that a ray found hair; or a Poisson draw from the count field's
-    // expectation (a lookup; given found_hair, at least 1). found_hair: a ray along d already
-    // found hair (field counts: the count is then ≥ 1). With want_end, where the stack ends:
+    // expectation (a lookup). found_hair: a ray along d already found hair, so the count is at
+    // least 1 (without it, grid counts cast that ray themselves). With want_end, where the stack ends:
     // the last fiber's hit (exact counts) or where less than half a fiber remains expected
     // (hs::dual_stack_end on the grid or the field).
     Stack fibers(const vec3& o, const vec3& d, float tmax, std::uint32_t ignore, std::uint32_t limit, bool found_hair,
@@ -110,7 +110,7 @@ class TwoStreamIntegrator final : public PixelIntegrator {
                 return st;
             case DualCounts::kGrid: {
                 const float u = rng.u();
-                if (!c_.scene.hair_occluded(o, d, tmax, ignore)) return st;
+                if (!found_hair && !c_.scene.hair_occluded(o, d, tmax, ignore)) return st;
                 const hs::DensityGridView<float> grid = c_.shading.grid()->view();
                 st.n = hs::poisson_fiber_count(grid.fibers_crossed(o, d, bound), u, true);
                 if (want_end && st.n > 0) st.end = stack_end(o, d, tmax);
@@ -182,19 +182,18 @@ class TwoStreamIntegrator final : public PixelIntegrator {
             }
         }
 
-        // One arrival direction from the fiber's sampler.
+        // One arrival direction from the fiber's sampler. The first thing along it is one ray:
+        // where that is not hair the direction is open and sees the source itself; only
+        // behind hair are the surfaces traced on their own (for the counts' bound) and the
+        // fibers counted or looked up (a blocked ray has at least one fiber). The same ray
+        // sees the hair as the light sample's shadow ray does, so that the two halves of the
+        // direct light see the same hair.
         const hs::HairSample<float> s = bound.sample(rng.u4());
         if (!(s.pdf > 0)) return L;
         const vec3 a = sp.to_world(s.wi);
+        const Hit first = scene.intersect(sp.p, a, kInf, sp.strand);
+        if (first.kind != Hit::kHair) return L + s.weight * at_hit(first, a, depth + 1, s.pdf, rng);
         const Hit source = scene.intersect_opaque(sp.p, a, kInf);
-        const bool field = c_.shading.options().counts == DualCounts::kField;
-        if (field) {
-            // Field counts: whether any fiber is in the way is one any-hit ray through the hair
-            // (exact, as the light sample's shadow ray, so that the two halves of the direct
-            // light see the same hair); the counts are lookups.
-            if (!scene.hair_occluded(sp.p, a, source.kind == Hit::kMiss ? kInf : source.t, sp.strand))
-                return L + s.weight * at_hit(source, a, depth + 1, s.pdf, rng);
-        }
         const hs::DualScatteringEntry<float> entry = tables_.lookup(s.wi.x);
         // Exact counts stop past a depth where T_N < 1e-3 and R_N is within 1e-3 of R_∞ (more
         // fibers change nothing); grid counts cost the same at any depth.
@@ -207,18 +206,21 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         const Stack n = fibers(sp.p, a, t_source, sp.strand, limit, true, beyond, rng);
         if (n.n == 0) return L + s.weight * at_hit(source, a, depth + 1, s.pdf, rng);
 
-        const Hit behind = scene.intersect_opaque(sp.p, -a, kInf);
-        const float t_behind = behind.kind == Hit::kMiss ? kInf : behind.t;
-        // Field counts: whether hair lies behind the point is an any-hit ray too, as along a.
-        // The field spreads the hair's faces over a lattice spacing, so at a point on a face
-        // (where the camera and the light see hair) a lookup expects about half a fiber
-        // outside the face; a fiber drawn there takes T_m of the light that the face's own
-        // side sends back in (dense blond blocks and the scalp 7-10 % too dark; see
-        // docs/dual.md). The far stack's end is found only when a source direction needs it
-        // (exact counts find it with the count, at no extra cost).
+        // Behind the point, along −a, the same: hair first, or no fibers there. (With field
+        // counts this matters beyond the ray's cost: the field spreads the hair's faces over a
+        // lattice spacing, so at a point on a face a lookup alone expects about half a fiber
+        // outside it, and a fiber drawn there takes T_m of the light the face's own side sends
+        // back in: dense blond blocks and the scalp were 7–11 % too dark; docs/dual.md.) The far
+        // stack's end is found only when a source direction needs it (exact counts find it with
+        // the count, at no extra cost).
+        const Hit first_behind = scene.intersect(sp.p, -a, kInf, sp.strand);
+        float t_behind = first_behind.kind == Hit::kMiss ? kInf : first_behind.t;
         Stack m;
-        if (!field || scene.hair_occluded(sp.p, -a, t_behind, sp.strand))
-            m = fibers(sp.p, -a, t_behind, sp.strand, limit, field, beyond && exact, rng);
+        if (first_behind.kind == Hit::kHair) {
+            const Hit behind = scene.intersect_opaque(sp.p, -a, kInf);
+            t_behind = behind.kind == Hit::kMiss ? kInf : behind.t;
+            m = fibers(sp.p, -a, t_behind, sp.strand, limit, true, beyond && exact, rng);
+        }
         bool m_end_known = !beyond || exact || m.n == 0;
         const hs::DualSourceKernel<float> kernel(s.wi, hs::dual_streams(entry, n.n, m.n));
         // Sources beyond the exits (the default): light from s enters the stack on a's side
