@@ -39,6 +39,7 @@ namespace hs = hairscatter;
     template class hs::FiberModel<hs::TabulatedFiber<T>, T>;                    \
     template class hs::BoundFiber<hs::TabulatedFiber<T>>;                       \
     template class hs::DualScatteringTables<T>;                                 \
+    template class hs::SpectralDualTables<T>;                                   \
     template class hs::DualScatteringBcsdf<hs::ChiangFiber<T>>;                 \
     template class hs::DualScatteringBcsdf<hs::TabulatedFiber<T>>;              \
     template class hs::DensityGrid<T>;                                          \
