@@ -209,10 +209,7 @@ template <typename T, int N = 3, LobeSet kKept = LobeSet::kAll> class BasicChian
 template <typename T, int N, LobeSet kKept> class BasicChiangSpectralFiber<T, N, kKept>::Bound {
   public:
     HAIRSCATTER_HD Bound(const BasicChiangSpectralFiber& fiber, const V3& wo)
-        : fiber_(fiber), wo_(wo), valid_(unit_direction(wo_)) {
-        if (!valid_) wo_ = V3(T(0), T(1), T(0));  // a valid direction to bind instead
-        o_ = fiber_.template outgoing<true>(wo_);
-    }
+        : fiber_(fiber), wo_(wo), valid_(unit_or_stand_in(wo_)), o_(fiber.template outgoing<true>(wo_)) {}
     HAIRSCATTER_HD Values eval(V3 wi) const {
         if (!(valid_ && unit_direction(wi))) return Values::filled(T(0));
         return fiber_.template query<true, false>(o_, wo_, wi).f;
@@ -234,6 +231,14 @@ template <typename T, int N, LobeSet kKept> class BasicChiangSpectralFiber<T, N,
     HAIRSCATTER_HD bool valid() const { return valid_; }
 
   private:
+    // w made unit in place, or (non-finite or zero) replaced by a valid direction to bind
+    // instead, the object then empty.
+    static HAIRSCATTER_HD bool unit_or_stand_in(V3& w) {
+        if (unit_direction(w)) return true;
+        w = V3(T(0), T(1), T(0));
+        return false;
+    }
+
     BasicChiangSpectralFiber fiber_;
     V3 wo_;
     bool valid_;
