@@ -37,9 +37,8 @@ template <typename T, int N> struct SpectralValues {
 template <typename T> inline constexpr T kMinWavelength = T(360);
 template <typename T> inline constexpr T kMaxWavelength = T(830);
 
-// The absorption coefficients of the two melanins in mm⁻¹ at wavelength λ in nm, Donner &
-// Jensen 2006 ("A Spectral BSSRDF for Shading Human Skin", EGSR, §4: their power-law fits
-// to melanosome absorption, used for hair by d'Eon et al. 2011):
+// The absorption coefficients of the two melanins in mm⁻¹ at wavelength λ in nm, the
+// power laws of Donner & Jensen 2006 ("A Spectral BSSRDF for Shading Human Skin"):
 //   σa,e(λ) = 6.6·10¹⁰ λ^-3.33 mm⁻¹ (eumelanin),  σa,p(λ) = 2.9·10¹⁴ λ^-4.75 mm⁻¹ (pheomelanin).
 // No range check (wavelength_in_range / validate_wavelengths are the checks).
 template <typename T> HAIRSCATTER_HD T eumelanin_absorption_per_mm(T lambda_nm) {
