@@ -303,6 +303,14 @@ template <typename T, int N> void expect_finite_sweep() {
     EXPECT_EQ(fiber.eval(wo, bad_w)[0], T(0));
     EXPECT_EQ(fiber.sample(wo, glm::vec<4, T>(nan)).lobe, hs::SampledLobe::kNone);
     EXPECT_FALSE(fiber.at(bad_w).valid());
+    // σa below 0 or not finite is taken as 0 (the lower end, as FiberParamBounds::clamp).
+    const T inf = std::numeric_limits<T>::infinity();
+    hs::SpectralValues<T, N> odd = hs::SpectralValues<T, N>::filled(T(0));
+    for (int c = 0; c < N; ++c) odd[c] = c % 4 == 0 ? nan : (c % 4 == 1 ? T(-1) : (c % 4 == 2 ? inf : -inf));
+    const hs::ChiangSpectralFiber<T, N> clamped(mat, T(0.2), odd),
+        zero(mat, T(0.2), hs::SpectralValues<T, N>::filled(T(0)));
+    const auto wi = dir<T>(-0.4, 2.5);
+    for (int c = 0; c < N; ++c) EXPECT_EQ(clamped.eval(wo, wi)[c], zero.eval(wo, wi)[c]) << c;
     EXPECT_EQ(fiber.at(bad_w).sample(glm::vec<4, T>(T(0.5))).pdf, T(0));
 }
 

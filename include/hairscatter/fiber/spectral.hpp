@@ -120,11 +120,12 @@ SpectralValues<T, N> spectral_sigma_a(const MelaninConcentrations<T>& c, const S
 
 // Per hit, on the host or the device (textured concentrations, a renderer's sampled
 // wavelengths): no checks and no exceptions. Concentrations are clamped to [0, max] and
-// wavelengths into [360, 830] nm, NaN to the lower end (as clamped_params does).
+// wavelengths into [360, 830] nm, NaN and ±Inf to the lower end (as clamped_params does).
 template <typename T, int N>
 HAIRSCATTER_HD SpectralValues<T, N> clamped_spectral_sigma_a(const MelaninConcentrations<T>& c,
                                                               const SpectralValues<T, N>& lambda_nm) {
-    auto into = [](T x, T lo, T hi) { return x > hi ? hi : (x >= lo ? x : lo); };  // (NaN → lo)
+    // (NaN and ±Inf, read from the bits so that -ffast-math keeps the rule, → lo)
+    auto into = [](T x, T lo, T hi) { return is_finite(x) ? (x > hi ? hi : (x >= lo ? x : lo)) : lo; };
     const T ce = into(c.eumelanin, T(0), kMaxFinite<T>), cp = into(c.pheomelanin, T(0), kMaxFinite<T>);
     SpectralValues<T, N> r;
     for (int k = 0; k < N; ++k)

@@ -61,10 +61,12 @@ template <typename T, int N = 3, LobeSet kKept = LobeSet::kAll> class BasicChian
     static constexpr int kChannels = N;
     static constexpr int kLobes = Material::kLobes;
 
-    // Cheap, device-callable: h is clamped into [-1, 1]; σa below 0 or NaN is taken as 0.
+    // Cheap, device-callable: h is clamped into [-1, 1]; σa below 0 or not finite is taken
+    // as 0 (the lower end, as FiberParamBounds::clamp does: σa must be finite).
     HAIRSCATTER_HD BasicChiangSpectralFiber(const Material& material, T h, const Values& sigma_a) : geo_(material, h) {
         for (int c = 0; c < kStored; ++c) sigma_a_[c] = T(0);  // the padding: 0, so T = 1
-        for (int c = 0; c < N; ++c) sigma_a_[c] = sigma_a[c] > T(0) ? sigma_a[c] : T(0);
+        // (finiteness from the bits: under -ffast-math a NaN compares either way)
+        for (int c = 0; c < N; ++c) sigma_a_[c] = is_finite(sigma_a[c]) && sigma_a[c] > T(0) ? sigma_a[c] : T(0);
     }
     BasicChiangSpectralFiber(const Material&&, T, const Values&) = delete;
 
