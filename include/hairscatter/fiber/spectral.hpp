@@ -37,21 +37,30 @@ template <typename T, int N> struct SpectralValues {
 template <typename T> inline constexpr T kMinWavelength = T(360);
 template <typename T> inline constexpr T kMaxWavelength = T(830);
 
+namespace detail {
+// The two power laws from ln λ, which they share: e^(ln k - m ln λ) (pow's float overload is
+// not on every device compiler's list, and k λ^-m stays well inside the float range this way).
+template <typename T> HAIRSCATTER_HD T eumelanin_absorption_from_log(T ln_lambda) {
+    using std::exp;
+    return exp(T(24.912920578972837) - T(3.33) * ln_lambda);  // ln 6.6·10¹⁰
+}
+template <typename T> HAIRSCATTER_HD T pheomelanin_absorption_from_log(T ln_lambda) {
+    using std::exp;
+    return exp(T(33.300902038909065) - T(4.75) * ln_lambda);  // ln 2.9·10¹⁴
+}
+}  // namespace detail
+
 // The absorption coefficients of the two melanins in mm⁻¹ at wavelength λ in nm, the
 // power laws of Donner & Jensen 2006 ("A Spectral BSSRDF for Shading Human Skin"):
 //   σa,e(λ) = 6.6·10¹⁰ λ^-3.33 mm⁻¹ (eumelanin),  σa,p(λ) = 2.9·10¹⁴ λ^-4.75 mm⁻¹ (pheomelanin).
 // No range check (wavelength_in_range / validate_wavelengths are the checks).
 template <typename T> HAIRSCATTER_HD T eumelanin_absorption_per_mm(T lambda_nm) {
     using std::log;
-    using std::exp;
-    // e^(ln k - 3.33 ln λ): pow's float overload is not on every device compiler's list,
-    // and 6.6·10¹⁰ λ^-3.33 stays well inside the float range this way.
-    return exp(T(24.912920578972837) - T(3.33) * log(lambda_nm));  // ln 6.6·10¹⁰
+    return detail::eumelanin_absorption_from_log(log(lambda_nm));
 }
 template <typename T> HAIRSCATTER_HD T pheomelanin_absorption_per_mm(T lambda_nm) {
     using std::log;
-    using std::exp;
-    return exp(T(33.300902038909065) - T(4.75) * log(lambda_nm));  // ln 2.9·10¹⁴
+    return detail::pheomelanin_absorption_from_log(log(lambda_nm));
 }
 
 // The library's concentrations (sigma_a_from_concentrations: σa per unit fiber radius,
@@ -82,8 +91,10 @@ template <typename T> HAIRSCATTER_HD bool wavelength_in_range(T lambda_nm) {
 // caller keeps λ in range and the concentrations non-negative (clamped_spectral_sigma_a
 // does it per hit, spectral_sigma_a checks on the host).
 template <typename T> HAIRSCATTER_HD T sigma_a_from_concentrations_at(T eumelanin, T pheomelanin, T lambda_nm) {
-    return kMelaninUnitLength<T> *
-           (eumelanin * eumelanin_absorption_per_mm(lambda_nm) + pheomelanin * pheomelanin_absorption_per_mm(lambda_nm));
+    using std::log;
+    const T ln_lambda = log(lambda_nm);  // (one log for both pigments)
+    return kMelaninUnitLength<T> * (eumelanin * detail::eumelanin_absorption_from_log(ln_lambda) +
+                                    pheomelanin * detail::pheomelanin_absorption_from_log(ln_lambda));
 }
 
 // Empty when every wavelength lies in [360, 830] nm, else a message naming each bad one.
