@@ -6,6 +6,7 @@
 #include "hairscatter.hpp"
 #include "math/quadrature.hpp"
 #include "dual/tables.hpp"
+#include "dual/spectral_tables.hpp"
 #include "dual/bcsdf.hpp"
 #include "dual/two_stream.hpp"
 #include "dual/density.hpp"

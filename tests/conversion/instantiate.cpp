@@ -13,6 +13,10 @@ namespace hs = hairscatter;
     template class hs::BasicChiangFiber<T, hs::LobeSet::kR>;                    \
     template class hs::FiberModel<hs::ChiangFiber<T>, T>;                       \
     template class hs::BoundFiber<hs::ChiangFiber<T>>;                          \
+    template class hs::BasicChiangSpectralFiber<T, 3, hs::LobeSet::kAll>;       \
+    template class hs::BasicChiangSpectralFiber<T, 4, hs::LobeSet::kAll>;       \
+    template class hs::BasicChiangSpectralFiber<T, 5, hs::LobeSet::kR>;         \
+    template struct hs::SpectralValues<T, 4>;                                   \
     template class hs::DeonFarFieldMaterial<T>;                                 \
     template class hs::DeonFarFieldFiber<T>;                                    \
     template class hs::FiberModel<hs::DeonFarFieldFiber<T>, T>;                 \
@@ -35,6 +39,7 @@ namespace hs = hairscatter;
     template class hs::FiberModel<hs::TabulatedFiber<T>, T>;                    \
     template class hs::BoundFiber<hs::TabulatedFiber<T>>;                       \
     template class hs::DualScatteringTables<T>;                                 \
+    template class hs::SpectralDualTables<T>;                                   \
     template class hs::DualScatteringBcsdf<hs::ChiangFiber<T>>;                 \
     template class hs::DualScatteringBcsdf<hs::TabulatedFiber<T>>;              \
     template class hs::DensityGrid<T>;                                          \
@@ -54,3 +59,12 @@ template <typename T> void build_tables() {
 }
 template void build_tables<float>();
 template void build_tables<double>();
+
+// The spectral helpers a renderer calls.
+template <typename T> void spectral_inputs() {
+    const hs::SpectralValues<T, 4> l = hs::sample_uniform_wavelengths<T, 4>(T(0.3));
+    (void)hs::spectral_sigma_a(hs::MelaninConcentrations<T>{T(1), T(0)}, l);
+    (void)hs::clamped_spectral_sigma_a(hs::MelaninConcentrations<T>{T(1), T(0)}, l);
+}
+template void spectral_inputs<float>();
+template void spectral_inputs<double>();

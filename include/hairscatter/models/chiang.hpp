@@ -170,6 +170,9 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
   private:
     friend class FiberModel<BasicChiangFiber, T>;
     friend class BoundFiber<BasicChiangFiber>;
+    // The N-channel model (models/chiang_spectral.hpp) shares the geometry below: M_p, N_p,
+    // Φ and the lobe choice, written once here for any channel count.
+    template <typename, int, LobeSet> friend class BasicChiangSpectralFiber;
 
     // The kept lobes side by side: lane k holds lobe lane_lobe(kKept, k) (lobes/lobe_set.hpp).
     // The explicit lobes (R, TT, TRT) come first; the residual, if kept, is the last lane.
@@ -234,6 +237,20 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     }
     template <bool kEveryLane>
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE HairSample<T> sample_lobe(const Outgoing& o, const V3& wo, const V4& u) const {
+        const SampledDirection d = sample_direction<kEveryLane>(o, wo, u);
+        return make_sample(d.wi, lobe_tag(d.lobe), combine<true, true>(o, d.sin_i, d.cos_i, d.phi));
+    }
+
+    // A sampled wi: the lobe p drawn, wi, and the sinθi, cosθi and azimuth a query of wi reads.
+    struct SampledDirection {
+        V3 wi;
+        int lobe;
+        T sin_i, cos_i, phi;
+    };
+    // The lobe and direction of a sample from the wo terms o (any channel count: o holds the
+    // selection weights w, w_total, the conditioned M_p and Φ per lane).
+    template <bool kEveryLane, typename O>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE SampledDirection sample_direction(const O& o, const V3& wo, const V4& u) const {
         // Finite wo and u: checked by the callers, as in query.
         // The lane ∝ w (normalised). All-zero weights (an opaque fiber without R) pick
         // lane 0, a kept lobe. The same lane and θi either way.
@@ -271,7 +288,7 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         phi = wrap_pi(phi);
 
         const V3 wi = direction_from_azimuth(wo, sin_i, phi);
-        return make_sample(wi, lobe_tag(p), combine<true, true>(o, sin_i, cos_i, queried_azimuth(wo, wi, cos_i, phi)));
+        return {wi, p, sin_i, cos_i, queried_azimuth(wo, wi, cos_i, phi)};
     }
 
     // kW: also the lobe selection probabilities w (pdf and sample need them, eval not).
@@ -296,48 +313,78 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         } else {
             for (int c = 0; c < kCh; ++c) o.a[0][c] = fresnel;  // R alone: one lane
         }
-        mat_->template condition<kKept>(o.m, sin_o, cos_o);
-        // Φ(p, h) of every lane in one loop the compilers vectorise (select, not a branch).
-        for (int k = 0; k < kLanes; ++k)
-            o.phi_p[k] = select(k < kExplicit, exit_azimuth_wrapped(lane_lobe(kKept, k), gamma_o_, gamma_t), T(0));
+        outgoing_geometry(o, sin_o, cos_o, gamma_t);
         // The lobe controls, in this one place: f, the selection weights w, albedo and
         // lobe_split all read the scaled A_p, so sampling stays proportional to eval (the
         // per-lobe tilts are in the material's DeonLobes, which condition() rotates by).
         if (mat_->has_lobe_weights())
             for (int k = 0; k < kKeptLanes; ++k) elem::mul_each(o.a[k], mat_->lobe_weight_lanes(lane_lobe(kKept, k)));
-        if constexpr (kW) {
-            // w_p = Σ_c A_p,c: the normalisation is left to its two readers, so that no
-            // division stands between the wo terms and w. The pdf multiplies its sum by
-            // 1 / Σ_p w_p at the end, when the sum is ready (a division by the total first
-            // made the weights the last of the pdf's inputs); sampling compares the cumulative
-            // weights with u·Σ_p w_p. (w is built in a local array and written whole, once:
-            // writing it lane by lane and then rescaling it made GCC reload it as a vector
-            // from narrower stores, a store-forwarding stall on the sampling path.)
-            T w[std::size_t(kLanes)];
-            for (int k = 0; k < kLanes; ++k) w[k] = o.a[k][0] + o.a[k][1] + o.a[k][2];
-            T total = pairwise_sum<kLanes>(w);  // (a tree: the chain to the total is shorter)
-            // With R kept at a gain above 0, total ≥ gain F > 0. Otherwise every kept lobe can
-            // vanish (an opaque fiber, zero gains): then the total is 0, and so is the pdf. A
-            // subnormal total (gains near 1e-39) has no finite reciprocal (a fuzzer found the
-            // Inf and NaN weights it gave): its weights and total are scaled by 2^64, all
-            // exactly (sums of non-negative numbers below the smallest normal one are exact,
-            // so the scaled total is the sum of the scaled weights).
-            if (!(total >= kMinNormal<T>)) {
-                for (int k = 0; k < kLanes; ++k) w[k] *= T(18446744073709551616.0);
-                total *= T(18446744073709551616.0);
-            }
-            for (int k = 0; k < kLanes; ++k) o.w[k] = w[k];
-            o.w_total = total;
-            o.inv_w_total = total > T(0) ? T(1) / total : T(0);
-        }
+        if constexpr (kW) selection_weights<3>(o);
         return o;
     }
 
+    // M_p conditioned on θo and Φ(p, h) per lane: the wo terms that no channel changes.
+    template <typename O>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void outgoing_geometry(O& o, T sin_o, T cos_o, T gamma_t) const {
+        mat_->template condition<kKept>(o.m, sin_o, cos_o);
+        // Φ(p, h) of every lane in one loop the compilers vectorise (select, not a branch).
+        for (int k = 0; k < kLanes; ++k)
+            o.phi_p[k] = select(k < kExplicit, exit_azimuth_wrapped(lane_lobe(kKept, k), gamma_o_, gamma_t), T(0));
+    }
+
+    // The lobe selection weights of o's A_p (its first kColours channels: the padding is
+    // not colour), for pdf and sample.
+    template <int kColours, typename O> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE static void selection_weights(O& o) {
+        // w_p = Σ_c A_p,c: the normalisation is left to its two readers, so that no
+        // division stands between the wo terms and w. The pdf multiplies its sum by
+        // 1 / Σ_p w_p at the end, when the sum is ready (a division by the total first
+        // made the weights the last of the pdf's inputs); sampling compares the cumulative
+        // weights with u·Σ_p w_p. (w is built in a local array and written whole, once:
+        // writing it lane by lane and then rescaling it made GCC reload it as a vector
+        // from narrower stores, a store-forwarding stall on the sampling path.)
+        T w[std::size_t(kLanes)];
+        for (int k = 0; k < kLanes; ++k) {
+            w[k] = o.a[k][0];
+            for (int c = 1; c < kColours; ++c) w[k] += o.a[k][c];
+        }
+        T total = pairwise_sum<kLanes>(w);  // (a tree: the chain to the total is shorter)
+        // With R kept at a gain above 0, total ≥ gain F > 0. Otherwise every kept lobe can
+        // vanish (an opaque fiber, zero gains): then the total is 0, and so is the pdf. A
+        // subnormal total (gains near 1e-39) has no finite reciprocal (a fuzzer found the
+        // Inf and NaN weights it gave): its weights and total are scaled by 2^64, all
+        // exactly (sums of non-negative numbers below the smallest normal one are exact,
+        // so the scaled total is the sum of the scaled weights).
+        if (!(total >= kMinNormal<T>)) {
+            for (int k = 0; k < kLanes; ++k) w[k] *= T(18446744073709551616.0);
+            total *= T(18446744073709551616.0);
+        }
+        for (int k = 0; k < kLanes; ++k) o.w[k] = w[k];
+        o.w_total = total;
+        o.inv_w_total = total > T(0) ? T(1) / total : T(0);
+    }
+
     // f = Σ_p M_p A_p N_p and pdf = Σ_p M_p w_p N_p over the same lobe terms (kF, kPdf
-    // select which), every lane at once: the exponents of N_p and M_p go into one array
-    // whose exps are one vectorised loop in float, then the lanes are multiplied out.
+    // select which).
     template <bool kF, bool kPdf>
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE HairEvalPdf<T> combine(const Outgoing& o, T sin_i, T cos_i, T phi) const {
+        T mn[std::size_t(kLanes)];
+        lobe_densities(o, sin_i, cos_i, phi, mn);
+        HairEvalPdf<T> r;
+        if constexpr (kF) {
+            T f[kCh];
+            lobe_sum(o, mn, f);
+            r.f = rgb(f);
+        }
+        if constexpr (kPdf) r.pdf = selection_pdf(o, mn);
+        return r;
+    }
+
+    // M_p N_p of every lane at (sinθi, cosθi, φ), from the wo terms o (any channel count),
+    // every lane at once: the exponents of N_p and M_p go into one array whose exps are one
+    // vectorised loop in float, then the lanes are multiplied out.
+    template <typename O>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void lobe_densities(const O& o, T sin_i, T cos_i, T phi,
+                                                                T (&mn)[std::size_t(kLanes)]) const {
         using std::sqrt;
         const TrimmedLogistic<T>& n = mat_->azimuthal();
         constexpr int kM = kAzimuthal;  // where the M_p exponents start in e
@@ -350,7 +397,6 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         const T sqrt_cos_i = sqrt(cos_i);
         for (int k = 0; k < kLanes; ++k) o.m.terms(k, sin_i, cos_i, sqrt_cos_i, e[kM + k], m_factor[k]);
         elem::exp_each_nonpositive(e);  // (every exponent ≤ 0) in float whole vectors (math/elementary.hpp)
-        T mn[std::size_t(kLanes)];
         // The residual lumps all orders: uniform in φ. Where its lane's N is computed with
         // the others (float), by the same arithmetic, so that mn is written as one vector.
         // N's density e/(1 + e)² (times its scale) as one quotient with M in the numerator,
@@ -363,40 +409,41 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
             mn[k] = (m_factor[k] * e[kM + k]) * (e[k] * scale) / sqr(T(1) + e[k] * onto);
         }
         for (int k = kAzimuthal; k < kKeptLanes; ++k) mn[k] = m_factor[k] * e[kM + k] * kInvTwoPi<T>;
-        HairEvalPdf<T> r;
-        if constexpr (kF) {
-            T f[kCh] = {};  // each lane's channels one vector FMA
+    }
+
+    // f = Σ_p (M_p N_p) A_p per channel of o's C channels.
+    template <std::size_t C, typename O>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE static void lobe_sum(const O& o, const T (&mn)[std::size_t(kLanes)], T (&f)[C]) {
+        for (std::size_t c = 0; c < C; ++c) f[c] = T(0);  // each lane's channels one vector FMA
 #if HAIRSCATTER_HAS_VECTOR_EXT
-            if constexpr (std::is_same<T, float>::value && kCh == 4) {
-                // Spelled as vectors: at -O3 GCC split the loop below into pairs and singles.
-                using V = elem::detail::F32x4;
-                // A pairwise sum: two independent FMA chains, half as long as one.
-                V acc[2] = {elem::detail::splat<V>(0.0f), elem::detail::splat<V>(0.0f)};
-                HAIRSCATTER_UNROLL
-                for (int k = 0; k < kLanes; ++k) {
-                    V a;
-                    std::memcpy(&a, o.a[k], sizeof a);
-                    acc[k & 1] += mn[k] * a;
-                }
-                const V sum = acc[0] + acc[1];
-                std::memcpy(f, &sum, sizeof sum);
-            } else
-#endif
-            {
-                HAIRSCATTER_UNROLL
-                for (int k = 0; k < kLanes; ++k)
-                    for (int c = 0; c < kCh; ++c) f[c] += mn[k] * o.a[k][c];
+        if constexpr (std::is_same<T, float>::value && C == 4) {
+            // Spelled as vectors: at -O3 GCC split the loop below into pairs and singles.
+            using V = elem::detail::F32x4;
+            // A pairwise sum: two independent FMA chains, half as long as one.
+            V acc[2] = {elem::detail::splat<V>(0.0f), elem::detail::splat<V>(0.0f)};
+            HAIRSCATTER_UNROLL
+            for (int k = 0; k < kLanes; ++k) {
+                V a;
+                std::memcpy(&a, o.a[k], sizeof a);
+                acc[k & 1] += mn[k] * a;
             }
-            r.f = rgb(f);
+            const V sum = acc[0] + acc[1];
+            std::memcpy(f, &sum, sizeof sum);
+            return;
         }
-        if constexpr (kPdf) {
-            // Σ mn w as a tree (two dependent additions after the products instead of four),
-            // then normalised.
-            T terms[std::size_t(kLanes)];
-            for (int k = 0; k < kLanes; ++k) terms[k] = mn[k] * o.w[k];
-            r.pdf = pairwise_sum<kLanes>(terms) * o.inv_w_total;
-        }
-        return r;
+#endif
+        HAIRSCATTER_UNROLL
+        for (int k = 0; k < kLanes; ++k)
+            for (std::size_t c = 0; c < C; ++c) f[c] += mn[k] * o.a[k][c];
+    }
+
+    // pdf = Σ_p M_p N_p w_p / Σ_p w_p: as a tree (two dependent additions after the
+    // products instead of four), then normalised.
+    template <typename O>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE static T selection_pdf(const O& o, const T (&mn)[std::size_t(kLanes)]) {
+        T terms[std::size_t(kLanes)];
+        for (int k = 0; k < kLanes; ++k) terms[k] = mn[k] * o.w[k];
+        return pairwise_sum<kLanes>(terms) * o.inv_w_total;
     }
 
     const Material* mat_;
