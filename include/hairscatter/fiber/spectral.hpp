@@ -50,9 +50,12 @@ template <typename T> HAIRSCATTER_HD T pheomelanin_absorption_from_log(T ln_lamb
 }
 }  // namespace detail
 
-// The absorption coefficients of the two melanins in mm⁻¹ at wavelength λ in nm, the
-// power laws of Donner & Jensen 2006 ("A Spectral BSSRDF for Shading Human Skin"):
+// The absorption coefficients of the two melanins in mm⁻¹ at wavelength λ in nm: Jacques'
+// power-law fits for melanosomes, 6.6·10¹¹ λ^-3.33 and 2.9·10¹⁵ λ^-4.75 per cm, as Donner &
+// Jensen 2006 ("A Spectral BSSRDF for Shading Human Skin") use them:
 //   σa,e(λ) = 6.6·10¹⁰ λ^-3.33 mm⁻¹ (eumelanin),  σa,p(λ) = 2.9·10¹⁴ λ^-4.75 mm⁻¹ (pheomelanin).
+// Only their ratio enters σa (sigma_a_from_concentrations_at fits its length to the RGB
+// coefficients), so a text that prints the same numbers per mm changes nothing there.
 // No range check (wavelength_in_range / validate_wavelengths are the checks).
 template <typename T> HAIRSCATTER_HD T eumelanin_absorption_per_mm(T lambda_nm) {
     using std::log;
