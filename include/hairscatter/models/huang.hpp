@@ -868,9 +868,13 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         return V3(mat_->sin_tilt(), mat_->cos_tilt() * n.x, mat_->cos_tilt() * n.y);
     }
 
+    // The three channels' exps as one batch (one vector in float), the same values as three
+    // scalar exps: a sixth of the walk's instructions went to them.
     HAIRSCATTER_HD V3 transmittance(T length) const {
         const V3& s = mat_->params().sigma_a;
-        return V3(elem::exp(-s.x * length), elem::exp(-s.y * length), elem::exp(-s.z * length));
+        T x[4] = {-s.x * length, -s.y * length, -s.z * length, T(0)};
+        elem::exp_each_nonpositive(x);
+        return V3(x[0], x[1], x[2]);
     }
 
     // The far-field hit at offset (h, cos γ): its circle point, mesonormal, v·m and the beam
