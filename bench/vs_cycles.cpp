@@ -103,7 +103,7 @@ template <typename Call> void time_calls(benchmark::State& state, const Call& ca
     }
 }
 // kind: 0 eval(wo, wi), 1 at(wo[0]).eval(wi), 2 sample(wo, u), 3 a hit through at(wo),
-// 4 the same hit by stateless calls.
+// 4 the same hit by stateless calls, 5 at(wo) alone, 6 at(wo[0]).sample(u).
 template <typename T, int kind> void BM_Ours(benchmark::State& state) {
     const T beta = beta_of<T>(state);
     const hs::HuangMaterial<T> mat(params<T>(state.range(1) != 0, beta), quadrature<T>(int(state.range(0)), beta));
@@ -113,6 +113,8 @@ template <typename T, int kind> void BM_Ours(benchmark::State& state) {
     if (kind == 0) time_calls(state, [&](std::size_t i) { return fiber.eval(d.wo[i], d.wi[i]); });
     if (kind == 1) time_calls(state, [&](std::size_t i) { return bound.eval(d.wi[i]); });
     if (kind == 2) time_calls(state, [&](std::size_t i) { return fiber.sample(d.wo[i], d.u[i]); });
+    if (kind == 5) time_calls(state, [&](std::size_t i) { return fiber.at(d.wo[i]).valid(); });
+    if (kind == 6) time_calls(state, [&](std::size_t i) { return bound.sample(d.u[i]); });
     const auto next = [](std::size_t i) { return (i + 1) & kMask; };
     if (kind == 3)
         time_calls(state, [&](std::size_t i) {
@@ -133,6 +135,8 @@ template <typename T> void BM_OursBoundEval(benchmark::State& state) { BM_Ours<T
 template <typename T> void BM_OursSample(benchmark::State& state) { BM_Ours<T, 2>(state); }
 template <typename T> void BM_OursHitBound(benchmark::State& state) { BM_Ours<T, 3>(state); }
 template <typename T> void BM_OursHitStateless(benchmark::State& state) { BM_Ours<T, 4>(state); }
+template <typename T> void BM_OursBind(benchmark::State& state) { BM_Ours<T, 5>(state); }
+template <typename T> void BM_OursBoundSample(benchmark::State& state) { BM_Ours<T, 6>(state); }
 // The Cycles scheme: a new seed per call (one shading point each).
 template <typename T> void BM_CyclesEval(benchmark::State& state) {
     const bench_ref::CyclesHuang<T> cycles(params<T>(state.range(1) != 0, beta_of<T>(state)));
@@ -179,6 +183,8 @@ BENCHMARK_TEMPLATE(BM_OursSample, float)->Apply(ours_args);
 BENCHMARK_TEMPLATE(BM_CyclesSample, float)->Apply(cycles_args);
 BENCHMARK_TEMPLATE(BM_OursHitBound, float)->Apply(ours_args);
 BENCHMARK_TEMPLATE(BM_OursHitStateless, float)->Apply(ours_args);
+BENCHMARK_TEMPLATE(BM_OursBind, float)->Apply(ours_args);
+BENCHMARK_TEMPLATE(BM_OursBoundSample, float)->Apply(ours_args);
 BENCHMARK_TEMPLATE(BM_CyclesHit, float)->Apply(cycles_args);
 BENCHMARK_TEMPLATE(BM_OursEval, double)->Apply(ours_args);
 BENCHMARK_TEMPLATE(BM_CyclesEval, double)->Apply(cycles_args);
@@ -187,6 +193,8 @@ BENCHMARK_TEMPLATE(BM_OursSample, double)->Apply(ours_args);
 BENCHMARK_TEMPLATE(BM_CyclesSample, double)->Apply(cycles_args);
 BENCHMARK_TEMPLATE(BM_OursHitBound, double)->Apply(ours_args);
 BENCHMARK_TEMPLATE(BM_OursHitStateless, double)->Apply(ours_args);
+BENCHMARK_TEMPLATE(BM_OursBind, double)->Apply(ours_args);
+BENCHMARK_TEMPLATE(BM_OursBoundSample, double)->Apply(ours_args);
 BENCHMARK_TEMPLATE(BM_CyclesHit, double)->Apply(cycles_args);
 
 // ---- accuracy against the physical reference ----
