@@ -603,10 +603,11 @@ template <typename T> HuangQuadrature huang_fast_quadrature(T roughness, int div
 // Each stateless call walks every path (n + N_TT + N_TT m ends), so the cost is linear in
 // the offset nodes and the TT points, and in m (docs/tradeoff.md). Almost all of that walk
 // depends on wo alone: at(wo) walks once and keeps the ends (up to kBoundEnds of them, each
-// 64 bytes in float, 104 in double), and its eval, pdf and sample then evaluate only the
-// ends' lobes at wi, with the stateless calls' results (bit for bit where the compiler
-// contracts no multiply-add differently between the two; tests/huang_test.cpp bounds the
-// difference). A material with more ends than kBoundEnds, or kBoundEnds = 0, binds only the
+// 64 bytes in float, 128 in double), and its eval, pdf and sample then evaluate only the
+// ends' lobes at wi, with the stateless calls' results: bit for bit without FMA
+// contraction (tests/huang_test.cpp); with it (-march=native) the compiler fuses
+// multiply-adds differently in the two and they differ by rounding (docs/performance.md
+// gives the measured bound). A material with more ends than kBoundEnds, or kBoundEnds = 0, binds only the
 // outgoing terms and walks per call. The default, HAIRSCATTER_HUANG_BOUND_ENDS, is 768
 // (48 KB in float: every automatic quadrature down to β = 0.1) on the host and 0 under
 // nvcc, whose threads' stacks are too small for it; HuangFiber<T, K> with different K are
