@@ -2,13 +2,18 @@
 // (bench/reference/cycles_huang.hpp), in one process: time per call (Google Benchmark) and
 // accuracy against the physical reference's cache (tests/data/physical_fiber.txt).
 //
-//   vs_cycles [benchmark flags]           ns per eval / at(wo).eval / sample, float and double
+//   vs_cycles [benchmark flags]           ns per eval / at(wo).eval / sample / hit, float and double
 //   vs_cycles --accuracy CACHE [--seeds N] relative L1 per case of every setting (double)
 //
 // Settings of HuangFiber: "default" (automatic quadrature), "fast" (huang_fast_quadrature)
 // and "fine" (huang_scaled_quadrature). The Cycles scheme's normals come from a seed per
 // shading point: the benchmark draws a new seed per call; the accuracy mode reports one seed
 // (as a renderer sees one shading point) and the mean of N seeds' f (its bias).
+//
+// "Hit" rows time what a path tracer asks at one shading point: a new wo, two light samples
+// evaluated with their pdf (for MIS) and one continuation sampled. Ours binds wo once
+// (at(wo), which keeps the walk's path ends) or calls the stateless eval_pdf and sample;
+// Cycles' scheme evaluates twice and samples once with the point's seed.
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -97,7 +102,8 @@ template <typename Call> void time_calls(benchmark::State& state, const Call& ca
         i = (i + 1) & kMask;
     }
 }
-// kind: 0 eval(wo, wi), 1 at(wo[0]).eval(wi), 2 sample(wo, u).
+// kind: 0 eval(wo, wi), 1 at(wo[0]).eval(wi), 2 sample(wo, u), 3 a hit through at(wo),
+// 4 the same hit by stateless calls, 5 at(wo) alone, 6 at(wo[0]).sample(u).
 template <typename T, int kind> void BM_Ours(benchmark::State& state) {
     const T beta = beta_of<T>(state);
     const hs::HuangMaterial<T> mat(params<T>(state.range(1) != 0, beta), quadrature<T>(int(state.range(0)), beta));
@@ -107,10 +113,30 @@ template <typename T, int kind> void BM_Ours(benchmark::State& state) {
     if (kind == 0) time_calls(state, [&](std::size_t i) { return fiber.eval(d.wo[i], d.wi[i]); });
     if (kind == 1) time_calls(state, [&](std::size_t i) { return bound.eval(d.wi[i]); });
     if (kind == 2) time_calls(state, [&](std::size_t i) { return fiber.sample(d.wo[i], d.u[i]); });
+    if (kind == 5) time_calls(state, [&](std::size_t i) { return fiber.at(d.wo[i]).valid(); });
+    if (kind == 6) time_calls(state, [&](std::size_t i) { return bound.sample(d.u[i]); });
+    const auto next = [](std::size_t i) { return (i + 1) & kMask; };
+    if (kind == 3)
+        time_calls(state, [&](std::size_t i) {
+            const auto at = fiber.at(d.wo[i]);
+            const hs::HairEvalPdf<T> a = at.eval_pdf(d.wi[i]), b = at.eval_pdf(d.wi[next(i)]);
+            const hs::HairSample<T> s = at.sample(d.u[i]);
+            return a.f * a.pdf + b.f * b.pdf + s.weight * s.pdf;
+        });
+    if (kind == 4)
+        time_calls(state, [&](std::size_t i) {
+            const hs::HairEvalPdf<T> a = fiber.eval_pdf(d.wo[i], d.wi[i]), b = fiber.eval_pdf(d.wo[i], d.wi[next(i)]);
+            const hs::HairSample<T> s = fiber.sample(d.wo[i], d.u[i]);
+            return a.f * a.pdf + b.f * b.pdf + s.weight * s.pdf;
+        });
 }
 template <typename T> void BM_OursEval(benchmark::State& state) { BM_Ours<T, 0>(state); }
 template <typename T> void BM_OursBoundEval(benchmark::State& state) { BM_Ours<T, 1>(state); }
 template <typename T> void BM_OursSample(benchmark::State& state) { BM_Ours<T, 2>(state); }
+template <typename T> void BM_OursHitBound(benchmark::State& state) { BM_Ours<T, 3>(state); }
+template <typename T> void BM_OursHitStateless(benchmark::State& state) { BM_Ours<T, 4>(state); }
+template <typename T> void BM_OursBind(benchmark::State& state) { BM_Ours<T, 5>(state); }
+template <typename T> void BM_OursBoundSample(benchmark::State& state) { BM_Ours<T, 6>(state); }
 // The Cycles scheme: a new seed per call (one shading point each).
 template <typename T> void BM_CyclesEval(benchmark::State& state) {
     const bench_ref::CyclesHuang<T> cycles(params<T>(state.range(1) != 0, beta_of<T>(state)));
@@ -123,6 +149,17 @@ template <typename T> void BM_CyclesSample(benchmark::State& state) {
     time_calls(state, [&](std::size_t i) {
         const glm::vec<4, T>& u = d.u[i];
         return cycles.sample(d.wo[i], glm::vec<3, T>(u.x, u.y, u.z), std::uint32_t(i * 2654435761u));
+    });
+}
+
+template <typename T> void BM_CyclesHit(benchmark::State& state) {
+    const bench_ref::CyclesHuang<T> cycles(params<T>(state.range(1) != 0, beta_of<T>(state)));
+    const Dirs<T>& d = dirs<T>();
+    time_calls(state, [&](std::size_t i) {
+        const std::uint32_t seed = std::uint32_t(i * 2654435761u);
+        const glm::vec<4, T>& u = d.u[i];
+        const auto s = cycles.sample(d.wo[i], glm::vec<3, T>(u.x, u.y, u.z), seed);
+        return cycles.eval(d.wo[i], d.wi[i], seed) + cycles.eval(d.wo[i], d.wi[(i + 1) & kMask], seed) + s.weight * s.pdf;
     });
 }
 
@@ -144,11 +181,21 @@ BENCHMARK_TEMPLATE(BM_CyclesEval, float)->Apply(cycles_args);
 BENCHMARK_TEMPLATE(BM_OursBoundEval, float)->Apply(ours_args);
 BENCHMARK_TEMPLATE(BM_OursSample, float)->Apply(ours_args);
 BENCHMARK_TEMPLATE(BM_CyclesSample, float)->Apply(cycles_args);
+BENCHMARK_TEMPLATE(BM_OursHitBound, float)->Apply(ours_args);
+BENCHMARK_TEMPLATE(BM_OursHitStateless, float)->Apply(ours_args);
+BENCHMARK_TEMPLATE(BM_OursBind, float)->Apply(ours_args);
+BENCHMARK_TEMPLATE(BM_OursBoundSample, float)->Apply(ours_args);
+BENCHMARK_TEMPLATE(BM_CyclesHit, float)->Apply(cycles_args);
 BENCHMARK_TEMPLATE(BM_OursEval, double)->Apply(ours_args);
 BENCHMARK_TEMPLATE(BM_CyclesEval, double)->Apply(cycles_args);
 BENCHMARK_TEMPLATE(BM_OursBoundEval, double)->Apply(ours_args);
 BENCHMARK_TEMPLATE(BM_OursSample, double)->Apply(ours_args);
 BENCHMARK_TEMPLATE(BM_CyclesSample, double)->Apply(cycles_args);
+BENCHMARK_TEMPLATE(BM_OursHitBound, double)->Apply(ours_args);
+BENCHMARK_TEMPLATE(BM_OursHitStateless, double)->Apply(ours_args);
+BENCHMARK_TEMPLATE(BM_OursBind, double)->Apply(ours_args);
+BENCHMARK_TEMPLATE(BM_OursBoundSample, double)->Apply(ours_args);
+BENCHMARK_TEMPLATE(BM_CyclesHit, double)->Apply(cycles_args);
 
 // ---- accuracy against the physical reference ----
 

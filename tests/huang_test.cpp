@@ -515,3 +515,52 @@ TEST(HuangQuadrature, FastSettingFollowsRoughness) {
     EXPECT_EQ(hs::huang_fast_quadrature(0.3f).tt_points, 32);
     EXPECT_EQ(hs::huang_fast_quadrature(0.1f).tt_points, 96);
 }
+
+// at(wo) keeps the walk's path ends (up to kBoundEnds) and replays them per call: eval, pdf,
+// eval_pdf, sample and albedo bit for bit the stateless calls', at the automatic quadrature
+// (β 0.3 and 0.1: kept), where the ends do not fit (the fine rule at β 0.1: walks per call)
+// and with the cache off (HuangFiber<T, 0>, the device's default).
+template <typename Fiber> void expect_bound_matches_stateless(const Fiber& fiber, const std::string& label) {
+    using T = typename Fiber::Real;
+    using V3 = glm::vec<3, T>;
+    std::mt19937_64 rng(77);
+    std::uniform_real_distribution<double> uni(0, 1);
+    const auto random_dir = [&] { return V3(direction(std::asin(-1 + 2 * uni(rng)) * 180 / kPi, 2 * kPi * uni(rng))); };
+    for (int k = 0; k < 4; ++k) {
+        const V3 wo = random_dir();
+        const auto at = fiber.at(wo);
+        EXPECT_EQ(at.albedo(), fiber.albedo(wo)) << label;
+        for (int j = 0; j < 6; ++j) {
+            const V3 wi = random_dir();
+            EXPECT_EQ(at.eval(wi), fiber.eval(wo, wi)) << label;
+            EXPECT_EQ(at.pdf(wi), fiber.pdf(wo, wi)) << label;
+            const hs::HairEvalPdf<T> a = at.eval_pdf(wi), b = fiber.eval_pdf(wo, wi);
+            EXPECT_EQ(a.f, b.f) << label;
+            EXPECT_EQ(a.pdf, b.pdf) << label;
+            const glm::vec<4, T> u(T(uni(rng)), T(uni(rng)), T(uni(rng)), T(uni(rng)));
+            const hs::HairSample<T> s = at.sample(u), t = fiber.sample(wo, u);
+            EXPECT_EQ(s.wi, t.wi) << label;
+            EXPECT_EQ(s.pdf, t.pdf) << label;
+            EXPECT_EQ(s.weight, t.weight) << label;
+            EXPECT_TRUE(s.lobe == t.lobe) << label;
+        }
+    }
+}
+template <typename T> void bound_cases() {
+    using M = hs::HuangMaterial<T>;
+    const auto ends = [](const M& m) { return m.nodes() + m.tt_points() * (1 + m.trt_per_tt()); };
+    const hs::HuangParams<T> p03 = specs::huang_params<T>(0.3, 2, glm::dvec3(0.4, 0.7, 1.4), 0.6, 0.4);
+    const hs::HuangParams<T> p01 = specs::huang_params<T>(0.1, 2, glm::dvec3(0.4, 0.7, 1.4), 1.0, 0.0);
+    const M kept03(p03), kept01(p01), walked(p01, hs::huang_scaled_quadrature(T(0.1)));
+    EXPECT_LE(ends(kept03), hs::HuangFiber<T>::kBoundEnds);
+    EXPECT_LE(ends(kept01), hs::HuangFiber<T>::kBoundEnds);
+    EXPECT_GT(ends(walked), hs::HuangFiber<T>::kBoundEnds);
+    expect_bound_matches_stateless(hs::HuangFiber<T>(kept03), "default β 0.3");
+    expect_bound_matches_stateless(hs::HuangFiber<T>(kept01), "default β 0.1");
+    expect_bound_matches_stateless(hs::HuangFiber<T>(walked), "fine β 0.1");
+    expect_bound_matches_stateless(hs::HuangFiber<T, 0>(kept03), "uncached β 0.3");
+}
+TEST(HuangFiber, BoundCacheMatchesStateless) {
+    bound_cases<float>();
+    bound_cases<double>();
+}

@@ -105,7 +105,9 @@ template <typename T> T checked_offset(T h) {
 //   HairSample<T> sample_from(o, wo, u).
 // Optionally also HairSample<T> sample_fresh(o, wo, u), the same samples for the stateless
 // sample, whose o has just been computed (a model may order the work differently when its
-// wo terms arrive last; without it, sample_from serves both).
+// wo terms arrive last; without it, sample_from serves both). Optionally also Bound bind(wo),
+// what at(wo) keeps instead of outgoing<true>(wo) when several calls at one hit can share
+// more than the stateless calls compute (query and sample_from then also take a Bound).
 // Then eval, pdf, eval_pdf, sample and at(wo) are these, here, for every model alike.
 template <typename Model, typename T> class FiberModel {
   public:
@@ -166,7 +168,7 @@ template <typename Fiber> class BoundFiber {
     // wo is normalised (any finite non-zero length); a non-finite or zero wo binds a valid
     // direction instead and marks the object empty: every call then gives 0 / no sample.
     HAIRSCATTER_HD BoundFiber(const Fiber& fiber, const V3& wo)
-        : fiber_(fiber), wo_(wo), valid_(unit_or_stand_in(wo_)), o_(fiber.template outgoing<true>(wo_)) {}
+        : fiber_(fiber), wo_(wo), valid_(unit_or_stand_in(wo_)), o_(bind_state(fiber, wo_, 0)) {}
 
     HAIRSCATTER_HD V3 eval(V3 wi) const {
         if (!(valid_ && unit_direction(wi))) return V3(Real(0));
@@ -193,6 +195,18 @@ template <typename Fiber> class BoundFiber {
     HAIRSCATTER_HD V3 albedo() const { return albedo_of(0); }
 
   private:
+    // The state bound at wo: the model's bind(wo) where it offers one (a model that keeps
+    // more for several calls at one hit than its stateless calls need, which its query and
+    // sample_from then also take), else its outgoing<true>(wo).
+    template <typename F>
+    static HAIRSCATTER_HD auto bind_state(const F& f, const V3& wo, int) -> decltype(f.bind(wo)) {
+        return f.bind(wo);
+    }
+    template <typename F> static HAIRSCATTER_HD typename F::Outgoing bind_state(const F& f, const V3& wo, long) {
+        return f.template outgoing<true>(wo);
+    }
+    using State = decltype(bind_state(std::declval<const Fiber&>(), std::declval<const V3&>(), 0));
+
     // w made unit in place, or (non-finite or zero) replaced by a valid direction to bind
     // instead, the object then empty: every call gives 0 / no sample (see HairSample).
     static HAIRSCATTER_HD bool unit_or_stand_in(V3& w) {
@@ -201,7 +215,7 @@ template <typename Fiber> class BoundFiber {
         return false;
     }
 
-    template <typename F = Fiber, typename O = typename F::Outgoing>
+    template <typename F = Fiber, typename O = State>
     HAIRSCATTER_HD auto albedo_of(int) const -> decltype(std::declval<const F&>().albedo_from(std::declval<const O&>())) {
         return fiber_.albedo_from(o_);
     }
@@ -210,7 +224,7 @@ template <typename Fiber> class BoundFiber {
     Fiber fiber_;
     V3 wo_;
     bool valid_;
-    typename Fiber::Outgoing o_;
+    State o_;
 };
 
 namespace detail {

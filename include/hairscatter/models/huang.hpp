@@ -17,6 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -599,15 +600,35 @@ template <typename T> HuangQuadrature huang_fast_quadrature(T roughness, int div
 //
 // Holds a pointer to the material, which must outlive the fiber and its at(wo) objects (a
 // temporary material is rejected at compile time; on a GPU, a pointer to a device copy).
-// Each call walks every path (n + N_TT + N_TT m ends), so the cost is linear in the
-// offset nodes and the TT points, and in m (docs/tradeoff.md).
-template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
+// Each stateless call walks every path (n + N_TT + N_TT m ends), so the cost is linear in
+// the offset nodes and the TT points, and in m (docs/tradeoff.md). Almost all of that walk
+// depends on wo alone: at(wo) walks once and keeps the ends (up to kBoundEnds of them, each
+// 64 bytes in float, 128 in double), and its eval, pdf and sample then evaluate only the
+// ends' lobes at wi, with the stateless calls' results: bit for bit without FMA
+// contraction (tests/huang_test.cpp); with it (-march=native) the compiler fuses
+// multiply-adds differently in the two and they differ by rounding (docs/performance.md
+// gives the measured bound). A material with more ends than kBoundEnds, or kBoundEnds = 0, binds only the
+// outgoing terms and walks per call. The default, HAIRSCATTER_HUANG_BOUND_ENDS, is 768
+// (48 KB in float: every automatic quadrature down to β = 0.1) on the host and 0 under
+// nvcc, whose threads' stacks are too small for it; HuangFiber<T, K> with different K are
+// different types, so translation units compiled by both compilers stay consistent.
+#ifndef HAIRSCATTER_HUANG_BOUND_ENDS
+#if defined(__CUDACC__)
+#define HAIRSCATTER_HUANG_BOUND_ENDS 0
+#else
+#define HAIRSCATTER_HUANG_BOUND_ENDS 768
+#endif
+#endif
+template <typename T, int kBoundEnds_ = HAIRSCATTER_HUANG_BOUND_ENDS>
+class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
   public:
     using V2 = glm::vec<2, T>;
     using V3 = glm::vec<3, T>;
     using V4 = glm::vec<4, T>;
     using Material = HuangMaterial<T>;
     static constexpr int kLobes = Material::kLobes;
+    static constexpr int kBoundEnds = kBoundEnds_;
+    static_assert(kBoundEnds >= 0, "HuangFiber: kBoundEnds, the path ends at(wo) keeps, is >= 0");
     using LobeSplit = hairscatter::LobeSplit<T, kLobes>;
 
     HAIRSCATTER_HD explicit HuangFiber(const Material& material) : mat_(&material) {}
@@ -620,8 +641,7 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
     // A non-finite or zero wo gives 0; any other length is normalised.
     HAIRSCATTER_HD V3 albedo(V3 wo) const {
         if (!unit_direction(wo)) return V3(T(0));
-        const Lobes e = lobes<false, false>(outgoing<false>(wo), V3(T(0)), T(0));
-        return e.energy[0] + e.energy[1] + e.energy[2] + e.energy[3];
+        return albedo_from(outgoing<false>(wo));
     }
 
     // Per lobe: its energy A_p(wo) (exact, as albedo) and the fraction of it scattered into
@@ -777,6 +797,71 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         T norm = T(0), transmitted = T(0);
     };
 
+    // What at(wo) keeps: the outgoing terms, the two walks' totals and their ends in order
+    // (R's first); n < 0 where the ends would not fit, and every call walks.
+    struct Bound {
+        Outgoing o;
+        RuleTotals r, paths;
+        int n_r, n;
+        End ends[kBoundEnds > 0 ? kBoundEnds : 1];
+    };
+
+    // The walks over the path ends, live from the outgoing terms or replayed from a Bound:
+    // the same ends in the same order, so that f and pdf come out the same.
+    struct Live {
+        const HuangFiber* fiber;
+        const Outgoing* o;
+        HAIRSCATTER_HD const Outgoing& outgoing() const { return *o; }
+        template <typename Visit> HAIRSCATTER_HD void r(RuleTotals& s, Visit&& visit) const { fiber->walk_r(*o, s, visit); }
+        template <typename Visit> HAIRSCATTER_HD void paths(RuleTotals& s, Visit&& visit) const {
+            fiber->walk_paths(*o, s, visit);
+        }
+    };
+    struct Replay {
+        const Bound* b;
+        HAIRSCATTER_HD const Outgoing& outgoing() const { return b->o; }
+        template <typename Visit> HAIRSCATTER_HD void r(RuleTotals& s, Visit&& visit) const {
+            s = b->r;
+            for (int k = 0; k < b->n_r; ++k) visit(b->ends[k]);
+        }
+        template <typename Visit> HAIRSCATTER_HD void paths(RuleTotals& s, Visit&& visit) const {
+            s = b->paths;
+            for (int k = b->n_r; k < b->n; ++k) visit(b->ends[k]);
+        }
+    };
+    HAIRSCATTER_HD Live live(const Outgoing& o) const { return Live{this, &o}; }
+
+    // at(wo)'s state (the contract's bind): one walk, its ends kept.
+    template <int K = kBoundEnds, typename std::enable_if<(K > 0), int>::type = 0>
+    HAIRSCATTER_HD Bound bind(const V3& wo) const {
+        Bound b;
+        b.o = outgoing<true>(wo);
+        b.n_r = 0;
+        b.n = -1;
+        const long long most = static_cast<long long>(mat_->nodes()) +
+                               static_cast<long long>(mat_->tt_points()) * (1 + mat_->trt_per_tt());
+        if (most > kBoundEnds) return b;
+        b.n = 0;
+        const auto keep = [&](const End& e) { b.ends[b.n++] = e; };
+        walk_r(b.o, b.r, keep);
+        b.n_r = b.n;
+        walk_paths(b.o, b.paths, keep);
+        return b;
+    }
+    template <bool kF, bool kPdf> HAIRSCATTER_HD HairEvalPdf<T> query(const Bound& b, const V3& wo, const V3& wi) const {
+        if (b.n < 0) return query<kF, kPdf>(b.o, wo, wi);
+        return query_walk<kF, kPdf>(Replay{&b}, wi);
+    }
+    HAIRSCATTER_HD HairSample<T> sample_from(const Bound& b, const V3& wo, const V4& u) const {
+        if (b.n < 0) return sample_from(b.o, wo, u);
+        return sample_walk(Replay{&b}, wo, u);
+    }
+    HAIRSCATTER_HD V3 albedo_from(const Bound& b) const {
+        if (b.n < 0) return albedo_from(b.o);
+        return energy_sum(lobes<false, false>(Replay{&b}, V3(T(0)), T(0)));
+    }
+    HAIRSCATTER_HD V3 albedo_from(const Outgoing& o) const { return energy_sum(lobes<false, false>(live(o), V3(T(0)), T(0))); }
+
     static HAIRSCATTER_HD T mean(const V3& x) { return (x.x + x.y + x.z) * T(1.0 / 3.0); }
 
     HAIRSCATTER_HD V3 mesonormal(const V2& c) const {
@@ -784,9 +869,13 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         return V3(mat_->sin_tilt(), mat_->cos_tilt() * n.x, mat_->cos_tilt() * n.y);
     }
 
+    // The three channels' exps as one batch (one vector in float), the same values as three
+    // scalar exps: a sixth of the walk's instructions went to them.
     HAIRSCATTER_HD V3 transmittance(T length) const {
         const V3& s = mat_->params().sigma_a;
-        return V3(elem::exp(-s.x * length), elem::exp(-s.y * length), elem::exp(-s.z * length));
+        T x[4] = {-s.x * length, -s.y * length, -s.z * length, T(0)};
+        elem::exp_each_nonpositive(x);
+        return V3(x[0], x[1], x[2]);
     }
 
     // The far-field hit at offset (h, cos γ): its circle point, mesonormal, v·m and the beam
@@ -1016,6 +1105,10 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         Scales scales;
     };
     template <bool kF, bool kPdf> HAIRSCATTER_HD Lobes lobes(const Outgoing& o, const V3& w, T sin_i) const {
+        return lobes<kF, kPdf>(live(o), w, sin_i);
+    }
+    template <bool kF, bool kPdf, typename Walk> HAIRSCATTER_HD Lobes lobes(const Walk& walk, const V3& w, T sin_i) const {
+        const Outgoing& o = walk.outgoing();
         V3 f[std::size_t(kLobes)], q[std::size_t(kLobes)], energy[std::size_t(kLobes)];
         for (int p = 0; p < kLobes; ++p) f[p] = q[p] = energy[p] = V3(T(0));
         const auto add = [&](const End& e) {
@@ -1026,8 +1119,8 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
             if (kPdf) q[e.p] += x.q * e.energy;
         };
         RuleTotals r, paths;
-        walk_r(o, r, add);
-        walk_paths(o, paths, add);
+        walk.r(r, add);
+        walk.paths(paths, add);
         Lobes out;
         out.scales = scales(r, paths);
         for (int p = 0; p < kLobes; ++p) {
@@ -1044,10 +1137,15 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
         return out;
     }
 
+    static HAIRSCATTER_HD V3 energy_sum(const Lobes& e) { return e.energy[0] + e.energy[1] + e.energy[2] + e.energy[3]; }
+
     template <bool kF, bool kPdf> HAIRSCATTER_HD HairEvalPdf<T> query(const Outgoing& o, const V3& wo, const V3& wi) const {
         (void)wo;
+        return query_walk<kF, kPdf>(live(o), wi);
+    }
+    template <bool kF, bool kPdf, typename Walk> HAIRSCATTER_HD HairEvalPdf<T> query_walk(const Walk& walk, const V3& wi) const {
         const T sin_i = clamp(wi.x, T(-1), T(1));
-        const Lobes l = lobes<kF, kPdf>(o, mat_->section().to_section(wi), sin_i);
+        const Lobes l = lobes<kF, kPdf>(walk, mat_->section().to_section(wi), sin_i);
         HairEvalPdf<T> r;
         T q = T(0), total = T(0);
         for (int p = 0; p <= kLobes; ++p) {
@@ -1063,7 +1161,11 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
     // u.x picks the lobe and then, its leftover rescaled, the path end; (u.y, u.z) the
     // visible normal of the end's interface or θi of the residual, u.w the residual's φ.
     HAIRSCATTER_HD HairSample<T> sample_from(const Outgoing& o, const V3& wo, const V4& u) const {
-        const Lobes e = lobes<false, false>(o, V3(T(0)), T(0));
+        return sample_walk(live(o), wo, u);
+    }
+    template <typename Walk> HAIRSCATTER_HD HairSample<T> sample_walk(const Walk& walk, const V3& wo, const V4& u) const {
+        const Outgoing& o = walk.outgoing();
+        const Lobes e = lobes<false, false>(walk, V3(T(0)), T(0));
         T w[std::size_t(kLobes + 1)], total = T(0);
         for (int p = 0; p <= kLobes; ++p) {
             w[p] = mean(e.energy[p]);
@@ -1089,8 +1191,8 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
             done = target < before;
         };
         RuleTotals unused;
-        if (p == 0) walk_r(o, unused, pick);
-        if (p == 1 || p == 2) walk_paths(o, unused, pick);
+        if (p == 0) walk.r(unused, pick);
+        if (p == 1 || p == 2) walk.paths(unused, pick);
 
         const T eta = mat_->params().eta;
         const InterfaceLobes<T> l{&mat_->ggx(), chosen.v, chosen.m, chosen.cos_v};
@@ -1103,12 +1205,13 @@ template <typename T> class HuangFiber : public FiberModel<HuangFiber<T>, T> {
             const T sin_i = mat_->residual().sample_sin_theta(o.sin_o, o.cos_o, u.y, u.z);
             wi = direction_from_azimuth(wo, sin_i, kTwoPi<T> * u.w - kPi<T>);
         }
-        return make_sample(wi, lobe_tag(chosen.p), query<true, true>(o, wo, wi));
+        return make_sample(wi, lobe_tag(chosen.p), query_walk<true, true>(walk, wi));
     }
 
     const Material* mat_;
 };
 
 static_assert(is_fiber_model_v<HuangFiber<float>> && is_fiber_model_v<HuangFiber<double>>);
+static_assert(is_fiber_model_v<HuangFiber<float, 0>> && is_fiber_model_v<HuangFiber<double, 0>>);
 
 }  // namespace hairscatter
