@@ -27,6 +27,7 @@
 #include "math/wrapped_gaussian.hpp"
 #include "models/contract.hpp"
 #include "models/chiang.hpp"
+#include "models/chiang_batch.hpp"
 #include "models/deon_farfield.hpp"
 #include "models/tabulated.hpp"
 #include "models/marschner.hpp"
