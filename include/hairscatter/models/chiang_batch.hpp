@@ -75,9 +75,43 @@ template <typename T> struct ChiangBatchSamples {
 
 namespace detail {
 
-// The elementary functions one lane at a time, in the forms whose loops vectorise: on the
-// host in float, elem's own polynomials with their range choices as selects (the one-hit
-// calls branch, or use vectors of the lobes); in double and on a GPU, elem's functions.
+// The one-hit helpers in the forms whose loops across hits vectorise. GCC (under the default
+// -ftrapping-math) leaves a loop scalar when it holds a floating-point `c ? a : b` (clamp's,
+// a max, a fold): those are selects here (math/functions.hpp: select), each with the
+// one-hit helper's result bit for bit. The elementary functions: on the host in float elem's
+// own polynomials with their range choices as selects (the one-hit calls branch, or use
+// vectors of the lobes); in double and on a GPU, elem's functions.
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_clamp(T x, T lo, T hi) {
+    const T above = select(x < lo, lo, x);  // clamp's two steps
+    return select(above > hi, hi, above);
+}
+// x, or floor where x is not above it (the one-hit code's `x > floor ? x : floor`).
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_floor_at(T x, T floor) {
+    return select(x > floor, x, floor);
+}
+// max(x, 0): the argument of safe_sqrt, for a block's square roots.
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T sqrt_arg(T x) { return lane_floor_at(x, T(0)); }
+// (1 - s)(1 + s), floored at 0: cos_from_sin's argument.
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T cos2_from_sin(T s) {
+    return sqrt_arg((T(1) - s) * (T(1) + s));
+}
+// wrap_pi_once and wrap_pi (math/functions.hpp).
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_wrap_pi_once(T x) {
+    x = select(x > kPi<T>, x - kTwoPi<T>, select(x < -kPi<T>, x + kTwoPi<T>, x));
+    return lane_clamp(x, -kPi<T>, kPi<T>);
+}
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_wrap_pi(T x) {
+    using std::floor;
+    x -= kTwoPi<T> * floor((x + kPi<T>) * kInvTwoPi<T>);
+    return lane_clamp(x, -kPi<T>, kPi<T>);
+}
+// TrimmedLogistic::exponent_of_difference(d, minus_inv_s).
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_exponent_of_difference(T d, T minus_inv_s) {
+    const T a = abs_value(d);
+    const T near = a * minus_inv_s, far = (kTwoPi<T> - a) * minus_inv_s;
+    return select(far > near, far, near);
+}
+
 template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_exp(T x) {
 #if !defined(__CUDA_ARCH__)
     if constexpr (std::is_same<T, float>::value) return elem::detail::exp_float<true>(x);
@@ -93,7 +127,7 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_log(T x) {
 template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void lane_sincos(T x, T& s, T& c) {
 #if !defined(__CUDA_ARCH__)
     if constexpr (std::is_same<T, float>::value) {
-        elem::detail::sincos_float_reduced(x, s, c);  // (|x| ≤ π here)
+        elem::detail::sincos_float_reduced(x, s, c);  // (|x| ≤ 2π here)
         return;
     }
 #endif
@@ -102,13 +136,13 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void lane_sincos(T
 // The argument of the square root elem::asin takes for |x| > 0.7, which the block computes
 // for all lanes at once (elem::sqrt_each: std::sqrt in a loop keeps it scalar).
 template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T asin_root_arg(T x) {
-    return T(0.5) * (T(1) - clamp(abs_value(x), T(0), T(1)));
+    return T(0.5) * (T(1) - lane_clamp(abs_value(x), T(0), T(1)));
 }
 // elem::asin(x) with root = √asin_root_arg(x): both of its forms, the choice a select.
 template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_asin(T x, T root) {
 #if !defined(__CUDA_ARCH__)
     if constexpr (std::is_same<T, float>::value) {
-        const float ax = clamp(std::fabs(x), 0.0f, 1.0f);
+        const float ax = lane_clamp(std::fabs(x), 0.0f, 1.0f);
         const float r = select(ax <= elem::kAsinSmallMax, elem::detail::asin_small_poly(ax),
                                kHalfPi<float> - 2.0f * elem::detail::asin_small_poly(root));
         return std::copysign(r, x);
@@ -117,13 +151,12 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_asin(T x, T
     (void)root;
     return elem::asin(x);
 }
-// elem::atan2(y, x), its minimum and the denominator's guard as selects.
+// elem::atan2(y, x), its maximum, minimum and the denominator's guard as selects.
 template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_atan2(T y, T x) {
 #if !defined(__CUDA_ARCH__)
     if constexpr (std::is_same<T, float>::value) {
         const float ax = std::fabs(x), ay = std::fabs(y);
-        const float hi = ay > ax ? ay : ax;
-        const float lo = ax < ay ? ax : ay;
+        const float hi = select(ay > ax, ay, ax), lo = select(ax < ay, ax, ay);
         const float a = lo / select(hi <= 0.0f, 1.0f, hi);
         const float d = ax - ay;
         const float base = (kHalfPi<float> - std::copysign(kHalfPi<float>, x)) +
@@ -134,11 +167,19 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_atan2(T y, 
 #endif
     return elem::atan2(y, x);
 }
-// max(x, 0): the argument of safe_sqrt, for a block's square roots.
-template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T sqrt_arg(T x) { return select(x > T(0), x, T(0)); }
-// (1 - s)(1 + s), floored at 0: cos_from_sin's argument.
-template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T cos2_from_sin(T s) {
-    return sqrt_arg((T(1) - s) * (T(1) + s));
+// chosen_index<N>(w, target) (math/distributions.hpp) with its choices as integer arithmetic.
+template <int N, typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE int lane_chosen_index(const T* w, T target) {
+    T cum = T(0);
+    int k = 0, first = N - 1, last = 0;
+    for (int i = 0; i < N; ++i) {
+        cum += w[i];
+        if (i < N - 1) k += int(target >= cum);
+        const int positive = int(w[i] > T(0));
+        first -= (first - i) * (positive & int(i < first));
+        last += (i - last) * positive;
+    }
+    k += (first - k) * int(k < first);
+    return k + (last - k) * int(k > last);
 }
 
 }  // namespace detail
@@ -243,7 +284,7 @@ template <typename T> class ChiangBatch {
         // θi and φ of wi (ChiangFiber::query).
         T sin_i[std::size_t(W)], cos_i[std::size_t(W)], sqrt_cos_i[std::size_t(W)], phi[std::size_t(W)];
         for (int j = 0; j < W; ++j) {
-            sin_i[j] = clamp(wi[0][j], T(-1), T(1));
+            sin_i[j] = detail::lane_clamp(wi[0][j], T(-1), T(1));
             cos_i[j] = detail::cos2_from_sin(sin_i[j]);
             phi[j] = relative_azimuth(hits, j, wi[1][j], wi[2][j]);
         }
@@ -281,43 +322,47 @@ template <typename T> class ChiangBatch {
         Outgoing<W> o;
         outgoing<W, true>(hits, o);
 
-        // sinθi of every lobe from (u.y, u.z): DeonLongitudinal::sample_sin_theta_each's
-        // steps, lobe by lobe across the hits.
+        // sinθi of every lobe from (u.y, u.z) (DeonLongitudinal::sample_sin_theta_each's
+        // steps, lobe by lobe across the hits), then the lobe ∝ w (chosen_index, as the
+        // one-hit sample) and its θi.
         T lobe_sin[std::size_t(kLobes + 1)][std::size_t(W)];
-        {
-            T sin_az[std::size_t(W)], cos_az[std::size_t(W)];
-            for (int j = 0; j < W; ++j) detail::lane_sincos(kTwoPi<T> * u[2][j], sin_az[j], cos_az[j]);
-            for (int p = 0; p <= kLobes; ++p) {
-                const T v = mat_->lobe_variance(p), e = mat_->lobe_exp_m2_over_v(p);
-                T omc[std::size_t(W)], s[std::size_t(W)];
-                for (int j = 0; j < W; ++j) {
-                    const T a = u[1][j] + (T(1) - u[1][j]) * e;
-                    omc[j] = clamp(-v * detail::lane_log(a > kMinNormal<T> ? a : kMinNormal<T>), T(0), T(2));  // 1 - c
-                    s[j] = omc[j] * (T(2) - omc[j]);
-                }
-                elem::sqrt_each(s);
-                for (int j = 0; j < W; ++j)
-                    lobe_sin[p][j] = clamp(-(T(1) - omc[j]) * o.m[p].sin_o[j] + s[j] * cos_az[j] * o.m[p].cos_o[j],
-                                           T(-1), T(1));
+        T sin_az[std::size_t(W)], cos_az[std::size_t(W)];
+        for (int j = 0; j < W; ++j) detail::lane_sincos(kTwoPi<T> * u[2][j], sin_az[j], cos_az[j]);
+        for (int p = 0; p <= kLobes; ++p) {
+            const T v = mat_->lobe_variance(p), e = mat_->lobe_exp_m2_over_v(p);
+            const DeonLanes<T, W>& m = o.m[p];
+            T omc[std::size_t(W)], root[std::size_t(W)];
+            for (int j = 0; j < W; ++j) {
+                const T arg = detail::lane_floor_at(u[1][j] + (T(1) - u[1][j]) * e, kMinNormal<T>);
+                omc[j] = detail::lane_clamp(-v * detail::lane_log(arg), T(0), T(2));  // 1 - c
+                root[j] = omc[j] * (T(2) - omc[j]);
             }
+            elem::sqrt_each(root);
+            for (int j = 0; j < W; ++j)
+                lobe_sin[p][j] = detail::lane_clamp(-(T(1) - omc[j]) * m.sin_o[j] + root[j] * cos_az[j] * m.cos_o[j],
+                                                    T(-1), T(1));
         }
-        // The lobe ∝ w (chosen_index, as the one-hit sample), its θi, and φ from N_p.
+        // N_p's sample of u.w (TrimmedLogistic::sample, one loop of its own: its constants
+        // are the distribution's).
         const TrimmedLogistic<T>& n = mat_->azimuthal();
+        T dphi[std::size_t(W)];
+        for (int j = 0; j < W; ++j) dphi[j] = n.sample(u[3][j]);
         int lobe[std::size_t(W)];
-        T sin_i[std::size_t(W)], cos_i[std::size_t(W)], sqrt_cos_i[std::size_t(W)], phi[std::size_t(W)];
+        T sin_i[std::size_t(W)], cos_i[std::size_t(W)], phi[std::size_t(W)];
         for (int j = 0; j < W; ++j) {
             const T w[std::size_t(kLobes + 1)] = {o.w[0][j], o.w[1][j], o.w[2][j], o.w[3][j]};
-            const int k = chosen_index<kLobes + 1>(w, u[0][j] * o.w_total[j]);
+            const int k = detail::lane_chosen_index<kLobes + 1>(w, u[0][j] * o.w_total[j]);
             lobe[j] = k;
             sin_i[j] = select(k == 0, lobe_sin[0][j],
                               select(k == 1, lobe_sin[1][j], select(k == 2, lobe_sin[2][j], lobe_sin[3][j])));
             cos_i[j] = detail::cos2_from_sin(sin_i[j]);
             const T phi_k = select(k == 0, o.phi_p[0][j], select(k == 1, o.phi_p[1][j], o.phi_p[2][j]));
-            phi[j] = wrap_pi(select(k < kLobes, phi_k + n.sample(u[3][j]), kTwoPi<T> * u[3][j] - kPi<T>));
+            phi[j] = detail::lane_wrap_pi(select(k < kLobes, phi_k + dphi[j], kTwoPi<T> * u[3][j] - kPi<T>));
         }
         elem::sqrt_each(cos_i);
-        // wi = direction_from_azimuth(wo, sinθi, φ); the azimuth queried back (queried_azimuth).
-        T wi[3][std::size_t(W)], phi_q[std::size_t(W)], len[std::size_t(W)];
+        // wi = direction_from_azimuth(wo, sinθi, φ), and the azimuth queried back
+        // (queried_azimuth): φ itself except at the poles and at |φ| = π.
+        T wi[3][std::size_t(W)], phi_q[std::size_t(W)], len[std::size_t(W)], sqrt_cos_i[std::size_t(W)];
         for (int j = 0; j < W; ++j) len[j] = hits.wo[1][j] * hits.wo[1][j] + hits.wo[2][j] * hits.wo[2][j];
         elem::sqrt_each(len);
         for (int j = 0; j < W; ++j) {
@@ -329,7 +374,7 @@ template <typename T> class ChiangBatch {
             wi[0][j] = sin_i[j];
             wi[1][j] = cos_i[j] * (ay * c - az * s);
             wi[2][j] = cos_i[j] * (ay * s + az * c);
-            const bool as_drawn = cos_i[j] > T(0) && phi[j] < kPi<T> && phi[j] > -kPi<T>;
+            const bool as_drawn = (cos_i[j] > T(0)) & (phi[j] < kPi<T>) & (phi[j] > -kPi<T>);
             phi_q[j] = select(as_drawn, phi[j], relative_azimuth(hits, j, wi[1][j], wi[2][j]));
             sqrt_cos_i[j] = cos_i[j];
         }
@@ -355,7 +400,7 @@ template <typename T> class ChiangBatch {
     template <int W>
     static HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T relative_azimuth(const Hits<W>& hits, int j, T wi_y, T wi_z) {
         const T wo_y = hits.wo[1][j], wo_z = hits.wo[2][j];
-        const bool on_axis = wo_y == T(0) && wo_z == T(0);
+        const bool on_axis = (wo_y == T(0)) & (wo_z == T(0));
         const T oy = select(on_axis, T(1), wo_y), oz = wo_z;
         return detail::lane_atan2(oy * wi_z - oz * wi_y, oy * wi_y + oz * wi_z);
     }
@@ -368,7 +413,7 @@ template <typename T> class ChiangBatch {
         const T eta = prm.eta, inv_eta = T(1) / eta, inv_eta2 = T(1) / (eta * eta);
         T sin_o[std::size_t(W)], cos_o[std::size_t(W)], cos_go[std::size_t(W)], root_go[std::size_t(W)];
         for (int j = 0; j < W; ++j) {
-            sin_o[j] = clamp(hits.wo[0][j], T(-1), T(1));
+            sin_o[j] = detail::lane_clamp(hits.wo[0][j], T(-1), T(1));
             cos_o[j] = detail::cos2_from_sin(sin_o[j]);
             cos_go[j] = detail::cos2_from_sin(hits.h[j]);
             root_go[j] = detail::asin_root_arg(hits.h[j]);
@@ -376,21 +421,22 @@ template <typename T> class ChiangBatch {
         elem::sqrt_each(cos_o);
         elem::sqrt_each(cos_go);
         elem::sqrt_each(root_go);
-        // fresnel_dielectric(cosθo cosγo, η) and FiberRefraction(sinθo, cosθo, η), their
-        // square roots taken here for the block.
+        // fresnel_dielectric(cosθo cosγo, η) and FiberRefraction(sinθo, cosθo, η)
+        // (lobes/attenuation.hpp), their square roots taken for the block.
         T cos_f[std::size_t(W)], cos_t_f[std::size_t(W)], cos_t[std::size_t(W)];
         for (int j = 0; j < W; ++j) {
-            cos_f[j] = clamp(cos_o[j] * cos_go[j], T(0), T(1));
+            cos_f[j] = detail::lane_clamp(cos_o[j] * cos_go[j], T(0), T(1));
             cos_t_f[j] = detail::sqrt_arg(T(1) - (T(1) - cos_f[j] * cos_f[j]) * inv_eta2);
             cos_t[j] = detail::cos2_from_sin(sin_o[j] * inv_eta);
         }
         elem::sqrt_each(cos_t_f);
         elem::sqrt_each(cos_t);
-        T fresnel[std::size_t(W)], chord_scale[std::size_t(W)], sin_gt[std::size_t(W)], cos_gt[std::size_t(W)], root_gt[std::size_t(W)];
+        T fresnel[std::size_t(W)], chord_scale[std::size_t(W)], sin_gt[std::size_t(W)], cos_gt[std::size_t(W)],
+            root_gt[std::size_t(W)];
         for (int j = 0; j < W; ++j) {
             fresnel[j] = T(0.5) * (detail::fresnel_parallel(cos_f[j], cos_t_f[j], eta) +
                                    detail::fresnel_perpendicular(cos_f[j], cos_t_f[j], eta));
-            const T inv_cos_t = T(1) / (cos_t[j] > kMinNormal<T> ? cos_t[j] : kMinNormal<T>);
+            const T inv_cos_t = T(1) / detail::lane_floor_at(cos_t[j], kMinNormal<T>);
             chord_scale[j] = T(2) * inv_cos_t;
             sin_gt[j] = hits.h[j] * (cos_o[j] * inv_eta * inv_cos_t);
             cos_gt[j] = detail::cos2_from_sin(sin_gt[j]);
@@ -398,31 +444,44 @@ template <typename T> class ChiangBatch {
         }
         elem::sqrt_each(cos_gt);
         elem::sqrt_each(root_gt);
-        // A_p (attenuation_channels, per hit) and Φ(p, h).
-        const T(&sigma_a)[kChannelLanes] = mat_->sigma_a_lanes();
+        // Φ(p, h) = 2p γt - 2γo + pπ, wrapped (exit_azimuth_wrapped, lobes/azimuthal.hpp).
+        T chord[std::size_t(W)];
         for (int j = 0; j < W; ++j) {
-            const T chord = chord_scale[j] * cos_gt[j];
+            chord[j] = chord_scale[j] * cos_gt[j];
             const T gamma_o = detail::lane_asin(hits.h[j], root_go[j]);
             const T gamma_t = detail::lane_asin(sin_gt[j], root_gt[j]);
-            T t[3], a[std::size_t(kLobes + 1)][3];
-            for (int c = 0; c < 3; ++c) t[c] = detail::lane_exp(-sigma_a[c] * chord);
-            attenuation_channels<T, kLobes, 3>(fresnel[j], fresnel[j], t, a);
-            for (int p = 0; p <= kLobes; ++p)
-                for (int c = 0; c < 3; ++c) o.a[p][c][j] = a[p][c];
-            for (int p = 0; p < kLobes; ++p) o.phi_p[p][j] = exit_azimuth_wrapped(p, gamma_o, gamma_t);
+            o.phi_p[0][j] = detail::lane_wrap_pi_once(T(0) * gamma_t - T(2) * gamma_o + T(0) * kPi<T>);
+            o.phi_p[1][j] = detail::lane_wrap_pi_once(T(2) * gamma_t - T(2) * gamma_o + T(1) * kPi<T>);
+            o.phi_p[2][j] = detail::lane_wrap_pi_once(T(4) * gamma_t - T(2) * gamma_o + T(0) * kPi<T>);
         }
-        if (mat_->has_lobe_weights())
-            for (int p = 0; p <= kLobes; ++p)
-                for (int c = 0; c < 3; ++c) {
-                    const T g = mat_->lobe_weight_lanes(p)[c];
-                    for (int j = 0; j < W; ++j) o.a[p][c][j] *= g;
-                }
-        // The lobes conditioned on each hit's tilted θo' (DeonLobes::condition, lane = hit).
+        // A_p per channel (attenuation_channels, lobes/attenuation.hpp: Chiang et al. 2016
+        // eqs. 3–4, the residual's denominator floored at the smallest normal number).
+        const T(&sigma_a)[kChannelLanes] = mat_->sigma_a_lanes();
+        const bool weighted = mat_->has_lobe_weights();
+        for (int c = 0; c < 3; ++c) {
+            const T minus_sigma = -sigma_a[c];
+            T g[std::size_t(kLobes + 1)];
+            for (int p = 0; p <= kLobes; ++p) g[p] = weighted ? mat_->lobe_weight_lanes(p)[c] : T(1);
+            for (int j = 0; j < W; ++j) {
+                const T t = detail::lane_exp(minus_sigma * chord[j]), f = fresnel[j];
+                const T a1 = sqr(T(1) - f) * t, a2 = a1 * t * f, tf = t * f;
+                const T a3 = a2 * tf / detail::lane_floor_at(T(1) - tf, kMinNormal<T>);
+                // (the lobe weights, 1 without controls: a product by 1 is exact)
+                o.a[0][c][j] = f * g[0];
+                o.a[1][c][j] = a1 * g[1];
+                o.a[2][c][j] = a2 * g[2];
+                o.a[3][c][j] = a3 * g[3];
+            }
+        }
+        // The lobes conditioned on each hit's tilted θo' (DeonLobes::condition, lane = hit;
+        // CuticleTilt::rotate, cosθo' folded to ≥ 0).
         for (int p = 0; p <= kLobes; ++p) {
             const DeonLongitudinal<T> lobe = mat_->longitudinal(p);
+            const typename CuticleTilt<T>::Rotated r = mat_->tilt().rotation(p);
             for (int j = 0; j < W; ++j) {
-                const typename CuticleTilt<T>::Rotated r = mat_->tilt().rotate(p, sin_o[j], cos_o[j]);
-                lobe.condition(o.m[p], j, r.sin_theta, r.cos_theta);
+                const T s = sin_o[j] * r.cos_theta + cos_o[j] * r.sin_theta;
+                const T c = cos_o[j] * r.cos_theta - sin_o[j] * r.sin_theta;
+                lobe.condition(o.m[p], j, s, select(c < T(0), -c, c));
             }
             o.m[p].take_roots();
         }
@@ -433,8 +492,7 @@ template <typename T> class ChiangBatch {
                 T w[std::size_t(kLobes + 1)];
                 for (int p = 0; p <= kLobes; ++p) w[p] = o.a[p][0][j] + o.a[p][1][j] + o.a[p][2][j];
                 T total = pairwise_sum<kLobes + 1>(w);
-                const bool tiny = !(total >= kMinNormal<T>);
-                const T scale = select(tiny, T(18446744073709551616.0), T(1));
+                const T scale = select(total >= kMinNormal<T>, T(1), T(18446744073709551616.0));
                 for (int p = 0; p <= kLobes; ++p) o.w[p][j] = w[p] * scale;
                 total *= scale;
                 o.w_total[j] = total;
@@ -445,29 +503,33 @@ template <typename T> class ChiangBatch {
 
     // ChiangFiber::combine for W hits: f = Σ_p M_p A_p N_p and pdf = Σ_p M_p w_p N_p.
     template <int W, bool kF, bool kPdf>
-    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void combine(const Outgoing<W>& o, const T (&sin_i)[std::size_t(W)], const T (&cos_i)[std::size_t(W)],
-                                                         const T (&sqrt_cos_i)[std::size_t(W)], const T (&phi)[std::size_t(W)], T (&f)[3][std::size_t(W)],
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void combine(const Outgoing<W>& o, const T (&sin_i)[std::size_t(W)],
+                                                         const T (&cos_i)[std::size_t(W)],
+                                                         const T (&sqrt_cos_i)[std::size_t(W)],
+                                                         const T (&phi)[std::size_t(W)], T (&f)[3][std::size_t(W)],
                                                          T (&pdf)[std::size_t(W)]) const {
         const TrimmedLogistic<T>& n = mat_->azimuthal();
         const T minus_inv_s = -n.inv_scale(), scale = n.density_numerator(T(1));
         T mn[std::size_t(kLobes + 1)][std::size_t(W)];
         for (int p = 0; p <= kLobes; ++p) {
+            const DeonLanes<T, W>& m = o.m[p];
+            const T* phi_p = o.phi_p[p < kLobes ? p : 0];
+            const bool explicit_lobe = p < kLobes;
             for (int j = 0; j < W; ++j) {
                 T e_m, m_factor;
-                o.m[p].terms(j, sin_i[j], cos_i[j], sqrt_cos_i[j], e_m, m_factor);
-                const T m = m_factor * detail::lane_exp(e_m);
-                if (p < kLobes) {
-                    const T e_n = detail::lane_exp(TrimmedLogistic<T>::exponent_of_difference(phi[j] - o.phi_p[p][j], minus_inv_s));
-                    mn[p][j] = m * (e_n * scale) / sqr(T(1) + e_n);
-                } else {
-                    mn[p][j] = m * kInvTwoPi<T>;  // the residual: uniform in φ
-                }
+                m.terms(j, sin_i[j], cos_i[j], sqrt_cos_i[j], e_m, m_factor);
+                const T mm = m_factor * detail::lane_exp(e_m);
+                // N_p's density e/(1 + e)² times its scale; the residual's is 1/2π (its lane
+                // computes the same arithmetic with e = 1 and is then replaced).
+                const T e_n = detail::lane_exp(detail::lane_exponent_of_difference(phi[j] - phi_p[j], minus_inv_s));
+                mn[p][j] = select(explicit_lobe, mm * (e_n * scale) / sqr(T(1) + e_n), mm * kInvTwoPi<T>);
             }
         }
         if constexpr (kF) {
             for (int c = 0; c < 3; ++c)
                 for (int j = 0; j < W; ++j) {
-                    if constexpr (std::is_same<T, float>::value && HAIRSCATTER_HAS_VECTOR_EXT) {
+#if HAIRSCATTER_HAS_VECTOR_EXT
+                    if constexpr (std::is_same<T, float>::value) {
                         // The one-hit float sum: two accumulators, lobes (0, 2) and (1, 3).
                         T even = T(0), odd = T(0);
                         even += mn[0][j] * o.a[0][c][j];
@@ -475,11 +537,12 @@ template <typename T> class ChiangBatch {
                         even += mn[2][j] * o.a[2][c][j];
                         odd += mn[3][j] * o.a[3][c][j];
                         f[c][j] = even + odd;
-                    } else {
-                        T sum = T(0);
-                        for (int p = 0; p <= kLobes; ++p) sum += mn[p][j] * o.a[p][c][j];
-                        f[c][j] = sum;
+                        continue;
                     }
+#endif
+                    T sum = T(0);
+                    for (int p = 0; p <= kLobes; ++p) sum += mn[p][j] * o.a[p][c][j];
+                    f[c][j] = sum;
                 }
         }
         if constexpr (kPdf) {
