@@ -289,12 +289,12 @@ template <typename T> void expect_hostile_input_is_zero() {
 }  // namespace
 
 TEST(ChiangBatch, MatchesOneHitCallsFloat) {
-    // N = 0, 1, around the block width (8 in float, 4 in double) and a long batch.
-    for (const std::size_t n : std::vector<std::size_t>{0, 1, 3, 4, 5, 7, 8, 9, 17, 4099})
+    // N = 0, 1, around the block widths (32 and 8 in float, 16 and 4 in double), a long batch.
+    for (const std::size_t n : std::vector<std::size_t>{0, 1, 3, 4, 5, 7, 8, 9, 16, 17, 31, 32, 33, 45, 4099})
         expect_batch_matches_one_hit<float>(n, unsigned(n) + 1u);
 }
 TEST(ChiangBatch, MatchesOneHitCallsDouble) {
-    for (const std::size_t n : std::vector<std::size_t>{0, 1, 3, 4, 5, 7, 8, 9, 17, 4099})
+    for (const std::size_t n : std::vector<std::size_t>{0, 1, 3, 4, 5, 7, 8, 9, 16, 17, 31, 32, 33, 45, 4099})
         expect_batch_matches_one_hit<double>(n, unsigned(n) + 2u);
 }
 TEST(ChiangBatch, HostileInputGivesTheOneHitZerosFloat) { expect_hostile_input_is_zero<float>(); }
