@@ -13,6 +13,7 @@ namespace hs = hairscatter;
     template class hs::BasicChiangFiber<T, hs::LobeSet::kR>;                    \
     template class hs::FiberModel<hs::ChiangFiber<T>, T>;                       \
     template class hs::BoundFiber<hs::ChiangFiber<T>>;                          \
+    template class hs::ChiangBatch<T>;                                          \
     template class hs::DeonFarFieldMaterial<T>;                                 \
     template class hs::DeonFarFieldFiber<T>;                                    \
     template class hs::FiberModel<hs::DeonFarFieldFiber<T>, T>;                 \

@@ -1,19 +1,21 @@
 // hairscatter — the Chiang fiber (models/chiang.hpp) over a batch of hits of one material,
 // for renderers that shade many hits at once (wavefront path tracers): structure-of-arrays
-// in and out, the hits processed kWidth at a time, every step one loop across the hits of
-// a block, so that GCC and Clang vectorise across hits (eight floats to an AVX register)
-// where the one-hit calls vectorise across the four lobes.
+// in and out, the hits processed in blocks (kWidth, then kTail), every step one loop across
+// the hits of a block, so that GCC and Clang vectorise across hits (eight floats to an AVX
+// register) where the one-hit calls vectorise across the four lobes.
 //
 //   ChiangBatch<float> batch(material);
 //   batch.eval(ChiangBatchQuery<float>{n, h, {wo_x, wo_y, wo_z}, {wi_x, wi_y, wi_z}}, {f_r, f_g, f_b});
 //
 // Each result is the one-hit call's, ChiangFiber<T>(material, h[i]).eval(wo_i, wi_i) and so
 // on, computed by the same formulas in the same order: equal to the last bit, or within
-// the few ulps that the compilers' contraction of products into FMAs may differ by between
-// vector and scalar code (tests/chiang_batch_test.cpp states and enforces the bound). The
-// same contract for hostile input: a non-finite or zero wo or wi, or non-finite u, gives 0
-// (eval, pdf) or the empty sample (wi 0, weight 0, pdf 0, SampledLobe::kNone); other
-// lengths are normalised and u is clamped into [0, 1]. All four lobes are kept (no subsets).
+// what the compilers' contraction of products into FMAs changes between vector and scalar
+// code (tests/chiang_batch_test.cpp states and enforces the bound; under -ffast-math, with
+// HAIRSCATTER_ALLOW_FAST_MATH, the sums are reassociated and only the zeros for bad input
+// and the absence of NaN and Inf hold). The same contract for hostile input: a non-finite
+// or zero wo or wi, or non-finite u, gives 0 (eval, pdf) or the empty sample (wi 0, weight
+// 0, pdf 0, SampledLobe::kNone); other lengths are normalised and u is clamped into [0, 1].
+// All four lobes are kept (no lobe subsets); the material's lobe controls apply.
 //
 // On a GPU the model is one thread per hit: eval_at(q, i, f) and friends shade hit i alone
 // (a block of one). The material and every array must then be in device memory.
@@ -279,7 +281,8 @@ template <typename T> class ChiangBatch {
             const std::size_t i = i0 + std::size_t(j);
             out[0][j] = w.x[i], out[1][j] = w.y[i], out[2][j] = w.z[i];
             const T l2 = out[0][j] * out[0][j] + out[1][j] * out[1][j] + out[2][j] * out[2][j];
-            bad |= int(!(abs_value(l2 - T(1)) <= T(1e-5)));
+            // (is_finite reads the bits: under -ffast-math the comparison may not see a NaN)
+            bad |= int(!(abs_value(l2 - T(1)) <= T(1e-5))) | int(!is_finite(l2));
         }
         return bad == 0;
     }
