@@ -169,19 +169,19 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_atan2(T y, 
 #endif
     return elem::atan2(y, x);
 }
-// chosen_index<N>(w, target) (math/distributions.hpp) with its choices as integer arithmetic.
-template <int N, typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE int lane_chosen_index(const T* w, T target) {
-    T cum = T(0);
-    int k = 0, first = N - 1, last = 0;
-    for (int i = 0; i < N; ++i) {
-        cum += w[i];
-        if (i < N - 1) k += int(target >= cum);
-        const int positive = int(w[i] > T(0));
-        first -= (first - i) * (positive & int(i < first));
-        last += (i - last) * positive;
-    }
-    k += (first - k) * int(k < first);
-    return k + (last - k) * int(k > last);
+// chosen_index<4>(w, target) (math/distributions.hpp) of the four lobe weights, its
+// choices as integer arithmetic and the weights as values (an array of them in memory kept
+// GCC's loop scalar): the count of cumulative sums at or below the target, raised to the
+// first lobe with weight and capped at the last one (0 if none has weight).
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE int lane_chosen_index(T w0, T w1, T w2, T w3, T target) {
+    const T cum0 = T(0) + w0, cum1 = cum0 + w1, cum2 = cum1 + w2;  // (chosen_index's running sum)
+    const int k = int(target >= cum0) + int(target >= cum1) + int(target >= cum2);
+    const int p0 = int(w0 > T(0)), p1 = int(w1 > T(0)), p2 = int(w2 > T(0)), p3 = int(w3 > T(0));
+    auto pick = [](int c, int a, int b) { return b + (a - b) * c; };  // c ? a : b, c ∈ {0, 1}
+    const int first = pick(p0, 0, pick(p1, 1, pick(p2, 2, 3)));
+    const int last = pick(p3, 3, pick(p2, 2, pick(p1, 1, 0)));
+    const int raised = pick(int(k < first), first, k);
+    return pick(int(raised > last), last, raised);
 }
 
 }  // namespace detail
@@ -417,8 +417,8 @@ template <typename T> class ChiangBatch {
         int lobe[std::size_t(W)];
         T sin_i[std::size_t(W)], cos_i[std::size_t(W)], phi[std::size_t(W)];
         for (int j = 0; j < W; ++j) {
-            const T w[std::size_t(kLobes + 1)] = {o.w[0][j], o.w[1][j], o.w[2][j], o.w[3][j]};
-            const int k = detail::lane_chosen_index<kLobes + 1>(w, u[0][j] * o.w_total[j]);
+            static_assert(kLobes + 1 == 4, "lane_chosen_index takes four weights");
+            const int k = detail::lane_chosen_index(o.w[0][j], o.w[1][j], o.w[2][j], o.w[3][j], u[0][j] * o.w_total[j]);
             lobe[j] = k;
             sin_i[j] = select(k == 0, lobe_sin[0][j],
                               select(k == 1, lobe_sin[1][j], select(k == 2, lobe_sin[2][j], lobe_sin[3][j])));
