@@ -195,9 +195,10 @@ template <typename T> class ChiangBatch {
     using V3 = glm::vec<3, T>;
     using V4 = glm::vec<4, T>;
     static constexpr int kLobes = Material::kLobes;
-    // Hits per block: 32 in float (four AVX registers per step: measured 9.3x pbrt-v4's eval
-    // per hit against 5.6x with 8 and 8.5x with 16, at -O2 -march=x86-64-v3; the steps' long
-    // chains overlap), 16 in double; the hits left over go in blocks of kTail.
+    // Hits per block: 32 in float (four AVX registers per step, so that the long chains of
+    // neighbouring vectors overlap: faster than 8 or 16, no slower than 64; measured in
+    // docs/performance.md, batched calls), 16 in double; the hits left over go in blocks
+    // of kTail, padded.
     static constexpr int kWidth = std::is_same<T, float>::value ? 32 : 16;
     static constexpr int kTail = std::is_same<T, float>::value ? 8 : 4;
 
