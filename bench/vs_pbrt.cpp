@@ -11,6 +11,7 @@
 //   sample       ChiangFiber::sample(wo, u)                / HairBxDF::Sample_f(wo, u)
 //   path vertex  fiber(h) + at(wo) + eval(wi) + sample(u)  / HairBxDF(h) + f + Sample_f
 //   at(wo).eval  a bound fiber's eval(wi)                  / HairBxDF::f (pbrt has no bound form)
+//   batch.*      ChiangBatch over 256 hits, per hit         / the prebuilt eval, pdf, sample
 // wi is uniform on the sphere; the inputs are reference/inputs.hpp's 65536 cycled tuples
 // (fewer would let the branch predictor learn the cycle: see there).
 // The calibration loop (reference/calibration.hpp, float) gives the unit u of
@@ -246,6 +247,78 @@ template <typename T> void BM_OursAtEval(benchmark::State& state) {
     cycle(state, [&](std::size_t i) { return at[i & 63].eval(wi_uniform<T>()[i]); });
 }
 
+// Batches as a wavefront renderer shades them (models/chiang_batch.hpp): kBatchHits hits of
+// the material per call, structure-of-arrays in and out, cycled through the same 65536
+// inputs as the one-hit rows (h per hit: the stateless calls' work). One iteration is a
+// batch; print_results divides by kBatchHits and sets the time per hit against the
+// reference's prebuilt per-hit calls (BM_RefEval, BM_RefPdf, BM_RefSample: its BxDF built
+// outside the timing, the harder comparison).
+constexpr std::size_t kBatchHits = 256;
+static_assert((kMask + 1) % kBatchHits == 0, "the batches tile the inputs");
+template <typename T> struct BatchData {
+    std::vector<T> h, wo[3], wi[3], u[4];                      // the inputs, as arrays
+    std::vector<T> f[3], pdf, s_wi[3], s_weight[3], s_pdf;     // one batch's results
+    std::vector<hairscatter::SampledLobe> lobe;
+    BatchData() : pdf(kBatchHits), s_pdf(kBatchHits), lobe(kBatchHits) {
+        const auto& in = inputs<T>();
+        for (std::size_t i = 0; i <= kMask; ++i) {
+            h.push_back(in.h[i]);
+            for (int c = 0; c < 3; ++c) wo[c].push_back(in.wo[i][c]), wi[c].push_back(wi_uniform<T>()[i][c]);
+            for (int c = 0; c < 4; ++c) u[c].push_back(in.u[i][c]);
+        }
+        for (int c = 0; c < 3; ++c) f[c].resize(kBatchHits), s_wi[c].resize(kBatchHits), s_weight[c].resize(kBatchHits);
+    }
+    hairscatter::ChiangBatchQuery<T> query(std::size_t i) const {
+        hairscatter::ChiangBatchQuery<T> q;
+        q.n = kBatchHits;
+        q.h = h.data() + i;
+        q.wo = {wo[0].data() + i, wo[1].data() + i, wo[2].data() + i};
+        q.wi = {wi[0].data() + i, wi[1].data() + i, wi[2].data() + i};
+        return q;
+    }
+    hairscatter::ChiangBatchSampleQuery<T> sample_query(std::size_t i) const {
+        hairscatter::ChiangBatchSampleQuery<T> q;
+        q.n = kBatchHits;
+        q.h = h.data() + i;
+        q.wo = {wo[0].data() + i, wo[1].data() + i, wo[2].data() + i};
+        for (int c = 0; c < 4; ++c) q.u[c] = u[c].data() + i;
+        return q;
+    }
+    hairscatter::Arrays3<T> f_out() { return {f[0].data(), f[1].data(), f[2].data()}; }
+};
+template <typename T> BatchData<T>& batch_data() {
+    static BatchData<T> data;
+    return data;
+}
+template <typename T, typename F> void cycle_batches(benchmark::State& state, F&& call) {
+    std::size_t i = 0;
+    for (auto _ : state) {
+        call(i);
+        benchmark::ClobberMemory();
+        i = (i + kBatchHits) & kMask;
+    }
+}
+template <typename T> void BM_OursBatchEval(benchmark::State& state) {
+    BatchData<T>& d = batch_data<T>();
+    const hairscatter::ChiangBatch<T> batch(inputs<T>().materials[kBeta]);
+    cycle_batches<T>(state, [&](std::size_t i) { batch.eval(d.query(i), d.f_out()); });
+}
+template <typename T> void BM_OursBatchPdf(benchmark::State& state) {
+    BatchData<T>& d = batch_data<T>();
+    const hairscatter::ChiangBatch<T> batch(inputs<T>().materials[kBeta]);
+    cycle_batches<T>(state, [&](std::size_t i) { batch.pdf(d.query(i), d.pdf.data()); });
+}
+template <typename T> void BM_OursBatchSample(benchmark::State& state) {
+    BatchData<T>& d = batch_data<T>();
+    const hairscatter::ChiangBatch<T> batch(inputs<T>().materials[kBeta]);
+    hairscatter::ChiangBatchSamples<T> out;
+    out.wi = {d.s_wi[0].data(), d.s_wi[1].data(), d.s_wi[2].data()};
+    out.weight = {d.s_weight[0].data(), d.s_weight[1].data(), d.s_weight[2].data()};
+    out.pdf = d.s_pdf.data();
+    out.lobe = d.lobe.data();
+    cycle_batches<T>(state, [&](std::size_t i) { batch.sample(d.sample_query(i), out); });
+}
+
 // Collects every repetition's CPU time per benchmark while the console reporter prints.
 class Collector : public benchmark::ConsoleReporter {
   public:
@@ -298,6 +371,22 @@ void print_results(const Collector& c) {
                             ours, ref, ref / ours, ours_min, ref_min, ref_min / ours_min);
         }
     }
+    // The batches per hit (kBatchHits hits per timed call).
+    const char* batch_calls[][3] = {{"batch.eval", "BM_OursBatchEval", "BM_RefEval"},
+                                    {"batch.pdf", "BM_OursBatchPdf", "BM_RefPdf"},
+                                    {"batch.sample", "BM_OursBatchSample", "BM_RefSample"}};
+    for (const char* type : {"float", "double"}) {
+        const std::string t = std::string("<") + type + ">";
+        for (const auto& call : batch_calls) {
+            const std::string o = call[1] + t, rf = call[2] + t;
+            const double hits = double(kBatchHits);
+            const double ours = c.quantile(o, 0.5) / hits, ref = c.quantile(rf, 0.5);
+            const double ours_min = c.quantile(o, 0.0) / hits, ref_min = c.quantile(rf, 0.0);
+            if (ours > 0.0 && ref > 0.0)
+                std::printf("RESULT %s %s %s %.2f %.2f %.3f %.2f %.2f %.3f\n", type, HAIRSCATTER_BENCH_LABEL, call[0],
+                            ours, ref, ref / ours, ours_min, ref_min, ref_min / ours_min);
+        }
+    }
     const double unit = c.quantile("BM_Calib<float>", 0.5), unit_min = c.quantile("BM_Calib<float>", 0.0);
     if (unit > 0.0) std::printf("RESULT float %s unit %.2f %.2f\n", HAIRSCATTER_BENCH_LABEL, unit, unit_min);
     for (const char* type : {"float", "double"}) {  // the per-hit material's own cost
@@ -343,6 +432,9 @@ HAIRSCATTER_BOTH(BM_OursHitVertex);
 HAIRSCATTER_BOTH(BM_RefHitVertex);
 HAIRSCATTER_BOTH(BM_OursHitBuild);
 HAIRSCATTER_BOTH(BM_OursCheckedBuild);
+HAIRSCATTER_BOTH(BM_OursBatchEval);
+HAIRSCATTER_BOTH(BM_OursBatchPdf);
+HAIRSCATTER_BOTH(BM_OursBatchSample);
 BENCHMARK_TEMPLATE(BM_OursEvalB, float)->Arg(0)->Arg(2);
 BENCHMARK_TEMPLATE(BM_RefEvalB, float)->Arg(0)->Arg(2);
 BENCHMARK_TEMPLATE(BM_OursSampleB, float)->Arg(0)->Arg(2);
@@ -356,6 +448,8 @@ int main(int argc, char** argv) {
     (void)inputs<double>();
     (void)hit_params<float>();
     (void)hit_params<double>();
+    (void)batch_data<float>();
+    (void)batch_data<double>();
     Collector collector;
     benchmark::RunSpecifiedBenchmarks(&collector);
     print_results(collector);

@@ -19,7 +19,9 @@ CALLS = [("eval", "`eval(wo, wi)`"), ("pdf", "`pdf(wo, wi)`"), ("sample", "`samp
          ("fresh.sample", "stateless `sample`: fiber(h) + sample"),
          ("hit.eval", "per-hit material + `eval`"), ("hit.vertex", "per-hit material + path vertex"),
          ("b0.05.eval", "`eval`, β 0.05"), ("b1.eval", "`eval`, β 1"),
-         ("b0.05.sample", "`sample`, β 0.05"), ("b1.sample", "`sample`, β 1")]
+         ("b0.05.sample", "`sample`, β 0.05"), ("b1.sample", "`sample`, β 1"),
+         ("batch.eval", "batched `eval`, per hit"), ("batch.pdf", "batched `pdf`, per hit"),
+         ("batch.sample", "batched `sample`, per hit")]
 # The builds, in table order: -march=native, x86-64-v3, x86-64-v2 (bench/CMakeLists.txt).
 LEVELS = ["-O2", "-O3", "-O2/v3", "-O3/v3", "-O2/v2", "-O3/v2"]
 LEVEL_NAMES = {"-O2": "-O2 native", "-O3": "-O3 native", "-O2/v3": "-O2 v3", "-O3/v3": "-O3 v3",
@@ -108,7 +110,9 @@ def cmd_results(out_md, header, *runs_paths):
             "(bench/reference/pbrt_style.hpp), both measured in the same process. Builds: native =",
             "-march=native, v3 = -march=x86-64-v3, v2 = -march=x86-64-v2. Stateless rows build the",
             "fiber from h inside the timed call (the reference its HairBxDF); per-hit rows build the",
-            "material too, from parameters that differ at every input (ours ChiangMaterial::per_hit).", ""]
+            "material too, from parameters that differ at every input (ours ChiangMaterial::per_hit).",
+            "Batched rows: ChiangBatch over 256 hits of one material per call (h per hit), the time",
+            "per hit against the reference's prebuilt per-hit calls.", ""]
     text += ["```"] + open(header).read().rstrip("\n").splitlines() + ["```", ""]
     for real in ("float", "double"):
         text += ["## %s" % real, ""]

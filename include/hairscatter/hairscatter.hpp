@@ -29,6 +29,7 @@
 #include "models/contract.hpp"
 #include "models/chiang.hpp"
 #include "models/chiang_spectral.hpp"
+#include "models/chiang_batch.hpp"
 #include "models/deon_farfield.hpp"
 #include "models/tabulated.hpp"
 #include "models/marschner.hpp"

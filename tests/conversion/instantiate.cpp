@@ -17,6 +17,7 @@ namespace hs = hairscatter;
     template class hs::BasicChiangSpectralFiber<T, 4, hs::LobeSet::kAll>;       \
     template class hs::BasicChiangSpectralFiber<T, 5, hs::LobeSet::kR>;         \
     template struct hs::SpectralValues<T, 4>;                                   \
+    template class hs::ChiangBatch<T>;                                          \
     template class hs::DeonFarFieldMaterial<T>;                                 \
     template class hs::DeonFarFieldFiber<T>;                                    \
     template class hs::FiberModel<hs::DeonFarFieldFiber<T>, T>;                 \

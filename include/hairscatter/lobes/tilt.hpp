@@ -73,6 +73,13 @@ template <typename T> class CuticleTilt {
         return {s, c < T(0) ? -c : c};
     }
 
+    // The rotation itself, (sin, cos) of angle(p): rotate's constants, for callers that
+    // rotate many θo at once (models/chiang_batch.hpp).
+    HAIRSCATTER_HD Rotated rotation(int p) const {
+        const int k = p < kLobes ? p : kLobes - 1;
+        return {sin_[k], cos_[k]};
+    }
+
   private:
     T angle_[kLobes] = {T(0), T(0), T(0), T(0)};
     T sin_[kLobes] = {T(0), T(0), T(0), T(0)}, cos_[kLobes] = {T(1), T(1), T(1), T(1)};
