@@ -803,7 +803,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         Outgoing o;
         RuleTotals r, paths;
         int n_r, n;
-        End ends[kBoundEnds > 0 ? kBoundEnds : 1];
+        End ends[std::size_t(kBoundEnds > 0 ? kBoundEnds : 1)];
     };
 
     // The walks over the path ends, live from the outgoing terms or replayed from a Bound:
