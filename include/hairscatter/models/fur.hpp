@@ -494,6 +494,14 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
     HAIRSCATTER_HD bool has_lobe_weights() const { return any_weight_; }
     HAIRSCATTER_HD const TrimmedLogistic<T>& azimuthal() const { return n_; }
     HAIRSCATTER_HD const MedullaTables<T>& medulla() const { return tables_; }
+    // The offset |h| at which the refracted chord grazes the medulla, sinγt = κ, i.e.
+    // h = κ η' (Bravais' η'); 1 where the medulla meets every chord. The chord's share
+    // √(κ² − sin²γt) has a square-root edge there, which a quadrature over h must split at
+    // (the dual-scattering tables do).
+    HAIRSCATTER_HD T h_break(T sin_o) const {
+        const FiberRefraction<T> r(sin_o, cos_from_sin(sin_o), params_.cortex.eta);
+        return params_.kappa < r.gamma_t_scale ? params_.kappa / r.gamma_t_scale : T(1);
+    }
 
     // The medulla tables in a small versioned binary file, to skip their simulation next
     // time: "HSFT", the version, the tables' sizes, the parameters they depend on (η and
