@@ -219,8 +219,10 @@ template <typename T> class FiberModels {
 
     FiberModel model() const { return model_; }
     unsigned lobes() const { return lobes_; }
-    // Always built: the dual-scattering tables need Chiang's model whatever --model says.
+    // Always built: the dual-scattering tables of every model but fur are Chiang's.
     const hairscatter::ChiangMaterial<T>& chiang() const { return *chiang_; }
+    // The fur material (--model fur only; null otherwise).
+    const hairscatter::FurMaterial<T>* fur() const { return fur_.get(); }
     // Strand `strand`'s Chiang material (the base one without per-strand variation).
     const hairscatter::ChiangMaterial<T>& chiang(std::uint32_t strand) const {
         return strands_.empty() ? *chiang_ : strands_[strand % strands_.size()];

@@ -235,18 +235,24 @@ TEST(RenderCli, RefusesBadFurValuesNamingTheOption) {
     expect_refused(fur + "--medulla-g -1", "--medulla-g");
     expect_refused("--integrator path --kappa 0.5", "only --model fur");
     expect_refused("--integrator single --model farfield --medulla-g 0.3", "only --model fur");
-    expect_refused("--integrator dual --model fur", "--integrator dual");
+    expect_refused("--integrator dual --model huang", "--integrator dual");
     expect_refused(fur + "--gain-r -1", "--gain-r");  // fur takes the lobe controls, checked as for chiang
     expect_refused(fur + "--strand-seed 3", "--model chiang");
 }
 
-// The fur ball renders with the fur fiber under both integrators, finite; a scattering
-// medulla changes the hair pixels (the same seed and rays: without the knobs reaching the
-// fiber the means would be equal), and a scalar --medulla-sigma-a is the grey R,G,B.
+// The fur ball renders with the fur fiber under every integrator (dual scattering with the
+// two-stream estimator and with the BCSDF), finite; a scattering medulla changes the hair
+// pixels (the same seed and rays: without the knobs reaching the fiber the means would be
+// equal), and a scalar --medulla-sigma-a is the grey R,G,B.
 TEST(RenderCli, FurRendersWithAMedulla) {
     const std::string scene = " --scene fur --fur-hairs 400 --width 24 --height 18 --spp 2 --model fur";
-    for (const char* integrator : {"single", "path"}) {
-        const std::string base = std::string("--integrator ") + integrator + scene;
+    struct Run {
+        const char *integrator, *args;
+    };
+    for (const Run& run_of : {Run{"single", "single"}, Run{"path", "path"}, Run{"dual", "dual"},
+                              Run{"dual_bcsdf", "dual --dual improved"}}) {
+        const std::string integrator = run_of.integrator;
+        const std::string base = std::string("--integrator ") + run_of.args + scene;
         const Outcome bare = run(base + " -o " + out_base(std::string("fur_bare_") + integrator));
         const Outcome medulla = run(base + " --kappa 0.6 --medulla-sigma-s 10 --medulla-g 0.3 -o " +
                                     out_base(std::string("fur_medulla_") + integrator));
