@@ -632,7 +632,9 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
         detail::write_table_file(path, std::move(buf), "fur medulla tables");
     }
 
-    // The material of params with the tables of a file written by save() (no simulation).
+    // The material of params with the tables of a file written by save() (no simulation of
+    // the medulla; the rough cortex's walk, which the file does not hold, is still run when
+    // params.rough_cortex is set).
     // Throws std::invalid_argument for bad params (as the constructor), std::runtime_error
     // naming the file for a wrong magic, version, table size, file size or checksum, a
     // value outside what the simulation produces, or tables built for other parameters
