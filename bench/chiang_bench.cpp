@@ -298,7 +298,8 @@ template <typename T> void BM_ControlsSample(benchmark::State& state) {
 // The fur fibre (models/fur.hpp) on the same inputs: the cortex of β_m index 1 (0.3) around
 // a medulla of κ 0.6, σs^m 10, g 0.3, its tables built once. To compare with BM_Eval and
 // BM_Sample at bm = 1 (the goal: within 3× of Chiang's, in the same run).
-template <typename T> std::vector<hairscatter::FurFiber<T>> fur_fibers() {
+// With rough: the same fibre with FurParams::rough_cortex (its walk's table read per query).
+template <typename T> std::vector<hairscatter::FurFiber<T>> fur_fibers(bool rough = false) {
     const auto& in = inputs<T>();
     hairscatter::FurParams<T> p;
     p.cortex = in.materials[1].params();
@@ -306,21 +307,25 @@ template <typename T> std::vector<hairscatter::FurFiber<T>> fur_fibers() {
     p.sigma_s = T(10);
     p.g = T(0.3);
     static const hairscatter::FurMaterial<T> material(p);
+    p.rough_cortex = true;
+    static const hairscatter::FurMaterial<T> rough_material(p);
     std::vector<hairscatter::FurFiber<T>> f;
-    for (std::size_t i = 0; i < bench_ref::kInputs; ++i) f.emplace_back(material, in.h[i]);
+    for (std::size_t i = 0; i < bench_ref::kInputs; ++i) f.emplace_back(rough ? rough_material : material, in.h[i]);
     return f;
 }
 
 template <typename T> void BM_FurEval(benchmark::State& state) {
     const auto& in = inputs<T>();
-    const auto fibers = fur_fibers<T>();
-    const auto& wi = in.wi[state.range(0)][1];
+    const bool rough = state.range(0) == 2;  // /2: sampled wi, the rough cortex
+    const auto fibers = fur_fibers<T>(rough);
+    const auto& wi = in.wi[state.range(0) ? 1 : 0][1];
     std::size_t i = 0;
     for (auto _ : state) {
         benchmark::DoNotOptimize(fibers[i].eval(in.wo[i], wi[i]));
         i = (i + 1) & kMask;
     }
-    state.SetLabel(state.range(0) ? "beta_m=0.30 wi=sampled, fur" : "beta_m=0.30 wi=uniform, fur");
+    state.SetLabel(rough ? "beta_m=0.30 wi=sampled, fur, rough cortex"
+                         : state.range(0) ? "beta_m=0.30 wi=sampled, fur" : "beta_m=0.30 wi=uniform, fur");
     // The material's memory: its medulla tables and the whole FurMaterial (which holds them).
     state.counters["table_bytes"] = double(sizeof(hairscatter::MedullaTables<T>));
     state.counters["material_bytes"] = double(sizeof(hairscatter::FurMaterial<T>));
@@ -328,13 +333,13 @@ template <typename T> void BM_FurEval(benchmark::State& state) {
 
 template <typename T> void BM_FurSample(benchmark::State& state) {
     const auto& in = inputs<T>();
-    const auto fibers = fur_fibers<T>();
+    const auto fibers = fur_fibers<T>(state.range(0) == 1);
     std::size_t i = 0;
     for (auto _ : state) {
         benchmark::DoNotOptimize(fibers[i].sample(in.wo[i], in.u[i]));
         i = (i + 1) & kMask;
     }
-    state.SetLabel("beta_m=0.30, fur");
+    state.SetLabel(state.range(0) ? "beta_m=0.30, fur, rough cortex" : "beta_m=0.30, fur");
 }
 
 // Building a FurMaterial (its medulla tables' simulation) for the fibre above and for the
@@ -381,10 +386,10 @@ BENCHMARK_TEMPLATE(BM_LobesSample, float, LobeSet::kPrimary);
 BENCHMARK_TEMPLATE(BM_LobesSample, float, LobeSet::kAll);
 BENCHMARK_TEMPLATE(BM_LobesEval, double, LobeSet::kR);
 BENCHMARK_TEMPLATE(BM_LobesEval, double, LobeSet::kAll);
-BENCHMARK_TEMPLATE(BM_FurEval, float)->Arg(0)->Arg(1);
-BENCHMARK_TEMPLATE(BM_FurEval, double)->Arg(0)->Arg(1);
-BENCHMARK_TEMPLATE(BM_FurSample, float);
-BENCHMARK_TEMPLATE(BM_FurSample, double);
+BENCHMARK_TEMPLATE(BM_FurEval, float)->Arg(0)->Arg(1)->Arg(2);
+BENCHMARK_TEMPLATE(BM_FurEval, double)->Arg(0)->Arg(1)->Arg(2);
+BENCHMARK_TEMPLATE(BM_FurSample, float)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(BM_FurSample, double)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(BM_FurTables, float)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(2);
 BENCHMARK_TEMPLATE(BM_ControlsEval, float);
 BENCHMARK_TEMPLATE(BM_ControlsSample, float);

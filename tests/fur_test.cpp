@@ -27,8 +27,10 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-template <typename T> hs::FurParams<T> fur_params(double kappa, double sigma_s, double g, glm::dvec3 sigma_a) {
+template <typename T>
+hs::FurParams<T> fur_params(double kappa, double sigma_s, double g, glm::dvec3 sigma_a, bool rough_cortex = false) {
     hs::FurParams<T> p;
+    p.rough_cortex = rough_cortex;
     p.kappa = T(kappa);
     p.sigma_s = T(sigma_s);
     p.g = T(g);
@@ -107,13 +109,15 @@ TEST(FurFiber, KappaZeroIsChiangFloat) { kappa_zero_is_chiang<float>(1e-4); }
 
 // σa^c = σa^m = 0: albedo 1 within 1e-3 at every offset and inclination (by construction:
 // the extinction's loss from the unscattered lobes is the scattered lobe's energy), and the
-// integral of eval over the sphere equals the albedo (every lobe's shape normalised).
+// integral of eval over the sphere equals the albedo (every lobe's shape normalised); with
+// the smooth and the rough cortex.
 TEST(FurFiber, LosslessFurnace) {
     double worst_albedo = 0, worst_integral = 0;
+    for (bool rough : {false, true})
     for (double kappa : {0.3, 0.6, 0.9})
         for (double sigma_s : {1.0, 10.0})
             for (double g : {0.0, 0.5}) {
-                const hs::FurMaterial<double> mat(fur_params<double>(kappa, sigma_s, g, glm::dvec3(0)));
+                const hs::FurMaterial<double> mat(fur_params<double>(kappa, sigma_s, g, glm::dvec3(0), rough));
                 for (double h : {-0.95, -0.3, 0.0, 0.4, 0.8})
                     for (double theta : {-80.0, -30.0, 0.0, 45.0, 75.0}) {
                         const hs::FurFiber<double> fiber(mat, h);
@@ -132,9 +136,45 @@ TEST(FurFiber, LosslessFurnace) {
     std::printf("[ fur ] lossless: worst |albedo − 1| %.2e, worst |∫ eval − albedo| %.2e\n", worst_albedo, worst_integral);
 }
 
+// The rough cortex (FurParams::rough_cortex) moves light from TT into the orders past TRT
+// and leaves R alone: lossless, no medulla, averaged over h, at θo 0°, 30° and 75°, the
+// residual's share grows several times (light trapped by total internal reflection at
+// tilted facets) and TT falls, the more the nearer grazing; its walk's shares of the
+// entered light add up to 1 at every node, and its tail ratio lies in [0, 1).
+TEST(FurFiber, RoughCortexTrapsLightPastTRT) {
+    const hs::FurMaterial<double> smooth(fur_params<double>(0, 0, 0, glm::dvec3(0)));
+    const hs::FurMaterial<double> rough(fur_params<double>(0, 0, 0, glm::dvec3(0), true));
+    double previous_drop = 0;
+    for (double theta : {0.0, 30.0, 75.0}) {
+        double a[2][4] = {};
+        constexpr int kH = 400;
+        for (int k = 0; k < kH; ++k)
+            for (int r = 0; r < 2; ++r) {
+                const auto s = hs::FurFiber<double>(r ? rough : smooth, -1 + (k + 0.5) * 2.0 / kH).lobe_split(direction(theta));
+                for (int p = 0; p < 4; ++p) a[r][p] += s.a[p].x / kH;
+            }
+        std::printf("[ fur ] rough cortex, θo %2.0f°: R %.3f / %.3f, TT %.3f / %.3f, TRT %.3f / %.3f, later %.3f / %.3f"
+                    " (smooth / rough)\n", theta, a[0][0], a[1][0], a[0][1], a[1][1], a[0][2], a[1][2], a[0][3], a[1][3]);
+        EXPECT_NEAR(a[1][0], a[0][0], 1e-12);
+        EXPECT_GT(a[1][3], 4 * a[0][3]);
+        EXPECT_GT(a[1][3], 0.05);
+        const double drop = a[0][1] - a[1][1];
+        EXPECT_GT(drop, previous_drop);
+        previous_drop = drop;
+    }
+    const auto& t = rough.rough_cortex();
+    for (const auto& row : t.share)
+        for (const auto& node : row) {
+            EXPECT_NEAR(node[0] + node[1] + node[2], 1.0, 1e-9);
+            EXPECT_GE(node[3], 0.0);
+            EXPECT_LT(node[3], 1.0);
+        }
+}
+
 // The coloured fibre: ∫ eval = albedo per channel, and the albedo lies in [0, 1].
 TEST(FurFiber, AlbedoMatchesIntegralWithAbsorption) {
-    const hs::FurMaterial<double> mat(fur_params<double>(0.6, 10, 0.3, glm::dvec3(0.5447, 0.9061, 1.781)));
+    for (bool rough : {false, true}) {
+    const hs::FurMaterial<double> mat(fur_params<double>(0.6, 10, 0.3, glm::dvec3(0.5447, 0.9061, 1.781), rough));
     const hs::FurFiber<double> fiber(mat, -0.35);
     const glm::dvec3 wo = direction(20, 0.3);
     const glm::dvec3 i = integrate(fiber, wo), a = fiber.albedo(wo);
@@ -142,6 +182,7 @@ TEST(FurFiber, AlbedoMatchesIntegralWithAbsorption) {
         EXPECT_NEAR(i[c], a[c], 1e-3);
         EXPECT_GT(a[c], 0);
         EXPECT_LT(a[c], 1);
+    }
     }
 }
 
@@ -153,18 +194,21 @@ template <typename T> void chi_square(bool negative) {
     struct Case {
         double kappa, sigma_s, g, h, theta;
         glm::dvec3 sigma_a;
+        bool rough;
     };
-    const Case cases[] = {{0.6, 10, 0, 0.3, 30, glm::dvec3(0)},
-                          {0.9, 1, 0.5, -0.7, 60, glm::dvec3(0.5, 0.9, 1.8)},
-                          {0.3, 10, 0, 0.1, -10, glm::dvec3(0.2)},
-                          {0.8, 30, -0.3, 0.0, 80, glm::dvec3(2, 1, 0.5)}};
+    const Case cases[] = {{0.6, 10, 0, 0.3, 30, glm::dvec3(0), false},
+                          {0.9, 1, 0.5, -0.7, 60, glm::dvec3(0.5, 0.9, 1.8), false},
+                          {0.3, 10, 0, 0.1, -10, glm::dvec3(0.2), false},
+                          {0.8, 30, -0.3, 0.0, 80, glm::dvec3(2, 1, 0.5), false},
+                          {0.5, 2, 0, 0.25, 40, glm::dvec3(0), true},
+                          {0.6, 3, 0.5, -0.5, -70, glm::dvec3(0.3, 0.6, 1.2), true}};
     chi2::Options opt;
     opt.samples = 200000;
-    opt.num_tests = 4;
+    opt.num_tests = 6;
     opt.max_depth = 4;
     for (const Case& c : cases) {
-        const hs::FurMaterial<T> mat(fur_params<T>(c.kappa, c.sigma_s, c.g, c.sigma_a));
-        const hs::FurMaterial<T> other(fur_params<T>(c.kappa, 0.5 * c.sigma_s, c.g, c.sigma_a));
+        const hs::FurMaterial<T> mat(fur_params<T>(c.kappa, c.sigma_s, c.g, c.sigma_a, c.rough));
+        const hs::FurMaterial<T> other(fur_params<T>(c.kappa, 0.5 * c.sigma_s, c.g, c.sigma_a, c.rough));
         const hs::FurFiber<T> fiber(mat, T(c.h)), wrong(other, T(c.h));
         const glm::vec<3, T> wo(direction(c.theta, 0.4));
         const auto at = fiber.at(wo);
@@ -190,10 +234,11 @@ TEST(FurFiber, ChiSquareNegativeControl) { chi_square<double>(true); }
 template <typename T> void weight_is_eval_over_pdf() {
     std::mt19937_64 rng(5);
     std::uniform_real_distribution<double> uni(0, 1);
-    const hs::FurMaterial<T> mat(fur_params<T>(0.7, 5, 0.4, glm::dvec3(0.3, 0.6, 1.2)));
+    const hs::FurMaterial<T> smooth(fur_params<T>(0.7, 5, 0.4, glm::dvec3(0.3, 0.6, 1.2)));
+    const hs::FurMaterial<T> rough(fur_params<T>(0.7, 5, 0.4, glm::dvec3(0.3, 0.6, 1.2), true));
     int scattered = 0;
     for (int k = 0; k < 20000; ++k) {
-        const hs::FurFiber<T> fiber(mat, T(2 * uni(rng) - 1));
+        const hs::FurFiber<T> fiber(k % 2 ? rough : smooth, T(2 * uni(rng) - 1));
         const glm::vec<3, T> wo(random_direction(rng));
         const glm::vec<4, T> u(T(uni(rng)), T(uni(rng)), T(uni(rng)), T(uni(rng)));
         const hs::HairSample<T> s = fiber.sample(wo, u), b = fiber.at(wo).sample(u);
@@ -224,8 +269,12 @@ template <typename T> void finite_at_extremes() {
     const Medulla medullas[] = {{0, 0, 0, 0},         {0, 0, 0, 50},          {0.5, 1e-6, 0.99, 0},
                                 {0.999999, 200, -0.99, 0}, {0.999999, 200, 0.99, 50}, {0.5, 5, 0, 50},
                                 {1e-6, 10, 0, 0}};
-    for (const Medulla& m : medullas) {
-        hs::FurParams<T> p = fur_params<T>(m.kappa, m.sigma_s, m.g, glm::dvec3(m.sigma_a));
+    for (const Medulla& m : medullas)
+    for (bool rough : {false, true}) {
+        // (The rough cortex on every medulla but the two dense ones, whose simulation is most
+        // of this test's time; it covers the opaque cortex and the vanishing medulla.)
+        if (rough && m.sigma_s > 100) continue;
+        hs::FurParams<T> p = fur_params<T>(m.kappa, m.sigma_s, m.g, glm::dvec3(m.sigma_a), rough);
         p.sigma_a_medulla = V3(T(m.sigma_a));
         const hs::FurMaterial<T> mat(p);
         for (T h : hs_) {
@@ -295,15 +344,16 @@ TEST(FurMaterial, RejectsBadParametersByName) {
 // 0.3 s build took 2.8 s of wall time).
 TEST(FurMaterial, TablesBuildWithinASecond) {
     double worst = 0;
+    for (bool rough : {false, true})
     for (double kappa : {0.3, 0.9})
         for (double sigma_s : {1.0, 10.0}) {
             const auto t0 = std::chrono::steady_clock::now();
             const std::clock_t c0 = std::clock();
-            const hs::FurMaterial<float> mat(fur_params<float>(kappa, sigma_s, 0, glm::dvec3(0.5447, 0.9061, 1.781)));
+            const hs::FurMaterial<float> mat(fur_params<float>(kappa, sigma_s, 0, glm::dvec3(0.5447, 0.9061, 1.781), rough));
             const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
             const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            std::printf("[ fur ] tables κ %.1f σs %g: %.3f s CPU, %.3f s wall (%zu bytes)\n", kappa, sigma_s, cpu, wall,
-                        sizeof(mat.medulla()));
+            std::printf("[ fur ] tables κ %.1f σs %g%s: %.3f s CPU, %.3f s wall (%zu bytes, rough cortex %zu)\n", kappa,
+                        sigma_s, rough ? ", rough cortex" : "", cpu, wall, sizeof(mat.medulla()), sizeof(mat.rough_cortex()));
             worst = std::max(worst, cpu);
         }
 #if defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__)
@@ -316,9 +366,11 @@ TEST(FurMaterial, TablesBuildWithinASecond) {
 // (the RGB mean), of the whole f and of the light scattered in the medulla alone (the
 // reference's scattered class against eval_scattered). The rough cortex is GGX 0.17, matched
 // to the model's β_m = β_n = 0.3 by the width of R (fur_roughness_tool), with the 2° cuticle
-// tilt on both sides; the whole f then carries what a rough fibre does that Chiang's lobes do
-// not (κ = 0: 29.7 %; docs/models.md), and so does the scattered light's energy, which the
-// cortex's paths feed. The nearly smooth, untilted cortex (GGX 0.02, tilt 0 in both) measures
+// tilt on both sides, and the model's cortex rough too (FurParams::rough_cortex: the orders of
+// exit from a walk over facets whose spread follows from β; nothing fitted to this
+// reference); the whole f then carries what a rough fibre does that the model still does
+// not (TT's width, the trapped light's shape, the tilt feeding the medulla; docs/models.md),
+// and so does the scattered light's energy, which the cortex's paths feed. The nearly smooth, untilted cortex (GGX 0.02, tilt 0 in both) measures
 // the medulla's lobe where the model's smooth-cylinder paths hold. The figures of
 // docs/models.md, printed; the bounds guard what is reached (the goal, 5 %, is not reached
 // everywhere: see docs/models.md).
@@ -338,6 +390,7 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
                     const glm::dvec3 sa = b ? glm::dvec3(phys_fiber::kBlond[0], phys_fiber::kBlond[1], phys_fiber::kBlond[2]) : glm::dvec3(0);
                     hs::FurParams<double> prm = fur_params<double>(fc.kappa, fc.sigma_s, fc.g, sa);
                     prm.cortex.alpha = fc.tilt_deg * kPi / 180;  // the reference's cuticle tilt
+                    prm.rough_cortex = fc.roughness >= 0.1;  // the walk over its facets (derived from β)
                     const hs::FurMaterial<double> mat(prm);
                     std::vector<hs::FurFiber<double>> fibers;
                     for (int i = 0; i < kH; ++i) fibers.emplace_back(mat, -1 + (i + 0.5) * 2.0 / kH);
@@ -363,7 +416,8 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
         });
     for (auto& th : pool) th.join();
     double worst_all = 0, worst[2] = {0, 0}, mean[2] = {0, 0};  // scattered: [rough, smooth]
-    int n[2] = {0, 0};
+    double mean_all[2] = {0, 0};                                // f on the rough cortex: [lossless, blond]
+    int n[2] = {0, 0}, n_all = 0;
     for (std::size_t k = 0; k < cases.size(); ++k) {
         const Row& r = rows[k];
         const int smooth = cases[k].fur.roughness < 0.1;
@@ -372,6 +426,7 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
                     cases[k].fur.name().c_str(), 100 * r.all[0], 100 * r.all[1], 100 * r.scattered[0], 100 * r.scattered[1],
                     r.energy[0][0], r.energy[0][1], r.energy[1][0], r.energy[1][1]);
         worst_all = std::max({worst_all, r.all[0], r.all[1]});
+        if (!smooth) mean_all[0] += r.all[0], mean_all[1] += r.all[1], ++n_all;
         if (cases[k].fur.kappa > 0) {
             worst[smooth] = std::max({worst[smooth], r.scattered[0], r.scattered[1]});
             mean[smooth] += r.scattered[0] + r.scattered[1];
@@ -379,13 +434,17 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
         }
     }
     for (int sm = 0; sm < 2; ++sm) mean[sm] /= std::max(1, n[sm]);
-    std::printf("[ physical ] rough cortex: f worst %.1f %%; scattered worst %.1f %%, mean %.1f %%\n", 100 * worst_all,
-                100 * worst[0], 100 * mean[0]);
+    for (double& m : mean_all) m /= std::max(1, n_all);
+    std::printf("[ physical ] rough cortex: f worst %.1f %%, mean %.1f %% lossless, %.1f %% blond; scattered worst %.1f %%,"
+                " mean %.1f %%\n", 100 * worst_all, 100 * mean_all[0], 100 * mean_all[1], 100 * worst[0], 100 * mean[0]);
     std::printf("[ physical ] smooth cortex: scattered worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst[1], 100 * mean[1]);
-    // Measured: 58.6 %; 25.8 %, 11.2 %; 6.3 %, 4.8 % (the reference's noise: 1–3 %).
+    // Measured: 58.6 %, mean 12.8 % lossless and 21.6 % blond (19.0 % and 25.2 % with the
+    // smooth cortex's orders); 22.2 %, 10.9 %; 6.3 %, 4.8 % (the reference's noise: 1–3 %).
     EXPECT_LT(worst_all, 0.63);
-    EXPECT_LT(worst[0], 0.28);
-    EXPECT_LT(mean[0], 0.125);
+    EXPECT_LT(mean_all[0], 0.145);
+    EXPECT_LT(mean_all[1], 0.235);
+    EXPECT_LT(worst[0], 0.25);
+    EXPECT_LT(mean[0], 0.12);
     EXPECT_LT(worst[1], 0.07);
     EXPECT_LT(mean[1], 0.052);
 }

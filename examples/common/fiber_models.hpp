@@ -95,6 +95,7 @@ hairscatter::HuangParams<T> huang_params(const hairscatter::FiberParams<T>& p, c
 struct MedullaShape {
     double kappa = 0.0, sigma_s = 0.0, g = 0.0;
     double sigma_a[3] = {0.0, 0.0, 0.0};
+    bool rough_cortex = false;  // --rough-cortex: FurParams::rough_cortex
 };
 
 // The fur fiber's parameters for a Chiang parameter set: the set is the cortex.
@@ -106,6 +107,7 @@ hairscatter::FurParams<T> fur_params(const hairscatter::FiberParams<T>& p, const
     f.sigma_s = T(m.sigma_s);
     f.sigma_a_medulla = glm::vec<3, T>(T(m.sigma_a[0]), T(m.sigma_a[1]), T(m.sigma_a[2]));
     f.g = T(m.g);
+    f.rough_cortex = m.rough_cortex;
     return f;
 }
 
@@ -219,8 +221,10 @@ template <typename T> class FiberModels {
 
     FiberModel model() const { return model_; }
     unsigned lobes() const { return lobes_; }
-    // Always built: the dual-scattering tables need Chiang's model whatever --model says.
+    // Always built: the dual-scattering tables of every model but fur are Chiang's.
     const hairscatter::ChiangMaterial<T>& chiang() const { return *chiang_; }
+    // The fur material (--model fur only; null otherwise).
+    const hairscatter::FurMaterial<T>* fur() const { return fur_.get(); }
     // Strand `strand`'s Chiang material (the base one without per-strand variation).
     const hairscatter::ChiangMaterial<T>& chiang(std::uint32_t strand) const {
         return strands_.empty() ? *chiang_ : strands_[strand % strands_.size()];

@@ -181,6 +181,9 @@ void add_fiber_options(CLI::App& app, FiberOptions& o, const std::string& defaul
         ->expected(1, 3)
         ->type_name("S|R,G,B");
     app.add_option("--medulla-g", o.medulla_g, "fur: the medulla's Henyey-Greenstein anisotropy, (-1, 1) (default 0)");
+    app.add_flag("--rough-cortex", o.rough_cortex,
+                 "fur: a rough cortex, whose light inside walks over tilted microfacets (total internal reflection "
+                 "feeds the orders past TRT; docs/models.md)");
 }
 
 namespace {
@@ -295,10 +298,12 @@ hs::FiberParams<double> fiber_params(const FiberOptions& o, const std::string& d
 
 MedullaShape medulla_shape(const FiberOptions& o) {
     const double none = HairColourOptions::kNotGiven;
-    const bool given = o.kappa != none || o.medulla_sigma_s != none || o.medulla_g != none || !o.medulla_sigma_a.empty();
-    require(!given || o.model == "fur", "--kappa, --medulla-sigma-s, --medulla-sigma-a, --medulla-g: only --model fur "
-                                        "has a medulla (not --model " + o.model + ")");
+    const bool given = o.kappa != none || o.medulla_sigma_s != none || o.medulla_g != none ||
+                       !o.medulla_sigma_a.empty() || o.rough_cortex;
+    require(!given || o.model == "fur", "--kappa, --medulla-sigma-s, --medulla-sigma-a, --medulla-g, --rough-cortex: "
+                                        "only --model fur has a medulla (not --model " + o.model + ")");
     MedullaShape m;
+    m.rough_cortex = o.rough_cortex;
     if (o.kappa != none) m.kappa = o.kappa;
     if (o.medulla_sigma_s != none) m.sigma_s = o.medulla_sigma_s;
     if (o.medulla_g != none) m.g = o.medulla_g;

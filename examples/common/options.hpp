@@ -63,6 +63,7 @@ struct FiberOptions {
     double kappa = HairColourOptions::kNotGiven, medulla_sigma_s = HairColourOptions::kNotGiven,
            medulla_g = HairColourOptions::kNotGiven;
     std::vector<double> medulla_sigma_a;  // one value (grey) or R,G,B
+    bool rough_cortex = false;            // --rough-cortex (FurParams::rough_cortex)
 };
 
 // Adds --model, --lobes, --colour/--color, --eumelanin, --pheomelanin, --melanin,

@@ -80,14 +80,14 @@ int main(int argc, char** argv) {
                  "slab: the area light behind the slab, facing it and the camera (seen only through the gaps)");
     app.add_flag("--no-ground", no_ground, "remove the ground plane (block, scalp, fur, file)");
     app.add_option("--integrator", integrator,
-                   "single | dual | path (dual scattering is Chiang's full model only: --model and --lobes apply "
-                   "to single and path)")
+                   "single | dual | path (dual scattering is Chiang's full model or --model fur: the other models "
+                   "and --lobes apply to single and path)")
         ->check(CLI::IsMember({"single", "dual", "path"}))
         ->capture_default_str();
     app.add_option("--sampling", sampling, "dual and path: uniform | importance | mis")
         ->check(CLI::IsMember({"uniform", "importance", "mis"}))
         ->capture_default_str();
-    ex::add_fiber_options(app, fiber, "blond", " (single and path; dual is chiang)");
+    ex::add_fiber_options(app, fiber, "blond", " (single and path; dual is chiang or fur)");
     app.add_option("--spp", ro.spp, "samples per pixel")->capture_default_str();
     app.add_option("--width", ro.width, "image width")->capture_default_str();
     app.add_option("--height", ro.height, "image height")->capture_default_str();
@@ -217,13 +217,13 @@ int main(int argc, char** argv) {
         render::ShadingOptions so;
         so.model = ex::parse_model(fiber.model);
         so.lobes = ex::parse_lobes(fiber.lobes);
-        // The dual integrator's tables and its local scattering are Chiang's fiber's.
-        if (ro.integrator == render::Integrator::kDual && so.model == ex::FiberModel::kFur)
-            throw std::invalid_argument("--integrator dual: dual scattering is built on Chiang's fiber only; render "
-                                        "--model fur with --integrator single or path");
-        if (ro.integrator == render::Integrator::kDual && (so.model != ex::FiberModel::kChiang || so.lobes != ex::LobeBits::kAll))
-            throw std::invalid_argument("--integrator dual shades with the full Chiang model only: drop --model/--lobes "
-                                        "or use --integrator single or path");
+        // The dual integrator's tables and its local scattering are the full Chiang fiber's or,
+        // with --model fur, the fur fibre's.
+        const bool dual_model = (so.model == ex::FiberModel::kChiang && so.lobes == ex::LobeBits::kAll) ||
+                                so.model == ex::FiberModel::kFur;
+        if (ro.integrator == render::Integrator::kDual && !dual_model)
+            throw std::invalid_argument("--integrator dual shades with the full Chiang model or --model fur only: drop "
+                                        "--lobes, pick one of those models, or use --integrator single or path");
         const hs::FiberParams<double> params = ex::fiber_params(fiber, "blond");
         so.fiber = ex::params_as<float>(params);
         so.fiber_extras.controls = ex::controls_as<float>(ex::lobe_controls(fiber));

@@ -96,9 +96,10 @@ void validate(const RenderOptions& o) {
 
 RenderResult render(const Scene& scene, const ShadingSetup& shading, const RenderOptions& o) {
     validate(o);
-    if (o.integrator == Integrator::kDual &&
+    if (o.integrator == Integrator::kDual && shading.options().model != FiberModel::kFur &&
         (shading.options().model != FiberModel::kChiang || shading.options().lobes != hairscatter_examples::LobeBits::kAll))
-        throw std::invalid_argument("--integrator dual shades with the full Chiang model only (no --model, --lobes)");
+        throw std::invalid_argument("--integrator dual shades with the full Chiang model or the fur model only (no "
+                                    "other --model, no --lobes)");
     if (o.integrator == Integrator::kDual && scene.has_hair() &&
         (!shading.options().dual_scattering || (shading.needs_grid() && !shading.grid())))
         throw std::invalid_argument("--integrator dual needs a shading setup built with dual_scattering");

@@ -119,7 +119,12 @@ ShadingSetup::ShadingSetup(const Scene& scene, const ShadingOptions& options) : 
         const auto t_tables = Clock::now();
         hs::DualTableOptions<float> topt;
         topt.settings = o_.dual;
-        tables_ = hs::DualScatteringTables<float>::build<hs::ChiangFiber<float>>(chiang(), topt);
+        // Fur scatters between fibres as fur (its medulla's lobe in the tables); every other
+        // model's dual scattering is Chiang's fiber's.
+        if (const hs::FurMaterial<float>* fur = models_->fur())
+            tables_ = hs::DualScatteringTables<float>::build<hs::FurFiber<float>>(*fur, topt);
+        else
+            tables_ = hs::DualScatteringTables<float>::build<hs::ChiangFiber<float>>(chiang(), topt);
         stats_.table_seconds = seconds_since(t_tables);
         stats_.table_bytes = tables_.entries().size() * sizeof(hs::DualScatteringEntry<float>) +
                              tables_.window_data().size() * sizeof(glm::vec3) + tables_.window_cdf_data().size() * sizeof(float);

@@ -81,7 +81,8 @@ class ShadingSetup {
 
     const ShadingOptions& options() const { return o_; }
     const hairscatter_examples::FiberModels<float>& models() const { return *models_; }
-    // The Chiang material (the dual-scattering integrator's, whatever the model).
+    // The Chiang material (the dual-scattering integrator's for every model but fur, whose
+    // tables and local scattering are the fur fibre's: models().fur()).
     const hairscatter::ChiangMaterial<float>& chiang() const { return models_->chiang(); }
     const hairscatter::DualScatteringTables<float>& tables() const { return tables_; }
     // The density grid, or null when nothing reads it (no dual scattering, or the two-stream

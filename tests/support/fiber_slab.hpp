@@ -192,10 +192,11 @@ struct Lighting {
 };
 
 // The exact multiple scattering leaving the slab's hit toward wo (channel mean), path-traced
-// with the single-fiber model at the true h of every hit: next-event estimation of the
-// directional light, or escapes into the environment; Russian roulette only, no depth cut.
-template <typename Rng>
-double path_radiance(const FiberSlab& s, const hs::ChiangMaterial<double>& mat, const Hit& hit, const dvec3& wo,
+// with the single-fiber model Fiber (constructed from its material and h) at the true h of
+// every hit: next-event estimation of the directional light, or escapes into the
+// environment; Russian roulette only, no depth cut.
+template <typename Fiber = hs::ChiangFiber<double>, typename Rng>
+double path_radiance(const FiberSlab& s, const typename Fiber::Material& mat, const Hit& hit, const dvec3& wo,
                      const Lighting& light, Rng& rng) {
     std::uniform_real_distribution<double> U;
     const dvec3 axis(1, 0, 0);
@@ -204,7 +205,7 @@ double path_radiance(const FiberSlab& s, const hs::ChiangMaterial<double>& mat, 
     Hit cur = hit;
     for (int depth = 0;; ++depth) {
         const hs::FiberFrame<double> fr(axis, w);
-        const hs::ChiangFiber<double> fiber(mat, glm::dot(cur.p - cur.axis, fr.y));
+        const Fiber fiber(mat, glm::dot(cur.p - cur.axis, fr.y));
         const dvec3 wo_l = fr.to_local(w);
         if (!light.furnace && s.intersect(cur.p, light.wl, cur.fiber).fiber < 0)
             L += mean(beta * fiber.eval(wo_l, fr.to_local(light.wl)));
@@ -295,10 +296,12 @@ struct TwoStreamSums {
     }
 };
 
-inline TwoStreamSums compare_two_stream(const hs::FiberParams<double>& params, double tau, const Lighting& light,
-                                        const dvec3& wo, int paths, int arrivals = 16, bool with_path = true) {
-    const hs::ChiangMaterial<double> mat(params);
-    const auto tables = hs::DualScatteringTables<double>::build<hs::ChiangFiber<double>>(mat);
+// Over any fiber model Fiber built from (material, h) that offers lobe_split (its tables'
+// source), e.g. FurFiber<double>.
+template <typename Fiber>
+TwoStreamSums compare_two_stream(const typename Fiber::Material& mat, double tau, const Lighting& light, const dvec3& wo,
+                                 int paths, int arrivals = 16, bool with_path = true) {
+    const auto tables = hs::DualScatteringTables<double>::template build<Fiber>(mat);
     const auto view = tables.view();
     const slab::FiberSlab s(400, 8 * tau, tau, 7);
     std::mt19937_64 rng(13);
@@ -316,7 +319,7 @@ inline TwoStreamSums compare_two_stream(const hs::FiberParams<double>& params, d
         if (hit.fiber < 0) continue;
         ++r.hits;
         const hs::FiberFrame<double> f0(axis, wo);
-        const hs::ChiangFiber<double> fiber(mat, glm::dot(hit.p - hit.axis, f0.y));
+        const Fiber fiber(mat, glm::dot(hit.p - hit.axis, f0.y));
         const auto bound = fiber.at(f0.to_local(wo));
         double exact = 0, expected = 0;
         if (!light.furnace && s.count(hit.p, light.wl, hit.fiber) == 0) {
@@ -359,11 +362,18 @@ inline TwoStreamSums compare_two_stream(const hs::FiberParams<double>& params, d
         r.expected += expected;
         if (!with_path) continue;
 
-        const double L = path_radiance(s, mat, hit, wo, light, rng);
+        const double L = path_radiance<Fiber>(s, mat, hit, wo, light, rng);
         r.path += L;
         r.path_sq += L * L;
     }
     return r;
+}
+
+// Over Chiang's fiber with these parameters.
+inline TwoStreamSums compare_two_stream(const hs::FiberParams<double>& params, double tau, const Lighting& light,
+                                        const dvec3& wo, int paths, int arrivals = 16, bool with_path = true) {
+    return compare_two_stream<hs::ChiangFiber<double>>(hs::ChiangMaterial<double>(params), tau, light, wo, paths,
+                                                       arrivals, with_path);
 }
 
 }  // namespace slab

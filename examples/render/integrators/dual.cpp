@@ -1,8 +1,8 @@
 // render — dual scattering with the dual-scattering BCSDF (--dual improved | zinke; the
 // default two-stream estimator is two_stream.cpp) at the camera ray's first hair hit: the
-// library's tables, density grid and DualScatteringBcsdf over the Chiang fiber (dual scattering is
-// Chiang-only here whatever --model says). Self-contained on purpose: the whole
-// dual-scattering integrator is this file.
+// library's tables, density grid and DualScatteringBcsdf over the fiber the tables were built
+// from: the fur fibre with --model fur, Chiang's otherwise. Self-contained on purpose: the
+// whole dual-scattering integrator is this file.
 //
 // Per hit: the BCSDF bound to wo once (at), sampled without knowing the light state; per
 // light direction: a shadow ray for the direct fraction and two density queries, toward
@@ -16,7 +16,6 @@ namespace {
 namespace hs = hairscatter;
 using glm::vec3;
 using glm::vec4;
-using Dual = hs::DualScatteringBcsdf<hs::ChiangFiber<float>>;
 
 class DualIntegrator final : public PixelIntegrator {
   public:
@@ -70,12 +69,18 @@ class DualIntegrator final : public PixelIntegrator {
         return in;
     }
 
-    // Dual scattering at a hair hit: the estimator chosen by --sampling.
+    // Dual scattering at a hair hit over the tables' fiber: the estimator chosen by --sampling.
     vec3 hair(const ShadingPoint& sp, Sampler& rng) const {
+        if (!c_.lights.any()) return vec3(0);
+        if (const hs::FurMaterial<float>* fur = c_.shading.models().fur())
+            return hair_with(sp, hs::FurFiber<float>(*fur, sp.h()), rng);
+        return hair_with(sp, hs::ChiangFiber<float>(c_.shading.models().chiang(sp.strand), sp.h()), rng);
+    }
+
+    template <class Fiber> vec3 hair_with(const ShadingPoint& sp, const Fiber& fiber, Sampler& rng) const {
+        using Dual = hs::DualScatteringBcsdf<Fiber>;
         const Lights& lights = c_.lights;
         const RenderOptions& o = c_.options;
-        if (!lights.any()) return vec3(0);
-        const hs::ChiangFiber<float> fiber(c_.shading.models().chiang(sp.strand), sp.h());
         const Dual dual(fiber, c_.shading.tables());
         const bool uniform = o.sampling == Sampling::kUniform;
 
@@ -94,7 +99,7 @@ class DualIntegrator final : public PixelIntegrator {
             const auto e = c_.shading.tables().view().lookup(sp.to_local(ls.wi).x);
             spread = hs::dual_forward(light_in.state, e, c_.shading.tables().settings().formulation).spread;
         }
-        const Dual::At at = dual.at(sp.wo(), spread);
+        const typename Dual::At at = dual.at(sp.wo(), spread);
         auto bcsdf_pdf = [&](const vec3& wi_l) { return uniform ? 0.25f / kPi : at.pdf(wi_l); };
         auto shade = [&](const Incoming& in, const vec3& wi) { return at.eval(sp.to_local(wi), in.state); };
 

@@ -147,9 +147,14 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         return hs::dual_source_gain(entry, k.n);
     }
 
+    // The fiber the tables were built from: fur's with --model fur, else Chiang's.
     vec3 hair(const ShadingPoint& sp, int depth, Sampler& rng) const {
-        const hs::ChiangFiber<float> fiber(c_.shading.models().chiang(sp.strand), sp.h());
-        const auto bound = fiber.at(sp.wo());
+        if (const hs::FurMaterial<float>* fur = c_.shading.models().fur())
+            return hair_of(sp, hs::FurFiber<float>(*fur, sp.h()).at(sp.wo()), depth, rng);
+        return hair_of(sp, hs::ChiangFiber<float>(c_.shading.models().chiang(sp.strand), sp.h()).at(sp.wo()), depth, rng);
+    }
+
+    template <class Bound> vec3 hair_of(const ShadingPoint& sp, const Bound& bound, int depth, Sampler& rng) const {
         // Lobe gains above 1: the fiber the camera sees keeps them, any other scatters at most
         // what it receives (as the tables' fibers do; path.cpp).
         const vec3 cap = amplifies_ && depth > 0 ? 1.0f / glm::max(bound.albedo(), vec3(1.0f)) : vec3(1.0f);

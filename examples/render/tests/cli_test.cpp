@@ -235,18 +235,25 @@ TEST(RenderCli, RefusesBadFurValuesNamingTheOption) {
     expect_refused(fur + "--medulla-g -1", "--medulla-g");
     expect_refused("--integrator path --kappa 0.5", "only --model fur");
     expect_refused("--integrator single --model farfield --medulla-g 0.3", "only --model fur");
-    expect_refused("--integrator dual --model fur", "--integrator dual");
+    expect_refused("--integrator single --rough-cortex", "only --model fur");
+    expect_refused("--integrator dual --model huang", "--integrator dual");
     expect_refused(fur + "--gain-r -1", "--gain-r");  // fur takes the lobe controls, checked as for chiang
     expect_refused(fur + "--strand-seed 3", "--model chiang");
 }
 
-// The fur ball renders with the fur fiber under both integrators, finite; a scattering
-// medulla changes the hair pixels (the same seed and rays: without the knobs reaching the
-// fiber the means would be equal), and a scalar --medulla-sigma-a is the grey R,G,B.
+// The fur ball renders with the fur fiber under every integrator (dual scattering with the
+// two-stream estimator and with the BCSDF), finite; a scattering medulla changes the hair
+// pixels (the same seed and rays: without the knobs reaching the fiber the means would be
+// equal), so does --rough-cortex, and a scalar --medulla-sigma-a is the grey R,G,B.
 TEST(RenderCli, FurRendersWithAMedulla) {
     const std::string scene = " --scene fur --fur-hairs 400 --width 24 --height 18 --spp 2 --model fur";
-    for (const char* integrator : {"single", "path"}) {
-        const std::string base = std::string("--integrator ") + integrator + scene;
+    struct Run {
+        const char *integrator, *args;
+    };
+    for (const Run& run_of : {Run{"single", "single"}, Run{"path", "path"}, Run{"dual", "dual"},
+                              Run{"dual_bcsdf", "dual --dual improved"}}) {
+        const std::string integrator = run_of.integrator;
+        const std::string base = std::string("--integrator ") + run_of.args + scene;
         const Outcome bare = run(base + " -o " + out_base(std::string("fur_bare_") + integrator));
         const Outcome medulla = run(base + " --kappa 0.6 --medulla-sigma-s 10 --medulla-g 0.3 -o " +
                                     out_base(std::string("fur_medulla_") + integrator));
@@ -254,7 +261,8 @@ TEST(RenderCli, FurRendersWithAMedulla) {
                                  out_base(std::string("fur_grey_") + integrator));
         const Outcome rgb = run(base + " --kappa 0.6 --medulla-sigma-s 10 --medulla-sigma-a 0.5,0.5,0.5 -o " +
                                 out_base(std::string("fur_rgb_") + integrator));
-        for (const Outcome* r : {&bare, &medulla, &grey, &rgb}) {
+        const Outcome rough = run(base + " --rough-cortex -o " + out_base(std::string("fur_rough_") + integrator));
+        for (const Outcome* r : {&bare, &medulla, &grey, &rgb, &rough}) {
             EXPECT_EQ(r->status, 0) << integrator << "\n" << r->output;
             EXPECT_NE(r->output.find(" model=fur "), std::string::npos) << r->output;
             EXPECT_NE(r->output.find(" dropped=0 nonfinite_pixels=0 "), std::string::npos) << r->output;
@@ -263,6 +271,7 @@ TEST(RenderCli, FurRendersWithAMedulla) {
         EXPECT_GT(b, 0.0) << bare.output;
         EXPECT_GT(m, 0.0) << medulla.output;
         EXPECT_NE(m, b) << integrator;
+        EXPECT_NE(mean_hair_red(rough.output), b) << integrator;  // --rough-cortex reaches the fibre
         EXPECT_EQ(mean_hair_red(grey.output), mean_hair_red(rgb.output)) << integrator;
     }
 }

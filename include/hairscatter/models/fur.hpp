@@ -50,6 +50,11 @@ template <typename T> struct FurParams {
     T sigma_s = T(0);                       // σs^m per unit fibre radius, ≥ 0
     glm::vec<3, T> sigma_a_medulla{T(0)};   // σa^m per unit fibre radius, RGB, ≥ 0
     T g = T(0);                             // Henyey–Greenstein anisotropy of the medulla, (-1, 1)
+    // Whether the cortex's boundary is rough for the light inside (RoughCortexTables): the
+    // orders of exit follow a walk over microfacets, total internal reflection at tilted
+    // facets included, instead of the smooth F at every internal event. Off, the unscattered
+    // lobes are Chiang's exactly.
+    bool rough_cortex = false;
 };
 
 // Every field checked (the cortex by validate(FiberParams)); an empty string when valid,
@@ -235,6 +240,46 @@ HAIRSCATTER_HD MedullaChord<T> medulla_chord(const FurParams<T>& p, T sin_gamma_
     return r;
 }
 
+// How a rough cortex shares the light that enters it among the orders of exit. Inside a
+// smooth circular cylinder every chord meets the boundary at the angle it entered by, below
+// the critical angle: total internal reflection never happens, and Chiang's A_p reflect
+// with the one smooth F at every internal event. A rough boundary's microfacets tilt that
+// angle at every event, and a reflection from a tilted facet turns the chord by twice the
+// tilt: the internal direction random-walks, and light that wanders past the critical
+// angle stays trapped for many events. In a circle the state of that walk is the internal
+// direction alone (its angle to the local normal is the same at both ends of a chord, and
+// its component along the tangent is conserved, the angular momentum about the axis), so it
+// is simulated per material on directions only: light from wo enters at offset h through a
+// facet, then meets one facet per event (each seen in proportion to ⟨d·m⟩, the visible
+// normals of Heitz 2014, "Understanding the masking-shadowing function", eq. 2), and
+// reflects or leaves with that facet's Fresnel factor. The facets' slopes are Gaussian,
+// centred on the cuticle tilt α along the fibre, with the spread the model's own roughness
+// implies: a reflection doubles the tilt of the normal that makes it, so the longitudinal
+// slope's standard deviation is half the R lobe's, √v(β_m)/2 (d'Eon et al. 2011), and the
+// azimuthal one half the azimuthal logistic's, (π/√3) s(β_n)/2 (Chiang et al. 2016).
+// Nothing is fitted to a reference. Per node (θo, |h|) the table keeps, of the light that
+// entered, the shares that leave at the first internal event (TT), the second (TRT) and
+// later, and the ratio r of the later orders' geometric tail (r / (1 − r) is their mean
+// number of events past the third). The fibre attenuates each chord as its first one.
+template <typename T> struct RoughCortexTables {
+    static constexpr int kTheta = 13, kH = 9;  // θo nodes over ±kThetaMax, |h| nodes over [0, 1]
+    static constexpr double kThetaMax = 1.5;   // (beyond, the nearest node: cos θo → 0 there)
+    T share[kTheta][kH][4];                    // TT, TRT, later, r
+
+    // The four values at (θo, h), bilinear between the nodes.
+    HAIRSCATTER_HD void at(T theta, T h, T (&out)[4]) const {
+        const T u = clamp((theta / T(kThetaMax) + T(1)) * T(0.5), T(0), T(1)) * T(kTheta - 1);
+        const T v = clamp(abs_value(h), T(0), T(1)) * T(kH - 1);
+        const int i = u < T(kTheta - 1) ? int(u) : kTheta - 2, j = v < T(kH - 1) ? int(v) : kH - 2;
+        const T s = u - T(i), t = v - T(j);
+        for (int k = 0; k < 4; ++k) {
+            const T lo = share[i][j][k] + t * (share[i][j + 1][k] - share[i][j][k]);
+            const T hi = share[i + 1][j][k] + t * (share[i + 1][j + 1][k] - share[i + 1][j][k]);
+            out[k] = lo + s * (hi - lo);
+        }
+    }
+};
+
 // A small generator for the table simulation (splitmix64, Steele et al. 2014): the tables
 // are the same for the same parameters, run after run.
 class FurRng {
@@ -286,6 +331,69 @@ inline glm::dvec3 fur_scatter(const glm::dvec3& d, double g, double u1, double u
     const glm::dvec3 a = std::fabs(d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
     const glm::dvec3 t = glm::normalize(glm::cross(a, d)), b = glm::cross(d, t);
     return glm::normalize(c * d + sn * (std::cos(phi) * t + std::sin(phi) * b));
+}
+
+// The rough cortex's walk (RoughCortexTables) for index η, cuticle tilt α and roughness β_m,
+// β_n: 2,000 walks per node (each share within ~1 % at one standard deviation), at most 400
+// events per walk (the rest counts as later; a tail ratio of 0.95, the largest at β 0.3,
+// leaves 1e-9 of it there).
+template <typename T>
+RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m, double beta_n) {
+    constexpr int kWalks = 2000, kMaxEvents = 400;
+    const double sigma_a = 0.5 * std::sqrt(longitudinal_variance(beta_m));
+    const double sigma_b = 0.5 * 1.81379936423421785059 * logistic_scale(beta_n);
+    const double mean_a = std::tan(alpha);
+    RoughCortexTables<T> tab;
+    FurRng rng(0x0C0A7E5Eull);
+    // A facet seen from d (frame: axis, normal, tangent; d·n > 0): slopes drawn (a pair of
+    // standard normal numbers by Box–Muller), then kept in proportion to ⟨d·m⟩ (by
+    // rejection against its bound |m|).
+    auto facet = [&](const glm::dvec3& d) {
+        for (int tries = 0; tries < 1000; ++tries) {
+            const double r = std::sqrt(-2 * std::log(1 - rng.uniform())), phi = 2 * kPi<double> * rng.uniform();
+            const glm::dvec3 m(mean_a + sigma_a * r * std::cos(phi), 1, sigma_b * r * std::sin(phi));
+            const double len = glm::length(m), proj = glm::dot(d, m);
+            if (proj > 0 && rng.uniform() * len < proj) return m / len;
+        }
+        return glm::dvec3(0, 1, 0);
+    };
+    constexpr int kTheta = RoughCortexTables<T>::kTheta, kH = RoughCortexTables<T>::kH;
+    for (int i = 0; i < kTheta; ++i) {
+        const double theta = (2.0 * i / (kTheta - 1) - 1) * RoughCortexTables<T>::kThetaMax;
+        for (int j = 0; j < kH; ++j) {
+            const double h = std::min(double(j) / (kH - 1), 0.999);
+            // Toward the light (wo) in the entry point's frame: the normal at offset h is
+            // (cos γ, sin γ) in the section, sin γ = h, with wo's section part along (1, 0).
+            const glm::dvec3 out(std::sin(theta), std::cos(theta) * std::sqrt(1 - h * h), -std::cos(theta) * h);
+            double entered = 0, first = 0, second = 0, later = 0, tail_events = 0;
+            for (int w = 0; w < kWalks; ++w) {
+                const glm::dvec3 m = facet(out);
+                const double ci = glm::dot(out, m);
+                if (rng.uniform() < fur_fresnel(ci, eta)) continue;  // reflected at entry: R
+                entered += 1;
+                const double ct = std::sqrt(std::max(0.0, 1 - (1 - ci * ci) / (eta * eta)));
+                const glm::dvec3 t = -out / eta + (ci / eta - ct) * m;  // refracted, inward
+                glm::dvec3 d(t.x, -t.y, t.z);                           // at the chord's far end
+                int order = 1;
+                for (; order < kMaxEvents; ++order) {
+                    const glm::dvec3 f = facet(d);
+                    const double c = glm::dot(d, f);
+                    if (rng.uniform() >= fur_fresnel(c, 1 / eta)) break;  // leaves at this order
+                    const glm::dvec3 r = d - 2 * c * f;
+                    d = glm::dvec3(r.x, std::fabs(r.y), r.z);  // the next chord's far end
+                }
+                if (order == 1) first += 1;
+                else if (order == 2) second += 1;
+                else later += 1, tail_events += order - 3;
+            }
+            const double inv = entered > 0 ? 1 / entered : 0, mean_tail = later > 0 ? tail_events / later : 0;
+            tab.share[i][j][0] = T(first * inv);
+            tab.share[i][j][1] = T(second * inv);
+            tab.share[i][j][2] = T(later * inv);
+            tab.share[i][j][3] = T(mean_tail / (1 + mean_tail));
+        }
+    }
+    return tab;
 }
 
 // One |θo| bin of the tables: light from wo = (sinθo, 0, cosθo) (φo = π/2) enters at offset
@@ -494,6 +602,16 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
     HAIRSCATTER_HD bool has_lobe_weights() const { return any_weight_; }
     HAIRSCATTER_HD const TrimmedLogistic<T>& azimuthal() const { return n_; }
     HAIRSCATTER_HD const MedullaTables<T>& medulla() const { return tables_; }
+    // The rough cortex's shares of the orders (FurParams::rough_cortex; zero otherwise).
+    HAIRSCATTER_HD const detail::RoughCortexTables<T>& rough_cortex() const { return rough_; }
+    // The offset |h| at which the refracted chord grazes the medulla, sinγt = κ, i.e.
+    // h = κ η' (Bravais' η'); 1 where the medulla meets every chord. The chord's share
+    // √(κ² − sin²γt) has a square-root edge there, which a quadrature over h must split at
+    // (the dual-scattering tables do).
+    HAIRSCATTER_HD T h_break(T sin_o) const {
+        const FiberRefraction<T> r(sin_o, cos_from_sin(sin_o), params_.cortex.eta);
+        return params_.kappa < r.gamma_t_scale ? params_.kappa / r.gamma_t_scale : T(1);
+    }
 
     // The medulla tables in a small versioned binary file, to skip their simulation next
     // time: "HSFT", the version, the tables' sizes, the parameters they depend on (η and
@@ -514,7 +632,9 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
         detail::write_table_file(path, std::move(buf), "fur medulla tables");
     }
 
-    // The material of params with the tables of a file written by save() (no simulation).
+    // The material of params with the tables of a file written by save() (no simulation of
+    // the medulla; the rough cortex's walk, which the file does not hold, is still run when
+    // params.rough_cortex is set).
     // Throws std::invalid_argument for bad params (as the constructor), std::runtime_error
     // naming the file for a wrong magic, version, table size, file size or checksum, a
     // value outside what the simulation produces, or tables built for other parameters
@@ -582,7 +702,11 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
         : DeonLobes<T>(params.cortex.beta_m, controls.lobes.cuticle_tilt(params.cortex.alpha)), params_(params),
           controls_(controls), weights_(controls.lobes), weight_s_(controls.weight_s()),
           any_weight_(weights_.any() || weight_s_ != glm::vec<3, T>(T(1))), n_(logistic_scale(params.cortex.beta_n)),
-          tables_(tables) {}
+          tables_(tables) {
+        if (params.rough_cortex)
+            rough_ = detail::build_rough_cortex<T>(double(params.cortex.eta), double(params.cortex.alpha),
+                                                   double(params.cortex.beta_m), double(params.cortex.beta_n));
+    }
 
     // What the tables depend on, in the file's order.
     static std::array<double, 10> table_parameters(const FurParams<T>& p) {
@@ -612,6 +736,7 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
     bool any_weight_;
     TrimmedLogistic<T> n_;
     MedullaTables<T> tables_;
+    detail::RoughCortexTables<T> rough_{};
 };
 
 // One fur fibre hit at offset h ∈ [-1, 1], behind the contract (models/contract.hpp), with
@@ -711,19 +836,44 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         const FiberRefraction<T> refraction(sin_o, cos_o, prm.cortex.eta);
         const typename FiberRefraction<T>::Path path = refraction.path(h_);
         const detail::MedullaChord<T> chord = detail::medulla_chord(prm, path.sin_gamma_t, path.chord, refraction.chord_scale);
+        const T gamma_t = elem::asin(path.sin_gamma_t);
         T att[std::size_t(kLobes + 1)][3];
-        attenuation_channels<T, kLobes, 3>(fresnel, fresnel, chord.transmittance, att);
+        // The light that passes k chords unscattered, per channel: Q_k T^(k−1) summed over k
+        // (what S's first scattering sees), with Q_k the share of the entered light still
+        // inside at the k-th chord. Smooth: Q_k = F^(k−1), the sum 1 / (1 − T F).
+        T passes[3];
+        if (prm.rough_cortex) {
+            // The rough cortex's walk (RoughCortexTables): of the light that entered (1 − F),
+            // e1 leaves after one chord, e2 after two, the rest (e3) later with a geometric
+            // tail of ratio r, each chord attenuated by T:
+            //   A_1 = (1 − F) e1 T,  A_2 = (1 − F) e2 T²,  A_res = (1 − F) e3 T³ (1 − r)/(1 − r T),
+            //   Σ_k Q_k T^(k−1) = 1 + (1 − e1) T + e3 T² / (1 − r T).
+            // Lossless (T = 1) every entered share leaves: Σ_p A_p = 1 as before.
+            T e[4];
+            mat_->rough_cortex().at(elem::asin(sin_o), h_, e);
+            for (int c = 0; c < 3; ++c) {
+                const T t = chord.transmittance[c], in = T(1) - fresnel, rt = T(1) - e[3] * t;
+                const T tail = rt > kMinNormal<T> ? T(1) / rt : T(1) / kMinNormal<T>;
+                att[0][c] = fresnel;
+                att[1][c] = in * e[0] * t;
+                att[2][c] = in * e[1] * t * t;
+                att[3][c] = in * e[2] * t * t * t * (T(1) - e[3]) * tail;
+                passes[c] = T(1) + (T(1) - e[0]) * t + e[2] * t * t * tail;
+            }
+        } else {
+            attenuation_channels<T, kLobes, 3>(fresnel, fresnel, chord.transmittance, att);
+            for (int c = 0; c < 3; ++c) {
+                // (the floor as in attenuation_channels: 1 − T F = 0 only where 1 − F = 0)
+                const T denom = T(1) - chord.transmittance[c] * fresnel;
+                passes[c] = T(1) / (denom > kMinNormal<T> ? denom : kMinNormal<T>);
+            }
+        }
         for (int p = 0; p <= kLobes; ++p)
             for (int c = 0; c < 3; ++c) o.a[p][c] = att[p][c];
         o.theta_bin = MedullaTables<T>::theta_bin(abs_value(sin_o));
         o.sin_o = sin_o;
-        for (int c = 0; c < 3; ++c) {
-            // Σ_k (1 − F)(T F)^(k−1) first: the light that first scatters on pass k, over k
-            // (the floor as in attenuation_channels: 1 − T F = 0 only where 1 − F = 0).
-            const T denom = T(1) - chord.transmittance[c] * fresnel;
-            o.a[kS][c] = (T(1) - fresnel) * chord.first_scatter[c] / (denom > kMinNormal<T> ? denom : kMinNormal<T>) *
-                         mat_->medulla().escape[o.theta_bin][c];
-        }
+        for (int c = 0; c < 3; ++c)  // (1 − F) first Σ_k Q_k T^(k−1): first scattering on any pass
+            o.a[kS][c] = (T(1) - fresnel) * chord.first_scatter[c] * passes[c] * mat_->medulla().escape[o.theta_bin][c];
         // The lobe controls, in this one place: f, the selection weights, albedo and lobe_split
         // all read the scaled energies (the per-lobe tilts are in the material's DeonLobes).
         if (mat_->has_lobe_weights())
@@ -732,7 +882,6 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
                 for (int c = 0; c < 3; ++c) o.a[p][c] *= weight[c];
             }
         mat_->tilt_all(sin_o, cos_o, o.sin_p, o.cos_p);
-        const T gamma_t = elem::asin(path.sin_gamma_t);
         for (int p = 0; p < kLobes; ++p) o.phi_p[p] = exit_azimuth_wrapped(p, gamma_o_, gamma_t);
         if constexpr (kW) {
             T total = T(0);
