@@ -132,6 +132,14 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         return hs::dual_stack_end(grid, o, d, std::min(tmax, box_distance(grid, o, d)));
     }
 
+    // Exact counts stop past a depth where T_N < 1e-3 and R_N is within 1e-3 of R_∞ (more
+    // fibers change nothing); grid and field counts cost the same at any depth.
+    std::uint32_t count_limit(const hs::DualScatteringEntry<float>& entry) const {
+        return c_.shading.options().counts == DualCounts::kExact
+                   ? std::uint32_t(std::ceil(hs::dual_count_limit(entry, 1e-3f)))
+                   : 0xffffffffu;
+    }
+
     // The share of L(s) that reaches the stack's far face along s (hs::dual_source_gain):
     // the fibers from the face `from` along s, up to the first surface at t_surface from the
     // shading point p (kInf: none).
@@ -140,10 +148,7 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         const float tmax = std::isfinite(t_surface) ? std::max(t_surface - glm::dot(from - p, s), 0.0f) : kInf;
         if (!(tmax > 0)) return vec3(1);
         const hs::DualScatteringEntry<float> entry = tables_.lookup(s_local.x);
-        const DualCounts counts = c_.shading.options().counts;
-        const std::uint32_t limit =
-            counts == DualCounts::kExact ? std::uint32_t(std::ceil(hs::dual_count_limit(entry, 1e-3f))) : 0xffffffffu;
-        const Stack k = fibers(from, s, tmax, kNoStrand, limit, false, false, rng);
+        const Stack k = fibers(from, s, tmax, kNoStrand, count_limit(entry), false, false, rng);
         return hs::dual_source_gain(entry, k.n);
     }
 
@@ -200,11 +205,7 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         if (first.kind != Hit::kHair) return L + s.weight * at_hit(first, a, depth + 1, s.pdf, rng);
         const Hit source = scene.intersect_opaque(sp.p, a, kInf);
         const hs::DualScatteringEntry<float> entry = tables_.lookup(s.wi.x);
-        // Exact counts stop past a depth where T_N < 1e-3 and R_N is within 1e-3 of R_∞ (more
-        // fibers change nothing); grid counts cost the same at any depth.
-        const std::uint32_t limit = c_.shading.options().counts == DualCounts::kExact
-                                        ? std::uint32_t(std::ceil(hs::dual_count_limit(entry, 1e-3f)))
-                                        : 0xffffffffu;
+        const std::uint32_t limit = count_limit(entry);
         const bool beyond = c_.shading.options().source == DualSource::kBeyondExit;
         const bool exact = c_.shading.options().counts == DualCounts::kExact;
         const float t_source = source.kind == Hit::kMiss ? kInf : source.t;
