@@ -39,9 +39,9 @@
 #             more it runs in the background beside fastmath, consumer and cuda
 #
 # With -j 2 or more, the clang step's build runs in the background (nice 19) while the gcc
-# step's tests run, and the asan step's build while the clang step's tests run: each takes
-# the core that a ctest leaves idle (build/logs/build-clang.log, build-asan.log, printed by
-# the step that waits for it). The packages of the example, python and package steps
+# step's tests run, the asan step's build while the clang step's tests run, and the example
+# step's build while the asan step's tests run: each takes the core that a ctest leaves idle
+# (build/logs/build-<step>.log, printed by the step that waits for it). The packages of the example, python and package steps
 # install in the background while gcc builds (build/logs/deps-later.log).
 #
 # Options: -j N / JOBS=N parallelism (default: nproc); --no-deps (or
@@ -262,6 +262,9 @@ step_deps() {
 }
 # The later steps' packages, installed in the background by step_deps: wait for them.
 later_deps() { background_finish deps-later || true; }
+# True when the example step's packages are there (or not ours to install) once later_deps
+# returns: the example build may then start early.
+later_deps_ready() { [[ "$install_deps" == 0 || -n "${background_pid[deps-later]:-}" ]]; }
 
 gcc_flags=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=g++ -DHAIRSCATTER_WERROR=ON)
 clang_flags=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ -DHAIRSCATTER_WERROR=ON)
@@ -316,6 +319,11 @@ step_clang() {
 step_asan() {
     background_finish build-asan || build_asan
     asan_env
+    # The example step's build takes what the sanitizer tests leave idle.
+    if enabled example && later_deps_ready; then
+        later_deps
+        background_start build-example at_low_priority build_example
+    fi
     # The statistical tests (chi-square goodness of fit, furnaces) run in the gcc step and
     # the long integrations in the gcc and clang steps; here they would only repeat code
     # paths that the other tests already drive under ASan/UBSan, at several times the cost.
@@ -516,15 +524,18 @@ print('installed:', hairscatter.__file__, hairscatter.__version__)")
 
 # The main example and the benchmarks must keep compiling (-Werror) even though CI runs
 # neither at full size: build both, and run the example small.
+build_example() {
+    cmake -S . -B build/test-example -DCMAKE_BUILD_TYPE=Release -DHAIRSCATTER_BUILD_TESTS=OFF \
+        -DHAIRSCATTER_BUILD_EXAMPLES=ON -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_WERROR=ON
+    cmake --build build/test-example -j "$JOBS"
+}
 step_example() {
     later_deps
     if [[ "$install_deps" == 1 ]]; then
         bash "$ROOT/scripts/install-deps.sh" example
         bash "$ROOT/scripts/install-deps.sh" bench
     fi
-    cmake -S . -B build/test-example -DCMAKE_BUILD_TYPE=Release -DHAIRSCATTER_BUILD_TESTS=OFF \
-        -DHAIRSCATTER_BUILD_EXAMPLES=ON -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_WERROR=ON
-    cmake --build build/test-example -j "$JOBS"
+    background_finish build-example || build_example
     local out="$ROOT/build/test-example/out/explorer"
     build/test-example/examples/lobe_explorer/lobe_explorer --width 90 --height 45 --eumelanin 0 -o "$out"
     [[ -s "$out.exr" && -s "$out.png" ]] || { echo "example: no EXR/PNG written" >&2; return 1; }
