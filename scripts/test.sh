@@ -40,8 +40,8 @@
 #
 # With -j 2 or more, the clang step's build runs in the background (nice 19) while the gcc
 # step's tests run, the asan step's build while the clang step's tests run, and the example
-# step's build while the asan step's tests run: each takes the core that a ctest leaves idle
-# (build/logs/build-<step>.log, printed by the step that waits for it). The packages of the example, python and package steps
+# and python steps' builds while the asan step's tests run: each takes the core that a ctest
+# leaves idle (build/logs/build-<step>.log, printed by the step that waits for it). The packages of the example, python and package steps
 # install in the background while gcc builds (build/logs/deps-later.log).
 #
 # Options: -j N / JOBS=N parallelism (default: nproc); --no-deps (or
@@ -319,10 +319,11 @@ step_clang() {
 step_asan() {
     background_finish build-asan || build_asan
     asan_env
-    # The example step's build takes what the sanitizer tests leave idle.
-    if enabled example && later_deps_ready; then
-        later_deps
-        background_start build-example at_low_priority build_example
+    # The example and python steps' builds take what the sanitizer tests leave idle.
+    if later_deps_ready; then
+        if enabled example || enabled python; then later_deps; fi
+        if enabled example; then background_start build-example at_low_priority build_example; fi
+        if enabled python; then background_start build-python at_low_priority "${python_build[@]}"; fi
     fi
     # The statistical tests (chi-square goodness of fit, furnaces) run in the gcc step and
     # the long integrations in the gcc and clang steps; here they would only repeat code
@@ -419,11 +420,12 @@ step_consumer() {
 
 step_cuda() { bash "$ROOT/scripts/cuda-check.sh"; }
 
+python_build=(bash "$ROOT/scripts/python.sh" --ci --no-deps --no-tests -j "$JOBS" --build "$ROOT/build/test-python")
 step_python() {
     later_deps
     if [[ "$install_deps" == 1 ]]; then bash "$ROOT/scripts/install-deps.sh" python; fi
-    local python=(bash "$ROOT/scripts/python.sh" --ci --no-deps --no-tests -j "$JOBS" --build "$ROOT/build/test-python")
-    "${python[@]}"
+    local python=("${python_build[@]}")
+    background_finish build-python || "${python[@]}"
     run_ctest build/test-python
     rm -rf build/test-python/prefix
     "${python[@]}" --install "$ROOT/build/test-python/prefix"
