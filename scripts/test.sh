@@ -41,8 +41,9 @@
 # With -j 2 or more, the clang step's build runs in the background (nice 19) while the gcc
 # step's tests run, the asan step's build while the clang step's tests run, and the example
 # and python steps' builds while the asan step's tests run: each takes the core that a ctest
-# leaves idle (build/logs/build-<step>.log, printed by the step that waits for it). The packages of the example, python and package steps
-# install in the background while gcc builds (build/logs/deps-later.log).
+# leaves idle (build/logs/build-<step>.log, printed by the step that waits for it). The
+# packages of the example, python and package steps install in the background while gcc
+# builds (build/logs/deps-later.log).
 #
 # Options: -j N / JOBS=N parallelism (default: nproc); --no-deps (or
 # HAIRSCATTER_SKIP_DEPS=1) skips the apt package check.
@@ -262,8 +263,8 @@ step_deps() {
 }
 # The later steps' packages, installed in the background by step_deps: wait for them.
 later_deps() { background_finish deps-later || true; }
-# True when the example step's packages are there (or not ours to install) once later_deps
-# returns: the example build may then start early.
+# True when the later steps' packages will be there (or are not ours to install) once
+# later_deps returns: their builds may then start early.
 later_deps_ready() { [[ "$install_deps" == 0 || -n "${background_pid[deps-later]:-}" ]]; }
 
 gcc_flags=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=g++ -DHAIRSCATTER_WERROR=ON)
