@@ -39,8 +39,8 @@
 #             more it runs in the background beside fastmath, consumer and cuda
 #
 # With -j 2 or more, the clang step's build runs in the background (nice 19) while the gcc
-# step's tests run, the asan step's build while the clang step's tests run, and the example
-# and python steps' builds while the asan step's tests run: each takes the core that a ctest
+# step's tests run, the asan step's build while the clang step's tests run, and the example,
+# python and package steps' builds while the asan step's tests run: each takes the core that a ctest
 # leaves idle (build/logs/build-<step>.log, printed by the step that waits for it). The
 # packages of the example, python and package steps install in the background while gcc
 # builds (build/logs/deps-later.log).
@@ -248,6 +248,9 @@ at_low_priority() {
     "$@"
 }
 
+# Root, or a sudo that asks no password.
+can_sudo() { [[ "$(id -u)" -eq 0 ]] || sudo -n true 2>/dev/null; }
+
 step_deps() {
     bash "$ROOT/scripts/install-deps.sh" tests
     # The packages of the example, python and package steps install in the background while
@@ -257,7 +260,7 @@ step_deps() {
     enabled example && later+=(example bench)
     enabled python && later+=(python)
     enabled package && later+=(package)
-    if [[ ${#later[@]} -gt 0 ]] && { [[ "$(id -u)" -eq 0 ]] || sudo -n true 2>/dev/null; }; then
+    if [[ ${#later[@]} -gt 0 ]] && can_sudo; then
         background_start deps-later at_low_priority bash "$ROOT/scripts/install-deps.sh" "${later[@]}"
     fi
 }
@@ -320,11 +323,12 @@ step_clang() {
 step_asan() {
     background_finish build-asan || build_asan
     asan_env
-    # The example and python steps' builds take what the sanitizer tests leave idle.
+    # The example, python and package steps' builds take what the sanitizer tests leave idle.
     if later_deps_ready; then
         if enabled example || enabled python; then later_deps; fi
         if enabled example; then background_start build-example at_low_priority build_example; fi
         if enabled python; then background_start build-python at_low_priority "${python_build[@]}"; fi
+        if enabled package && can_sudo; then background_start build-package at_low_priority "${package_build[@]}" --build-only; fi
     fi
     # The statistical tests (chi-square goodness of fit, furnaces) run in the gcc step and
     # the long integrations in the gcc and clang steps; here they would only repeat code
@@ -432,6 +436,7 @@ step_python() {
     "${python[@]}" --install "$ROOT/build/test-python/prefix"
 }
 
+package_build=(bash "$ROOT/scripts/package.sh" --ci --no-deps -j "$JOBS" --build "$ROOT/build/test-package")
 # The DEB round trip: build the packages, install them with dpkg, build the consumer against
 # /usr through pkg-config and find_package, import the module with the system python3, then
 # remove both packages and check that every file they installed is gone.
@@ -455,7 +460,8 @@ step_package() {
         fi
     done
 
-    bash "$ROOT/scripts/package.sh" --ci --no-deps -j "$JOBS" --build "$build"
+    background_finish build-package || true
+    "${package_build[@]}"
     local dev=("$build"/libhairscatter-dev_*_all.deb) py=("$build"/python3-hairscatter_*.deb)
     [[ -f "${dev[0]}" && -f "${py[0]}" && ${#dev[@]} -eq 1 && ${#py[@]} -eq 1 ]] ||
         { echo "package: expected one libhairscatter-dev and one python3-hairscatter .deb in $build" >&2; return 1; }
