@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Build the Debian packages of hairscatter with CPack (docs/building.md).
 #
-#   scripts/package.sh [--build DIR] [--ci] [--no-python] [--no-deps] [-j N]
+#   scripts/package.sh [--build DIR] [--ci] [--no-python] [--no-deps] [--build-only] [-j N]
 #
 # Configures DIR (default build/package) for the prefix /usr, Release, without the tests,
 # with the Python module installed into Debian's lib/python3/dist-packages; builds the
@@ -17,6 +17,8 @@
 #              (scripts/python.sh --ci explains the difference in build time).
 # --no-python  libhairscatter-dev only (no Python module to build).
 # --no-deps    do not install missing Debian packages (scripts/install-deps.sh package).
+# --build-only configure and build the module, no packages (scripts/test.sh builds ahead of
+#              its package step so; the step's own run then finds the module built).
 # -j N         parallel jobs (default: nproc).
 set -euo pipefail
 
@@ -29,6 +31,7 @@ build="$ROOT/build/package"
 ci=0
 python=ON
 deps=1
+build_only=0
 jobs="$(nproc 2>/dev/null || echo 2)"
 while [[ $# -gt 0 ]]; do
     case "$1" in
@@ -36,6 +39,7 @@ while [[ $# -gt 0 ]]; do
         --ci) ci=1 ;;
         --no-python) python=OFF ;;
         --no-deps) deps=0 ;;
+        --build-only) build_only=1 ;;
         -j) jobs="${2:?-j needs a number}"; shift ;;
         -j*) jobs="${1#-j}" ;;
         -h | --help) hs_usage; exit 0 ;;
@@ -64,6 +68,7 @@ if [[ $python == ON ]]; then
     echo "+ cmake --build $build -j $jobs --target hairscatter_python"
     cmake --build "$build" -j "$jobs" --target hairscatter_python
 fi
+[[ $build_only == 0 ]] || exit 0
 
 rm -f "$build"/*.deb
 echo "+ (cd $build && cpack -G DEB)"

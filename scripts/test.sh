@@ -11,8 +11,9 @@
 #   gcc       GCC,   Release, -Werror: build + ctest            (build/test-gcc)
 #   clang     Clang, Release, -Werror: build + ctest without the long statistical
 #             tests (chi-square, furnaces), which the gcc step runs  (build/test-clang)
-#   asan      GCC, -O1 -g1, asserts on, ASan+UBSan: build + ctest without the long
-#             statistical tests and integrations                (build/test-asan)
+#   asan      GCC, -O1 -g1, asserts on, ASan+UBSan: build of the programs ctest runs
+#             (target hairscatter_tests) + ctest without the long statistical tests and
+#             integrations                                      (build/test-asan)
 #   fastmath  -ffast-math must stop at config.hpp's #error; with HAIRSCATTER_ALLOW_FAST_MATH
 #             the robustness tests pass under it (GCC Release -Werror, build/test-fastmath)
 #   consumer  install to build/prefix (the docs pages the headers cite included); consume via
@@ -36,6 +37,13 @@
 #             seed without address randomisation, 30–60 s each) from its committed corpus (skipped without a clang
 #             that links libFuzzer); with -j 2 or
 #             more it runs in the background beside fastmath, consumer and cuda
+#
+# With -j 2 or more, the clang step's build runs in the background (nice 19) while the gcc
+# step's tests run, the asan step's build while the clang step's tests run, and the example,
+# python and package steps' builds while the asan step's tests run: each takes the core that a ctest
+# leaves idle (build/logs/build-<step>.log, printed by the step that waits for it). The
+# packages of the example, python and package steps install in the background while gcc
+# builds (build/logs/deps-later.log).
 #
 # Options: -j N / JOBS=N parallelism (default: nproc); --no-deps (or
 # HAIRSCATTER_SKIP_DEPS=1) skips the apt package check.
@@ -78,6 +86,7 @@ done
 # Bookkeeping: per-step timing and the ctest totals, summarised on exit.
 # ---------------------------------------------------------------------------
 declare -a summary=()
+declare -A background_pid=()  # the background jobs (background_start, below)
 total_passed=0
 total_failed=0
 current_step=""
@@ -102,8 +111,14 @@ kill_tree() {
 
 on_exit() {
     local rc=$?
-    # A step that failed while the fuzz step ran in the background: stop it too.
+    # A step that failed while the fuzz step, a build or the package installation ran in
+    # the background: stop them too.
     if [[ -n "${fuzz_pid:-}" ]]; then kill_tree "$fuzz_pid"; fi
+    # (The package installation is left to finish: a dpkg stopped half-way breaks the next.)
+    local job
+    for job in "${!background_pid[@]}"; do
+        if [[ "$job" == deps-later ]]; then wait "${background_pid[$job]}" || true; else kill_tree "${background_pid[$job]}"; fi
+    done
     if [[ -n "$current_step" ]]; then
         summary+=("$(printf '%-10s FAILED  %s' "$current_step" "$(fmt_time $((SECONDS - step_start)))")")
     fi
@@ -127,6 +142,31 @@ enabled() {
     for s in "${skip[@]}"; do [[ "$s" == "$1" ]] && return 1; done
     for s in "${steps[@]}"; do [[ "$s" == "$1" ]] && return 0; done
     return 1
+}
+
+# Background jobs: a step's build (or the later steps' package installation) started while
+# an earlier step's tests run, whose ctest leaves a core idle now and then (a long test alone
+# at the end, a test that waits on its file). A build runs at the lowest priority (nice 19):
+# it takes what the tests leave idle and barely slows them. The step that needs the job
+# waits for it and prints its log (build/logs/<job>.log).
+background_start() {
+    local job="$1"
+    shift
+    [[ "$JOBS" -ge 2 ]] || return 0
+    echo "+ started in the background: $job (build/logs/$job.log)"
+    "$@" >"$LOG_DIR/$job.log" 2>&1 </dev/null &
+    background_pid[$job]=$!
+}
+# background_finish JOB: waits for JOB and prints its log; stops the script if JOB failed.
+# Returns 1 when JOB was never started (the caller then runs it itself).
+background_finish() {
+    local job="$1" rc=0
+    [[ -n "${background_pid[$job]:-}" ]] || return 1
+    wait "${background_pid[$job]}" || rc=$?
+    unset "background_pid[$job]"
+    echo "+ $job (ran in the background; its log follows)"
+    cat "$LOG_DIR/$job.log"
+    [[ $rc -eq 0 ]] || { echo "test.sh: $job failed (exit code $rc)" >&2; exit "$rc"; }
 }
 
 run_step() {
@@ -202,11 +242,62 @@ ASAN_SKIPPED_TESTS+="|PhysicalFur"
 ASAN_SKIPPED_TESTS+="|FurFiber.ChiSquare|FurFiber.FiniteAtExtremes|FurPhysical"
 
 
-step_deps() { bash "$ROOT/scripts/install-deps.sh" tests; }
+# at_low_priority CMD...: CMD at nice 19 (for a background job).
+at_low_priority() {
+    renice -n 19 -p "$BASHPID" >/dev/null
+    "$@"
+}
+
+# Root, or a sudo that asks no password.
+can_sudo() { [[ "$(id -u)" -eq 0 ]] || sudo -n true 2>/dev/null; }
+
+step_deps() {
+    bash "$ROOT/scripts/install-deps.sh" tests
+    # The packages of the example, python and package steps install in the background while
+    # the gcc step builds (apt waits on the network and the disk more than on the cores);
+    # the first of those steps waits for them. Only where no password is asked.
+    local later=()
+    enabled example && later+=(example bench)
+    enabled python && later+=(python)
+    enabled package && later+=(package)
+    if [[ ${#later[@]} -gt 0 ]] && can_sudo; then
+        background_start deps-later at_low_priority bash "$ROOT/scripts/install-deps.sh" "${later[@]}"
+    fi
+}
+# The later steps' packages, installed in the background by step_deps: wait for them.
+later_deps() { background_finish deps-later || true; }
+# True when the later steps' packages will be there (or are not ours to install) once
+# later_deps returns: their builds may then start early.
+later_deps_ready() { [[ "$install_deps" == 0 || -n "${background_pid[deps-later]:-}" ]]; }
 
 gcc_flags=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=g++ -DHAIRSCATTER_WERROR=ON)
+clang_flags=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ -DHAIRSCATTER_WERROR=ON)
+# Debug keeps assert()/HAIRSCATTER_DCHECK on; -O1 keeps the run time sane; -g1 (line tables
+# only) keeps the sanitizers' stack traces readable at a fraction of -g's build time. Only
+# the programs ctest runs are built (the target hairscatter_tests): the tools and the header
+# check are compile-only checks that the gcc and clang steps make with -Werror.
+asan_flags=(-DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" -DCMAKE_CXX_COMPILER=g++
+            -DHAIRSCATTER_SANITIZE=ON -DHAIRSCATTER_HEADER_CHECK=OFF)
+build_clang() { build_and_test build/test-clang 0 "${clang_flags[@]}"; }
+# The sanitizers' options (for the test discovery at build time as for ctest), set once.
+asan_env() {
+    [[ -z "${asan_env_set:-}" ]] || return 0
+    asan_env_set=1
+    export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:${ASAN_OPTIONS:-}"
+    export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
+}
+build_asan() {
+    asan_env
+    echo "+ cmake -S . -B build/test-asan ${asan_flags[*]}"
+    cmake -S . -B build/test-asan -DHAIRSCATTER_BUILD_TESTS=ON "${asan_flags[@]}"
+    echo "+ cmake --build build/test-asan -j $JOBS --target hairscatter_tests"
+    cmake --build build/test-asan -j "$JOBS" --target hairscatter_tests
+}
+
 step_gcc() {
     build_and_test build/test-gcc 0 "${gcc_flags[@]}"
+    # The clang step's build takes the cores that the tests leave idle.
+    if enabled clang; then background_start build-clang at_low_priority build_clang; fi
     run_ctest build/test-gcc -E "$LONG_TESTS"
 }
 
@@ -216,8 +307,9 @@ step_long() {
 }
 
 step_clang() {
-    build_and_test build/test-clang 0 \
-        -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=clang++ -DHAIRSCATTER_WERROR=ON
+    background_finish build-clang || build_clang
+    # ...and the asan step's build, those that the clang step's tests leave idle.
+    if enabled asan; then background_start build-asan at_low_priority build_asan; fi
     # The statistical tests exercise the same code paths with millions of samples; the gcc
     # step runs them. Here every other test checks Clang's code generation.
     # Huang against the physical fiber and its lattice study against the brute force (a
@@ -229,13 +321,15 @@ step_clang() {
 }
 
 step_asan() {
-    # Debug keeps assert()/HAIRSCATTER_DCHECK on; -O1 keeps the run time sane; -g1 (line
-    # tables only) keeps the sanitizers' stack traces readable at a fraction of -g's build time.
-    export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1:${ASAN_OPTIONS:-}"
-    export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
-    build_and_test build/test-asan 0 \
-        -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" -DCMAKE_CXX_COMPILER=g++ \
-        -DHAIRSCATTER_SANITIZE=ON
+    background_finish build-asan || build_asan
+    asan_env
+    # The example, python and package steps' builds take what the sanitizer tests leave idle.
+    if later_deps_ready; then
+        if enabled example || enabled python; then later_deps; fi
+        if enabled example; then background_start build-example at_low_priority build_example; fi
+        if enabled python; then background_start build-python at_low_priority "${python_build[@]}"; fi
+        if enabled package && can_sudo; then background_start build-package at_low_priority "${package_build[@]}" --build-only; fi
+    fi
     # The statistical tests (chi-square goodness of fit, furnaces) run in the gcc step and
     # the long integrations in the gcc and clang steps; here they would only repeat code
     # paths that the other tests already drive under ASan/UBSan, at several times the cost.
@@ -254,8 +348,10 @@ step_fastmath() {
     fi
     [[ "$msg" == *__FAST_MATH__* ]] || { echo "fastmath: no #error naming __FAST_MATH__: $msg" >&2; return 1; }
     echo "fastmath: -ffast-math without HAIRSCATTER_ALLOW_FAST_MATH stops with the #error (ok)"
+    # Without the precompiled header: its owner, chi2_test, would be built first for nothing.
     cmake -S . -B build/test-fastmath -DHAIRSCATTER_BUILD_TESTS=ON -DCMAKE_BUILD_TYPE=Release \
-        -DCMAKE_CXX_COMPILER=g++ -DHAIRSCATTER_WERROR=ON "-DCMAKE_CXX_FLAGS=-ffast-math -DHAIRSCATTER_ALLOW_FAST_MATH"
+        -DCMAKE_CXX_COMPILER=g++ -DHAIRSCATTER_WERROR=ON -DHAIRSCATTER_TEST_PCH=OFF \
+        "-DCMAKE_CXX_FLAGS=-ffast-math -DHAIRSCATTER_ALLOW_FAST_MATH"
     cmake --build build/test-fastmath -j "$JOBS" --target robustness_test
     build/test-fastmath/tests/robustness_test
 }
@@ -329,19 +425,23 @@ step_consumer() {
 
 step_cuda() { bash "$ROOT/scripts/cuda-check.sh"; }
 
+python_build=(bash "$ROOT/scripts/python.sh" --ci --no-deps --no-tests -j "$JOBS" --build "$ROOT/build/test-python")
 step_python() {
+    later_deps
     if [[ "$install_deps" == 1 ]]; then bash "$ROOT/scripts/install-deps.sh" python; fi
-    local python=(bash "$ROOT/scripts/python.sh" --ci --no-deps --no-tests -j "$JOBS" --build "$ROOT/build/test-python")
-    "${python[@]}"
+    local python=("${python_build[@]}")
+    background_finish build-python || "${python[@]}"
     run_ctest build/test-python
     rm -rf build/test-python/prefix
     "${python[@]}" --install "$ROOT/build/test-python/prefix"
 }
 
+package_build=(bash "$ROOT/scripts/package.sh" --ci --no-deps -j "$JOBS" --build "$ROOT/build/test-package")
 # The DEB round trip: build the packages, install them with dpkg, build the consumer against
 # /usr through pkg-config and find_package, import the module with the system python3, then
 # remove both packages and check that every file they installed is gone.
 step_package() {
+    later_deps
     if [[ "$install_deps" == 1 ]]; then bash "$ROOT/scripts/install-deps.sh" package; fi
     local build="$ROOT/build/test-package" pkgs=(python3-hairscatter libhairscatter-dev) sudo=() p
     if [[ "$(id -u)" -ne 0 ]]; then
@@ -360,7 +460,8 @@ step_package() {
         fi
     done
 
-    bash "$ROOT/scripts/package.sh" --ci --no-deps -j "$JOBS" --build "$build"
+    background_finish build-package || true
+    "${package_build[@]}"
     local dev=("$build"/libhairscatter-dev_*_all.deb) py=("$build"/python3-hairscatter_*.deb)
     [[ -f "${dev[0]}" && -f "${py[0]}" && ${#dev[@]} -eq 1 && ${#py[@]} -eq 1 ]] ||
         { echo "package: expected one libhairscatter-dev and one python3-hairscatter .deb in $build" >&2; return 1; }
@@ -432,14 +533,18 @@ print('installed:', hairscatter.__file__, hairscatter.__version__)")
 
 # The main example and the benchmarks must keep compiling (-Werror) even though CI runs
 # neither at full size: build both, and run the example small.
+build_example() {
+    cmake -S . -B build/test-example -DCMAKE_BUILD_TYPE=Release -DHAIRSCATTER_BUILD_TESTS=OFF \
+        -DHAIRSCATTER_BUILD_EXAMPLES=ON -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_WERROR=ON
+    cmake --build build/test-example -j "$JOBS"
+}
 step_example() {
+    later_deps
     if [[ "$install_deps" == 1 ]]; then
         bash "$ROOT/scripts/install-deps.sh" example
         bash "$ROOT/scripts/install-deps.sh" bench
     fi
-    cmake -S . -B build/test-example -DCMAKE_BUILD_TYPE=Release -DHAIRSCATTER_BUILD_TESTS=OFF \
-        -DHAIRSCATTER_BUILD_EXAMPLES=ON -DHAIRSCATTER_BUILD_BENCH=ON -DHAIRSCATTER_WERROR=ON
-    cmake --build build/test-example -j "$JOBS"
+    background_finish build-example || build_example
     local out="$ROOT/build/test-example/out/explorer"
     build/test-example/examples/lobe_explorer/lobe_explorer --width 90 --height 45 --eumelanin 0 -o "$out"
     [[ -s "$out.exr" && -s "$out.png" ]] || { echo "example: no EXR/PNG written" >&2; return 1; }
