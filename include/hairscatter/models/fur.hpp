@@ -22,6 +22,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -223,19 +224,29 @@ template <typename T> struct MedullaChord {
 };
 
 template <typename T>
-HAIRSCATTER_HD MedullaChord<T> medulla_chord(const FurParams<T>& p, T sin_gamma_t, T chord, T chord_scale) {
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurParams<T>& p, T sin_gamma_t, T chord, T chord_scale) {
     using std::sqrt;
     const T inside = sqr(p.kappa) - sqr(sin_gamma_t);  // < 0: the chord misses the medulla
     const T half_m = inside > T(0) ? sqrt(inside) : T(0);
     const T lm = half_m * chord_scale;  // ℓ_m, 3D
     const T lc = chord > lm ? chord - lm : T(0);
+    // The cortex's half chord exp(−σa^c (ℓ − ℓ_m)/2) and the medulla's expm1(−σt ℓ_m), each
+    // one batch (in float one vector: math/elementary.hpp); T is the half chord squared
+    // times e^(−σt ℓ_m), first_c the half chord times σs ℓ_m (1 − e^(−x))/x.
+    T half[4], m1[4], x[3];
+    for (int c = 0; c < 3; ++c) {
+        x[c] = (p.sigma_s + p.sigma_a_medulla[c]) * lm;
+        half[c] = T(-0.5) * p.cortex.sigma_a[c] * lc;
+        m1[c] = -x[c];
+    }
+    half[3] = m1[3] = T(0);  // (padding)
+    elem::exp_each_nonpositive(half);
+    elem::expm1_each(m1);
     MedullaChord<T> r;
     for (int c = 0; c < 3; ++c) {
-        const T sigma_t = p.sigma_s + p.sigma_a_medulla[c];
-        const T x = sigma_t * lm;
-        r.transmittance[c] = elem::exp(-p.cortex.sigma_a[c] * lc - x);
-        const T frac = x > T(1e-6) ? -elem::expm1(-x) / x : T(1) - T(0.5) * x;  // (1 − e^(−x))/x
-        r.first_scatter[c] = elem::exp(T(-0.5) * p.cortex.sigma_a[c] * lc) * p.sigma_s * lm * frac;
+        r.transmittance[c] = half[c] * half[c] * (T(1) + m1[c]);
+        const T frac = x[c] > T(1e-6) ? -m1[c] / x[c] : T(1) - T(0.5) * x[c];  // (1 − e^(−x))/x
+        r.first_scatter[c] = half[c] * p.sigma_s * lm * frac;
     }
     return r;
 }
@@ -815,8 +826,8 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         T a[std::size_t(kS + 1)][3];           // A_0 … A_3 and E_S per channel
         T w[std::size_t(kS + 1)];              // selection weights (channel sums)
         T w_total, inv_w_total;
-        T sin_p[std::size_t(kLobes + 1)], cos_p[std::size_t(kLobes + 1)];  // θo tilted per lobe
-        T phi_p[std::size_t(kLobes)];          // Φ(p, h), wrapped
+        DeonLanes<T, kLobes + 1> m;            // M_p conditioned on the tilted θo', lane p lobe p
+        T phi_p[std::size_t(kLobes + 1)];      // Φ(p, h), wrapped (0 for the residual)
         int theta_bin;
         T sin_o;
     };
@@ -881,8 +892,8 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
                 const V3 weight = mat_->lobe_weight(p);
                 for (int c = 0; c < 3; ++c) o.a[p][c] *= weight[c];
             }
-        mat_->tilt_all(sin_o, cos_o, o.sin_p, o.cos_p);
-        for (int p = 0; p < kLobes; ++p) o.phi_p[p] = exit_azimuth_wrapped(p, gamma_o_, gamma_t);
+        mat_->template condition<LobeSet::kAll>(o.m, sin_o, cos_o);
+        for (int p = 0; p <= kLobes; ++p) o.phi_p[p] = p < kLobes ? exit_azimuth_wrapped(p, gamma_o_, gamma_t) : T(0);
         if constexpr (kW) {
             T total = T(0);
             for (int p = 0; p <= kS; ++p) total += (o.w[p] = o.a[p][0] + o.a[p][1] + o.a[p][2]);
@@ -892,12 +903,13 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         return o;
     }
 
-    // Each lobe's angular density M_p N_p at (θi, φ): the products f and pdf weigh.
+    // Each lobe's angular density M_p N_p at (θi, φ): the products f and pdf weigh. The
+    // unscattered lobes as Chiang's, side by side (deon_logistic_densities), then S.
+    static constexpr int kAzimuthal = std::is_same<T, float>::value ? kLobes + 1 : kLobes;
     HAIRSCATTER_HD void densities(const Outgoing& o, T sin_i, T cos_i, T phi, T (&mn)[std::size_t(kS + 1)]) const {
-        for (int p = 0; p <= kLobes; ++p) {
-            const T m = mat_->longitudinal(p).eval(sin_i, cos_i, o.sin_p[p], o.cos_p[p]);
-            mn[p] = m * (p < kLobes ? azimuthal_logistic(mat_->azimuthal(), phi, o.phi_p[p]) : kInvTwoPi<T>);
-        }
+        T lanes[std::size_t(kLobes + 1)];
+        deon_logistic_densities<kLobes + 1, kLobes, kAzimuthal>(o.m, o.phi_p, mat_->azimuthal(), sin_i, cos_i, phi, lanes);
+        for (int p = 0; p <= kLobes; ++p) mn[p] = lanes[p];
         mn[kS] = scattered_density(o, sin_i, cos_i, phi);
     }
     // S's density per steradian: q(sin θi) per unit sin θi times N_S(φ).
@@ -936,7 +948,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             sin_i = mat_->medulla().sample_longitudinal(o.theta_bin, o.sin_o, u.y, u.z, choice.rescaled);
             phi = mat_->medulla().sample_azimuth(o.theta_bin, u.w);
         } else {
-            sin_i = mat_->longitudinal(p).sample_sin_theta(o.sin_p[p], o.cos_p[p], u.y, u.z);
+            sin_i = mat_->longitudinal(p).sample_sin_theta(o.m.sin_o[p], o.m.cos_o[p], u.y, u.z);
             phi = p < kLobes ? o.phi_p[p] + mat_->azimuthal().sample(u.w) : kTwoPi<T> * u.w - kPi<T>;
         }
         phi = wrap_pi(phi);
