@@ -134,11 +134,14 @@ TEST(FurFiber, LosslessFurnace) {
     std::printf("[ fur ] lossless: worst |albedo − 1| %.2e, worst |∫ eval − albedo| %.2e\n", worst_albedo, worst_integral);
 }
 
-// The rough cortex (FurParams::rough_cortex) moves light from TT into the orders past TRT
-// and leaves R alone: lossless, no medulla, averaged over h, at θo 0°, 30° and 75°, the
-// residual's share grows several times (light trapped by total internal reflection at
-// tilted facets) and TT falls, the more the nearer grazing; its walk's shares of the
-// entered light add up to 1 at every node, and its tail ratio lies in [0, 1).
+// The rough cortex (FurParams::rough_cortex) moves light from TT into the orders past TRT,
+// and its facets reflect less than the smooth boundary: lossless, no medulla, averaged over
+// h, at θo 0°, 30° and 75°, the residual's share grows several times (light trapped by total
+// internal reflection at tilted facets) and TT falls, the more the nearer grazing; R falls
+// below the smooth F (the facets seen from wo and Smith's masking of their reflections),
+// by more than a quarter at 75°, where the smooth cylinder reflects 0.36; its walk's shares
+// of the entered light add up to 1 at every node, its tail ratio lies in [0, 1), and its
+// entry reflectance over the smooth F in (0, 1.2].
 TEST(FurFiber, RoughCortexTrapsLightPastTRT) {
     const hs::FurMaterial<double> smooth(fur_params<double>(0, 0, 0, glm::dvec3(0)));
     const hs::FurMaterial<double> rough(fur_params<double>(0, 0, 0, glm::dvec3(0), true));
@@ -153,7 +156,10 @@ TEST(FurFiber, RoughCortexTrapsLightPastTRT) {
             }
         std::printf("[ fur ] rough cortex, θo %2.0f°: R %.3f / %.3f, TT %.3f / %.3f, TRT %.3f / %.3f, later %.3f / %.3f"
                     " (smooth / rough)\n", theta, a[0][0], a[1][0], a[0][1], a[1][1], a[0][2], a[1][2], a[0][3], a[1][3]);
-        EXPECT_NEAR(a[1][0], a[0][0], 1e-12);
+        EXPECT_LT(a[1][0], a[0][0]);
+        if (theta > 60) {
+            EXPECT_LT(a[1][0], 0.75 * a[0][0]);
+        }
         EXPECT_GT(a[1][3], 4 * a[0][3]);
         EXPECT_GT(a[1][3], 0.05);
         const double drop = a[0][1] - a[1][1];
@@ -166,6 +172,8 @@ TEST(FurFiber, RoughCortexTrapsLightPastTRT) {
             EXPECT_NEAR(node[0] + node[1] + node[2], 1.0, 1e-9);
             EXPECT_GE(node[3], 0.0);
             EXPECT_LT(node[3], 1.0);
+            EXPECT_GT(node[4], 0.0);
+            EXPECT_LE(node[4], 1.2);
         }
 }
 
@@ -402,9 +410,9 @@ TEST(FurMaterial, TablesBuiltForTheGridAreValid) {
 // (the RGB mean), of the whole f and of the light scattered in the medulla alone (the
 // reference's scattered class against eval_scattered). The rough cortex is GGX 0.17, matched
 // to the model's β_m = β_n = 0.3 by the width of R (fur_roughness_tool), with the 2° cuticle
-// tilt on both sides, and the model's cortex rough too (FurParams::rough_cortex: the orders of
-// exit from a walk over facets whose spread follows from β; nothing fitted to this
-// reference); the whole f then carries what a rough fibre does that the model still does
+// tilt on both sides, and the model's cortex rough too (FurParams::rough_cortex: the entry's
+// reflectance and the orders of exit from a walk over facets whose spread follows from β;
+// nothing fitted to this reference); the whole f then carries what a rough fibre does that the model still does
 // not (TT's width, the trapped light's shape, the tilt feeding the medulla; docs/models.md),
 // and so does the scattered light's energy, which the cortex's paths feed. The nearly smooth, untilted cortex (GGX 0.02, tilt 0 in both) measures
 // the medulla's lobe where the model's smooth-cylinder paths hold. The figures of
@@ -474,12 +482,17 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     std::printf("[ physical ] rough cortex: f worst %.1f %%, mean %.1f %% lossless, %.1f %% blond; scattered worst %.1f %%,"
                 " mean %.1f %%\n", 100 * worst_all, 100 * mean_all[0], 100 * mean_all[1], 100 * worst[0], 100 * mean[0]);
     std::printf("[ physical ] smooth cortex: scattered worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst[1], 100 * mean[1]);
-    // Measured: 58.6 %, mean 12.8 % lossless and 21.6 % blond (19.0 % and 25.2 % with the
-    // smooth cortex's orders); 22.2 %, 10.9 %; 6.3 %, 4.8 % (the reference's noise: 1–3 %).
-    EXPECT_LT(worst_all, 0.63);
-    EXPECT_LT(mean_all[0], 0.145);
-    EXPECT_LT(mean_all[1], 0.235);
-    EXPECT_LT(worst[0], 0.25);
+    // Measured: 28.3 %, mean 10.1 % lossless and 16.7 % blond (58.6 %, 12.8 % and 21.6 % with
+    // the smooth F at the rough cortex's entry; 19.0 % and 25.2 % mean with the smooth
+    // cortex's orders); 29.1 %, 10.7 %; 6.3 %, 4.8 % (the reference's noise: 1–3 %). The
+    // scattered light's worst, blond at θo 75° (κ 0.6, σs^m 10), was 7.1 % with the smooth F:
+    // too little light entered there and too much of it left the medulla, and the two
+    // cancelled; the rough entry lets the right amount in (lossless 21.7 → 9.9 %), and the
+    // blond excess that the other κ 0.6 cases show (13–20 % high energy) shows here too.
+    EXPECT_LT(worst_all, 0.30);
+    EXPECT_LT(mean_all[0], 0.11);
+    EXPECT_LT(mean_all[1], 0.175);
+    EXPECT_LT(worst[0], 0.30);
     EXPECT_LT(mean[0], 0.12);
     EXPECT_LT(worst[1], 0.07);
     EXPECT_LT(mean[1], 0.052);
