@@ -354,22 +354,21 @@ inline glm::dvec3 fur_scatter(const glm::dvec3& d, double g, double u1, double u
     return glm::normalize(c * d + sn * (std::cos(phi) * t + std::sin(phi) * b));
 }
 
-// The rough cortex's walk (RoughCortexTables) for index η, cuticle tilt α and roughness β_m,
-// β_n: 2,000 walks per node (each share within ~1 % at one standard deviation), at most 400
-// events per walk (the rest counts as later; a tail ratio of 0.95, the largest at β 0.3,
-// leaves 1e-9 of it there).
-template <typename T>
-RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m, double beta_n) {
-    constexpr int kWalks = 2000, kMaxEvents = 400;
-    const double sigma_a = 0.5 * std::sqrt(longitudinal_variance(beta_m));
-    const double sigma_b = 0.5 * 1.81379936423421785059 * logistic_scale(beta_n);
-    const double mean_a = std::tan(alpha);
-    RoughCortexTables<T> tab;
-    FurRng rng(0x0C0A7E5Eull);
-    // A facet seen from d (frame: axis, normal, tangent; d·n > 0): slopes drawn (a pair of
-    // standard normal numbers by Box–Muller), then kept in proportion to ⟨d·m⟩ (by
-    // rejection against its bound |m|).
-    auto facet = [&](const glm::dvec3& d) {
+// The rough cortex's microfacets (RoughCortexTables): Gaussian slopes centred on the cuticle
+// tilt along the axis, with the spread the model's β implies (the longitudinal slope's
+// standard deviation half the R lobe's, √v(β_m)/2; the azimuthal one half the azimuthal
+// logistic's, (π/√3) s(β_n)/2). Directions in the frame (axis, normal, tangent).
+struct RoughFacets {
+    double sigma_a = 0, sigma_b = 0, mean_a = 0;
+
+    static RoughFacets of(double alpha, double beta_m, double beta_n) {
+        return {0.5 * std::sqrt(longitudinal_variance(beta_m)), 0.5 * 1.81379936423421785059 * logistic_scale(beta_n),
+                std::tan(alpha)};
+    }
+    // A facet seen from d (d·n > 0): slopes drawn (a pair of standard normal numbers by
+    // Box–Muller), then kept in proportion to ⟨d·m⟩ (by rejection against its bound |m|):
+    // the visible normals of Heitz 2014, "Understanding the masking-shadowing function", eq. 2.
+    glm::dvec3 sample(const glm::dvec3& d, FurRng& rng) const {
         for (int tries = 0; tries < 1000; ++tries) {
             const double r = std::sqrt(-2 * std::log(1 - rng.uniform())), phi = 2 * kPi<double> * rng.uniform();
             const glm::dvec3 m(mean_a + sigma_a * r * std::cos(phi), 1, sigma_b * r * std::sin(phi));
@@ -377,23 +376,35 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             if (proj > 0 && rng.uniform() * len < proj) return m / len;
         }
         return glm::dvec3(0, 1, 0);
-    };
+    }
     // Smith's masking of a direction v by the facets (Smith 1967; for Gaussian slopes Walter,
     // Marschner, Li & Torrance 2007, "Microfacet models for refraction through rough
     // surfaces", eq. 27's Λ): G1 = 1 / (1 + Λ(a)), Λ(a) = (erf(a) − 1)/2 + e^(−a²)/(2a√π),
     // a = cot θv / σ(φv) about the mean facet normal n0 (tilted by α along the axis), with
     // σ(φv) the slopes' spread along v's azimuth; 0 below the mean plane.
-    const glm::dvec3 n0 = glm::normalize(glm::dvec3(mean_a, 1, 0)), along = glm::normalize(glm::dvec3(1, -mean_a, 0));
-    auto unmasked = [&](const glm::dvec3& v) {
+    double unmasked(const glm::dvec3& v) const {
+        const glm::dvec3 n0 = glm::normalize(glm::dvec3(mean_a, 1, 0)), along = glm::normalize(glm::dvec3(1, -mean_a, 0));
         const double c = glm::dot(v, n0);
         if (!(c > 0)) return 0.0;
-        const double ha = glm::dot(v, along), hz = v.z;
-        const double spread = std::sqrt(sqr(sigma_a * ha) + sqr(sigma_b * hz));
+        const double spread = std::sqrt(sqr(sigma_a * glm::dot(v, along)) + sqr(sigma_b * v.z));
         if (!(spread > 1e-12)) return 1.0;
         const double a = c / spread;
         const double lambda = 0.5 * (std::erf(a) - 1) + std::exp(-a * a) / (2 * a * std::sqrt(kPi<double>));
         return 1 / (1 + lambda);
-    };
+    }
+};
+
+// The rough cortex's walk (RoughCortexTables) for index η, cuticle tilt α and roughness β_m,
+// β_n: 2,000 walks per node (each share within ~1 % at one standard deviation), at most 400
+// events per walk (the rest counts as later; a tail ratio of 0.95, the largest at β 0.3,
+// leaves 1e-9 of it there).
+template <typename T>
+RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m, double beta_n) {
+    constexpr int kWalks = 2000, kMaxEvents = 400;
+    const RoughFacets facets = RoughFacets::of(alpha, beta_m, beta_n);
+    RoughCortexTables<T> tab;
+    FurRng rng(0x0C0A7E5Eull);
+    auto facet = [&](const glm::dvec3& d) { return facets.sample(d, rng); };
     constexpr int kTheta = RoughCortexTables<T>::kTheta, kH = RoughCortexTables<T>::kH;
     for (int i = 0; i < kTheta; ++i) {
         const double theta = (2.0 * i / (kTheta - 1) - 1) * RoughCortexTables<T>::kThetaMax;
@@ -406,7 +417,7 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             for (int w = 0; w < kWalks; ++w) {
                 const glm::dvec3 m = facet(out);
                 const double ci = glm::dot(out, m);
-                reflected += fur_fresnel(ci, eta) * unmasked(2 * ci * m - out);  // its expectation: no coin's noise
+                reflected += fur_fresnel(ci, eta) * facets.unmasked(2 * ci * m - out);  // its expectation: no coin's noise
                 if (rng.uniform() < fur_fresnel(ci, eta)) continue;  // reflected at entry: R
                 entered += 1;
                 const double ct = std::sqrt(std::max(0.0, 1 - (1 - ci * ci) / (eta * eta)));
@@ -438,11 +449,14 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
 // One |θo| bin of the tables: light from wo = (sinθo, 0, cosθo) (φo = π/2) enters at offset
 // h (only where its refracted chord meets the medulla), is carried unscattered with the
 // analytic weights of medulla_chord until it first scatters, then random-walks through the
-// medulla and the cortex (smooth boundary, Fresnel by choice) until it leaves. Per exit: the
+// medulla and the cortex (Fresnel by choice at the boundary: the smooth one, or with facets
+// the rough cortex's, where the light trapped at tilted facets crosses the absorbing cortex
+// again before it leaves; the entry stays smooth, its F being the lobes') until it leaves. Per exit: the
 // relative azimuth and sin θi, weighted by the exit's energy, the channels' mean (the shape:
 // N_S's Fourier series and q's moments), and per channel the weight at exit and at the first
 // scattering (the escape fraction).
-inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int bin, MedullaTables<double>& tab) {
+inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int bin, MedullaTables<double>& tab,
+                                 const RoughFacets* facets = nullptr) {
     const double eta = p.cortex.eta, sin_o = std::sin(theta_o), cos_o = std::cos(theta_o);
     const double eta_p = std::sqrt(eta * eta - sin_o * sin_o) / cos_o;  // Bravais' η' (docs/theory.md §3.1)
     const double h_max = std::min(1.0, p.kappa * eta_p);
@@ -529,15 +543,27 @@ inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int
             const double s_exit = std::max(0.0, fur_circle_exit(pos, t2, 1.0));
             for (int c = 0; c < 3; ++c) w[c] *= std::exp(-p.cortex.sigma_a[c] * s_exit / tl);
             pos = glm::normalize(pos + s_exit * t2);
-            const glm::dvec3 n(0, pos.x, pos.y);
+            // The boundary's normal, or with the rough cortex one of its facets as seen from
+            // inside (RoughFacets, the walk's), in the frame (axis, normal, tangent) there.
+            const glm::dvec3 n0(0, pos.x, pos.y);
+            glm::dvec3 n = n0;
+            if (facets) {
+                const glm::dvec3 tn(0, -pos.y, pos.x);
+                const glm::dvec3 m = facets->sample(glm::dvec3(dir.x, glm::dot(dir, n0), glm::dot(dir, tn)), rng);
+                n = glm::normalize(glm::dvec3(m.x, 0, 0) + m.y * n0 + m.z * tn);
+            }
             const double cos_i = glm::dot(dir, n);
             if (rng.uniform() < fur_fresnel(cos_i, 1 / eta)) {
                 dir -= 2 * cos_i * n;
+                const double outward = glm::dot(dir, n0);  // (a facet's reflection may still point out:
+                if (outward > 0) dir -= 2 * outward * n0;  // mirrored in, as the walk does)
                 continue;
             }
             // Leaves: refracted out; its azimuth and the moments of sin θi are kept.
             const double ct_out = std::sqrt(std::max(0.0, 1 - eta * eta * (1 - cos_i * cos_i)));
-            const glm::dvec3 out = glm::normalize(eta * dir + (ct_out - eta * cos_i) * n);
+            glm::dvec3 out = glm::normalize(eta * dir + (ct_out - eta * cos_i) * n);
+            const double inward = glm::dot(out, n0);  // (likewise a refraction that points in)
+            if (inward < 0) out -= 2 * inward * n0;
             const double phi = std::fabs(wrap_pi(std::atan2(out.z, out.y) - kHalfPi<double>));
             // Weighted by the exit's energy, the mean over the channels (w0 when lossless):
             // absorption favours the light that leaves early, and the shape follows it.
@@ -585,6 +611,7 @@ inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int
 }
 
 // The tables of a material (host): uniform and lossless where the medulla does not scatter.
+// With the rough cortex they depend on α, β_m and β_n too (its facets at the boundary).
 template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& params) {
     FurParams<double> p;
     p.cortex.eta = double(params.cortex.eta);
@@ -594,10 +621,12 @@ template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& 
     p.sigma_a_medulla = glm::dvec3(params.sigma_a_medulla);
     p.g = double(params.g);
     MedullaTables<double> d;
+    const RoughFacets facets = RoughFacets::of(double(params.cortex.alpha), double(params.cortex.beta_m),
+                                               double(params.cortex.beta_n));
     constexpr int kTheta = MedullaTables<T>::kThetaBins, kPhi = MedullaTables<T>::kPhiBins;
     for (int t = 0; t < kTheta; ++t) {
         if (p.kappa > 0 && p.sigma_s > 0) {
-            simulate_medulla_bin(p, (t + 0.5) * kHalfPi<double> / kTheta, t, d);
+            simulate_medulla_bin(p, (t + 0.5) * kHalfPi<double> / kTheta, t, d, params.rough_cortex ? &facets : nullptr);
             continue;
         }
         for (int k = 0; k < kPhi; ++k) {
@@ -654,9 +683,11 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
 
     // The medulla tables in a small versioned binary file, to skip their simulation next
     // time: "HSFT", the version, the tables' sizes, the parameters they depend on (η and
-    // σa^c of the cortex, κ, σs^m, σa^m, g), the tables as doubles and an FNV-1a checksum
-    // of everything before it. A float material's tables come back bit for bit.
-    static constexpr std::uint32_t kFileVersion = 2;
+    // σa^c of the cortex, κ, σs^m, σa^m, g, whether the cortex is rough, and its α, β_m and
+    // β_n), the tables as doubles and an FNV-1a checksum of everything before it. A float
+    // material's tables come back bit for bit. (Version 3: version 2 had neither the rough
+    // flag nor α and β, on which the rough cortex's tables now depend.)
+    static constexpr std::uint32_t kFileVersion = 3;
     void save(const std::string& path) const {
         std::vector<unsigned char> buf;
         detail::put_bytes(buf, "HSFT", 4);
@@ -677,7 +708,8 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
     // Throws std::invalid_argument for bad params (as the constructor), std::runtime_error
     // naming the file for a wrong magic, version, table size, file size or checksum, a
     // value outside what the simulation produces, or tables built for other parameters
-    // (those the tables depend on must agree to 1e-6 relative; β_m, β_n and α may differ).
+    // (those the tables depend on must agree to 1e-6 relative; with the smooth cortex β_m,
+    // β_n and α may differ).
     static FurMaterial load(const FurParams<T>& params, const std::string& path,
                             const FurControls<T>& controls = FurControls<T>()) {
         require_valid(params);
@@ -688,7 +720,7 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
         std::ifstream f(path, std::ios::binary);
         if (!f) HAIRSCATTER_THROW(std::runtime_error("hairscatter: cannot open fur medulla tables '" + path + "'"));
         constexpr int kTheta = MedullaTables<T>::kThetaBins, kPhi = MedullaTables<T>::kPhiBins;
-        constexpr std::size_t kParams = 10, kValues = std::size_t(kTheta) * (2 * kPhi + 1 + 3 + 2);
+        constexpr std::size_t kParams = 14, kValues = std::size_t(kTheta) * (2 * kPhi + 1 + 3 + 2);
         constexpr std::size_t kExpected = 4 + 3 * 4 + (kParams + kValues) * 8 + 8;
         // One byte more than a valid file holds: a longer file (or pipe) is seen as such.
         std::vector<unsigned char> buf(kExpected + 1);
@@ -712,10 +744,12 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
         if (detail::get_bytes<std::uint64_t>(buf, end) != detail::fnv1a(buf.data(), kExpected - 8))
             HAIRSCATTER_THROW(fail("checksum mismatch (corrupt file)"));
         static const char* kName[kParams] = {"eta", "sigma_a.r", "sigma_a.g", "sigma_a.b", "kappa",
-                                             "sigma_s", "sigma_a_medulla.r", "sigma_a_medulla.g", "sigma_a_medulla.b", "g"};
+                                             "sigma_s", "sigma_a_medulla.r", "sigma_a_medulla.g", "sigma_a_medulla.b", "g",
+                                             "rough_cortex", "alpha", "beta_m", "beta_n"};
         const auto given = table_parameters(params);
         for (std::size_t k = 0; k < kParams; ++k) {
             const double in_file = detail::get_bytes<double>(buf, at), want = given[k];
+            if (k > 10 && !params.rough_cortex) continue;  // (the smooth cortex's tables serve every α and β)
             if (!(std::fabs(in_file - want) <= 1e-6 * std::fmax(std::fabs(in_file), std::fabs(want))))
                 HAIRSCATTER_THROW(fail(std::string("built for other fur parameters: ") + kName[k] + " " +
                                        std::to_string(in_file) + " in the file, " + std::to_string(want) + " given"));
@@ -747,11 +781,13 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
                                                    double(params.cortex.beta_m), double(params.cortex.beta_n));
     }
 
-    // What the tables depend on, in the file's order.
-    static std::array<double, 10> table_parameters(const FurParams<T>& p) {
+    // What the tables depend on, in the file's order: with the rough cortex also its facets'
+    // α, β_m and β_n (RoughFacets), which load() compares only then.
+    static std::array<double, 14> table_parameters(const FurParams<T>& p) {
         return {double(p.cortex.eta), double(p.cortex.sigma_a[0]), double(p.cortex.sigma_a[1]),
                 double(p.cortex.sigma_a[2]), double(p.kappa), double(p.sigma_s), double(p.sigma_a_medulla[0]),
-                double(p.sigma_a_medulla[1]), double(p.sigma_a_medulla[2]), double(p.g)};
+                double(p.sigma_a_medulla[1]), double(p.sigma_a_medulla[2]), double(p.g), p.rough_cortex ? 1.0 : 0.0,
+                double(p.cortex.alpha), double(p.cortex.beta_m), double(p.cortex.beta_n)};
     }
     // f(value, lo, hi, name) over every value of the tables in the file's order, with the
     // range the simulation keeps it in (a density is at most 1/width when all its mass is
