@@ -353,6 +353,28 @@ template <typename T> void BM_FurTables(benchmark::State& state) {
     state.SetLabel(state.range(0) ? "kappa=0.9 sigma_s=10, fur tables" : "kappa=0.6 sigma_s=10 g=0.3, fur tables");
 }
 
+// Building a FurMaterial over the grid the tests build (tests/fur_test.cpp,
+// FurMaterial.TablesBuiltForTheGridAreValid): κ 0.3 and 0.9, σs^m 1 and 10, g 0, the blond
+// cortex (σa^c 0.5447, 0.9061, 1.781), with the smooth and the rough cortex (whose walk is
+// built as well). The goal: ≤ 1 s per material; the CPU time is the figure (the
+// build is single-threaded; on a shared machine the wall time also counts other processes).
+template <typename T> void BM_FurTablesGrid(benchmark::State& state) {
+    hairscatter::FurParams<T> p;
+    p.kappa = T(state.range(0) ? 0.9 : 0.3);
+    p.sigma_s = T(state.range(1) ? 10 : 1);
+    p.cortex.sigma_a = glm::vec<3, T>(T(0.5447), T(0.9061), T(1.781));
+    p.rough_cortex = state.range(2) != 0;
+    for (auto _ : state) benchmark::DoNotOptimize(hairscatter::FurMaterial<T>(p));
+    state.SetLabel(std::string(state.range(0) ? "kappa=0.9" : "kappa=0.3") + (state.range(1) ? " sigma_s=10" : " sigma_s=1") +
+                   (state.range(2) ? ", rough cortex" : ", smooth cortex"));
+}
+void fur_grid_args(benchmark::internal::Benchmark* b) {
+    b->ArgNames({"kappa", "sigma_s", "rough"});
+    for (int r = 0; r < 2; ++r)
+        for (int k = 0; k < 2; ++k)
+            for (int s = 0; s < 2; ++s) b->Args({k, s, r});
+}
+
 }  // namespace
 
 BENCHMARK_TEMPLATE(BM_Calib, float);
@@ -391,6 +413,7 @@ BENCHMARK_TEMPLATE(BM_FurEval, double)->Arg(0)->Arg(1)->Arg(2);
 BENCHMARK_TEMPLATE(BM_FurSample, float)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(BM_FurSample, double)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(BM_FurTables, float)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK_TEMPLATE(BM_FurTablesGrid, float)->Apply(fur_grid_args)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK_TEMPLATE(BM_ControlsEval, float);
 BENCHMARK_TEMPLATE(BM_ControlsSample, float);
 BENCHMARK_TEMPLATE(BM_FiberCtor, float)->Apply(beta_args);

@@ -1,5 +1,6 @@
 // FurMaterial's medulla table file (models/fur.hpp, save/load): the tables come back bit for
-// bit in float and double, the roughness may differ from the saved material's, and a file
+// bit in float and double, the roughness may differ from the saved material's with the smooth
+// cortex (not with the rough one, whose tables depend on it), and a file
 // of another version, table size or length, a corrupt one, one with a value out of range
 // and one built for other parameters are refused with an error naming the file and why.
 #include <cstdint>
@@ -80,7 +81,7 @@ void expect_refused(const std::vector<unsigned char>& bytes, const std::string& 
 TEST(FurTables, RoundTripIsBitIdenticalFloat) { round_trip_is_bit_identical<float>(); }
 TEST(FurTables, RoundTripIsBitIdenticalDouble) { round_trip_is_bit_identical<double>(); }
 
-// β_m, β_n and α do not enter the tables: a file serves every roughness.
+// With the smooth cortex β_m, β_n and α do not enter the tables: a file serves every roughness.
 TEST(FurTables, LoadTakesTheGivenRoughness) {
     const std::string path = temp_path("hairscatter_fur_roughness.hsft");
     hs::FurMaterial<double>(medulla_params<double>()).save(path);
@@ -90,6 +91,29 @@ TEST(FurTables, LoadTakesTheGivenRoughness) {
     const hs::FurMaterial<double> m = hs::FurMaterial<double>::load(rough, path);
     EXPECT_EQ(m.params().cortex.beta_m, 0.6);
     EXPECT_EQ(m.params().cortex.beta_n, 0.5);
+}
+
+// With the rough cortex the tables depend on its facets (α, β_m, β_n) as well: its file
+// loads back bit for bit for the same parameters, and is refused for another β_m or α, for
+// the smooth cortex, and a smooth cortex's file for the rough one, naming the parameter.
+TEST(FurTables, RoughCortexTablesKeepTheirRoughness) {
+    const std::string path = temp_path("hairscatter_fur_rough.hsft");
+    hs::FurParams<double> rough = medulla_params<double>();
+    rough.rough_cortex = true;
+    const hs::FurMaterial<double> built(rough);
+    built.save(path);
+    const hs::FurMaterial<double> loaded = hs::FurMaterial<double>::load(rough, path);
+    EXPECT_EQ(std::memcmp(&built.medulla(), &loaded.medulla(), sizeof(hs::MedullaTables<double>)), 0);
+    const std::vector<unsigned char> bytes = read_bytes(path);
+    hs::FurParams<double> other = rough;
+    other.cortex.beta_m = 0.6;
+    expect_refused(bytes, "beta_m", other);
+    other = rough;
+    other.cortex.alpha = 0.1;
+    expect_refused(bytes, "alpha", other);
+    expect_refused(bytes, "rough_cortex", medulla_params<double>());
+    hs::FurMaterial<double>(medulla_params<double>()).save(path);
+    expect_refused(read_bytes(path), "rough_cortex", rough);
 }
 
 TEST(FurTables, RejectsBadFilesNamingThem) {
@@ -105,7 +129,7 @@ TEST(FurTables, RejectsBadFilesNamingThem) {
         reseal(b);
         return b;
     };
-    expect_refused(with_u32(4, 1), "version 1, this library reads version 2");
+    expect_refused(with_u32(4, 1), "version 1, this library reads version 3");
     expect_refused(with_u32(8, 7), "tables of 7 x 32 bins");
     expect_refused(with_u32(12, 16), "tables of 6 x 16 bins");
     expect_refused(std::vector<unsigned char>(good.begin(), good.end() - 9), "truncated");
@@ -119,17 +143,17 @@ TEST(FurTables, RejectsBadFilesNamingThem) {
     std::vector<unsigned char> flipped = good;
     flipped[200] ^= 0x10;
     expect_refused(flipped, "checksum");
-    // The first density value (after magic, three sizes and ten parameters), negative.
+    // The first density value (after magic, three sizes and fourteen parameters), negative.
     std::vector<unsigned char> negative = good;
     const double minus_one = -1.0;
-    std::memcpy(negative.data() + 4 + 3 * 4 + 10 * 8, &minus_one, 8);
+    std::memcpy(negative.data() + 4 + 3 * 4 + 14 * 8, &minus_one, 8);
     reseal(negative);
     expect_refused(negative, "a density value = -1");
     // The first bin's longitudinal skew (after its 32 densities, 33 cdf values, 3 escape
     // fractions and the mix), past its range.
     std::vector<unsigned char> skew = good;
     const double two = 2.0;
-    std::memcpy(skew.data() + 4 + 3 * 4 + 10 * 8 + (32 + 33 + 3 + 1) * 8, &two, 8);
+    std::memcpy(skew.data() + 4 + 3 * 4 + 14 * 8 + (32 + 33 + 3 + 1) * 8, &two, 8);
     reseal(skew);
     expect_refused(skew, "a longitudinal skew = 2");
 

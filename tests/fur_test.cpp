@@ -1,11 +1,9 @@
 // FurFiber (models/fur.hpp): with no medulla it is ChiangFiber; the lossless fibre keeps
 // every bit of energy; sample draws the pdf (chi-square, with a negative control) and its
 // weight is eval / pdf; finite output at the parameters' extremes; bad parameters named;
-// the tables' build time; and the model against the physical fur reference's cache
+// the tables built valid; and the model against the physical fur reference's cache
 // (tests/data/physical_fur.txt, written by `physical_fur_tool cache`).
 #include <algorithm>
-#include <chrono>
-#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -136,11 +134,14 @@ TEST(FurFiber, LosslessFurnace) {
     std::printf("[ fur ] lossless: worst |albedo − 1| %.2e, worst |∫ eval − albedo| %.2e\n", worst_albedo, worst_integral);
 }
 
-// The rough cortex (FurParams::rough_cortex) moves light from TT into the orders past TRT
-// and leaves R alone: lossless, no medulla, averaged over h, at θo 0°, 30° and 75°, the
-// residual's share grows several times (light trapped by total internal reflection at
-// tilted facets) and TT falls, the more the nearer grazing; its walk's shares of the
-// entered light add up to 1 at every node, and its tail ratio lies in [0, 1).
+// The rough cortex (FurParams::rough_cortex) moves light from TT into the orders past TRT,
+// and its facets reflect less than the smooth boundary: lossless, no medulla, averaged over
+// h, at θo 0°, 30° and 75°, the residual's share grows several times (light trapped by total
+// internal reflection at tilted facets) and TT falls, the more the nearer grazing; R falls
+// below the smooth F (the facets seen from wo and Smith's masking of their reflections),
+// by more than a quarter at 75°, where the smooth cylinder reflects 0.36; its walk's shares
+// of the entered light add up to 1 at every node, its tail ratio lies in [0, 1), and its
+// entry reflectance over the smooth F in (0, 1.2].
 TEST(FurFiber, RoughCortexTrapsLightPastTRT) {
     const hs::FurMaterial<double> smooth(fur_params<double>(0, 0, 0, glm::dvec3(0)));
     const hs::FurMaterial<double> rough(fur_params<double>(0, 0, 0, glm::dvec3(0), true));
@@ -155,7 +156,10 @@ TEST(FurFiber, RoughCortexTrapsLightPastTRT) {
             }
         std::printf("[ fur ] rough cortex, θo %2.0f°: R %.3f / %.3f, TT %.3f / %.3f, TRT %.3f / %.3f, later %.3f / %.3f"
                     " (smooth / rough)\n", theta, a[0][0], a[1][0], a[0][1], a[1][1], a[0][2], a[1][2], a[0][3], a[1][3]);
-        EXPECT_NEAR(a[1][0], a[0][0], 1e-12);
+        EXPECT_LT(a[1][0], a[0][0]);
+        if (theta > 60) {
+            EXPECT_LT(a[1][0], 0.75 * a[0][0]);
+        }
         EXPECT_GT(a[1][3], 4 * a[0][3]);
         EXPECT_GT(a[1][3], 0.05);
         const double drop = a[0][1] - a[1][1];
@@ -168,6 +172,8 @@ TEST(FurFiber, RoughCortexTrapsLightPastTRT) {
             EXPECT_NEAR(node[0] + node[1] + node[2], 1.0, 1e-9);
             EXPECT_GE(node[3], 0.0);
             EXPECT_LT(node[3], 1.0);
+            EXPECT_GT(node[4], 0.0);
+            EXPECT_LE(node[4], 1.2);
         }
 }
 
@@ -188,8 +194,11 @@ TEST(FurFiber, AlbedoMatchesIntegralWithAbsorption) {
 
 // Samples against the pdf (chi-square, Bonferroni over the tables) in float and double, and a
 // negative control: the same samples against the pdf of a medulla half as scattering fail.
-// The cubature stops at depth 4: the azimuthal table's steps inside a cell then cost under
-// 1e-3 of its expected count, far below the counts' noise.
+// The scattered lobe's azimuthal table steps at |φ| = kπ/32: the cubature cuts the cells there
+// (chi2::Options::phi_breaks), so every piece is smooth and converges to 1e-6 well before
+// depth 4; the pdf is the bound fibre's (at(wo), equal to the stateless pdf bit for bit: the
+// contract suite's BoundToWoMatchesUnbound). Same samples, cells and expected counts as
+// with whole cells, at a fraction of the pdf evaluations.
 template <typename T> void chi_square(bool negative) {
     struct Case {
         double kappa, sigma_s, g, h, theta;
@@ -202,23 +211,29 @@ template <typename T> void chi_square(bool negative) {
                           {0.8, 30, -0.3, 0.0, 80, glm::dvec3(2, 1, 0.5), false},
                           {0.5, 2, 0, 0.25, 40, glm::dvec3(0), true},
                           {0.6, 3, 0.5, -0.5, -70, glm::dvec3(0.3, 0.6, 1.2), true}};
+    constexpr double kPhiO = 0.4;  // wo's azimuth: the table's steps sit at φi = φo ± kπ/32
     chi2::Options opt;
     opt.samples = 200000;
     opt.num_tests = 6;
     opt.max_depth = 4;
+    constexpr int kBins = hs::MedullaTables<T>::kPhiBins;
+    for (int k = -kBins; k <= kBins; ++k) opt.phi_breaks.push_back(std::remainder(kPhiO + k * kPi / kBins, 2 * kPi));
     for (const Case& c : cases) {
         const hs::FurMaterial<T> mat(fur_params<T>(c.kappa, c.sigma_s, c.g, c.sigma_a, c.rough));
-        const hs::FurMaterial<T> other(fur_params<T>(c.kappa, 0.5 * c.sigma_s, c.g, c.sigma_a, c.rough));
-        const hs::FurFiber<T> fiber(mat, T(c.h)), wrong(other, T(c.h));
-        const glm::vec<3, T> wo(direction(c.theta, 0.4));
+        const hs::FurFiber<T> fiber(mat, T(c.h));
+        const glm::vec<3, T> wo(direction(c.theta, kPhiO));
         const auto at = fiber.at(wo);
-        const chi2::Result r = chi2::test(
-            [&](const glm::dvec4& u) { return glm::dvec3(at.sample(glm::vec<4, T>(u)).wi); },
-            [&](const glm::dvec3& wi) { return double((negative ? wrong : fiber).pdf(wo, glm::vec<3, T>(wi))); }, opt);
+        const chi2::Histogram hist = chi2::histogram([&](const glm::dvec4& u) { return glm::dvec3(at.sample(glm::vec<4, T>(u)).wi); }, opt);
         const std::string what = "κ " + std::to_string(c.kappa) + " σs " + std::to_string(c.sigma_s);
         if (negative) {
+            const hs::FurMaterial<T> other(fur_params<T>(c.kappa, 0.5 * c.sigma_s, c.g, c.sigma_a, c.rough));
+            const auto wrong = hs::FurFiber<T>(other, T(c.h)).at(wo);
+            const chi2::Result r = chi2::compare(
+                hist, chi2::expected_counts([&](const glm::dvec3& wi) { return double(wrong.pdf(glm::vec<3, T>(wi))); }, opt), opt);
             EXPECT_FALSE(r.passed) << "negative control passed: " << what;
         } else {
+            const chi2::Result r = chi2::compare(
+                hist, chi2::expected_counts([&](const glm::dvec3& wi) { return double(at.pdf(glm::vec<3, T>(wi))); }, opt), opt);
             EXPECT_TRUE(r.passed) << what << " p " << r.p_value << "\n" << r.report;
             EXPECT_NEAR(r.expected_total, 1, 2e-3) << what;
             EXPECT_EQ(r.invalid, 0) << what;
@@ -337,28 +352,57 @@ TEST(FurMaterial, RejectsBadParametersByName) {
     EXPECT_THROW(hs::FurFiber<double>::checked(hs::FurMaterial<double>(hs::FurParams<double>()), 1.5), std::invalid_argument);
 }
 
-// The tables of the densest medulla of the reference's grid (κ 0.9, σs^m 10) build in under a
-// second of CPU time (an optimised build; sanitizers and debug builds only report the time).
-// CPU time, not wall time: the build is single-threaded, and on a shared machine the wall
-// clock also counts the time other processes hold the core (at a load of 13 on two cores a
-// 0.3 s build took 2.8 s of wall time).
-TEST(FurMaterial, TablesBuildWithinASecond) {
-    double worst = 0;
+// The tables built for thin to dense medullas (κ 0.3 and 0.9, σs^m 1 and 10, blond cortex),
+// with the smooth and the rough cortex, are valid: per |θo| bin the azimuthal density is
+// non-negative, integrates to 1 over |φ| ∈ [0, π] and its cdf is its running integral from
+// 0 to 1; the escape fractions of the absorbing fibre lie in (0, 1) and fall from red to
+// blue, as the cortex's σa^c rises (the same paths, each absorbing more); q's mix w ∈ [0, 1] and
+// skew b ∈ [−1, 1]; the rough cortex's shares of the entered light add up to 1, its tail
+// ratio in [0, 1). (How long the build takes is a benchmark: BM_FurTablesGrid in
+// bench/chiang_bench.cpp, results under bench/results/.)
+TEST(FurMaterial, TablesBuiltForTheGridAreValid) {
+    using Tables = hs::MedullaTables<float>;
+    constexpr double kWidth = kPi / Tables::kPhiBins;
     for (bool rough : {false, true})
-    for (double kappa : {0.3, 0.9})
-        for (double sigma_s : {1.0, 10.0}) {
-            const auto t0 = std::chrono::steady_clock::now();
-            const std::clock_t c0 = std::clock();
-            const hs::FurMaterial<float> mat(fur_params<float>(kappa, sigma_s, 0, glm::dvec3(0.5447, 0.9061, 1.781), rough));
-            const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
-            const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            std::printf("[ fur ] tables κ %.1f σs %g%s: %.3f s CPU, %.3f s wall (%zu bytes, rough cortex %zu)\n", kappa,
-                        sigma_s, rough ? ", rough cortex" : "", cpu, wall, sizeof(mat.medulla()), sizeof(mat.rough_cortex()));
-            worst = std::max(worst, cpu);
-        }
-#if defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__)
-    EXPECT_LT(worst, 1.0);
-#endif
+        for (double kappa : {0.3, 0.9})
+            for (double sigma_s : {1.0, 10.0}) {
+                const hs::FurMaterial<float> mat(fur_params<float>(kappa, sigma_s, 0, glm::dvec3(0.5447, 0.9061, 1.781), rough));
+                const Tables& t = mat.medulla();
+                const std::string what = "κ " + std::to_string(kappa) + " σs " + std::to_string(sigma_s) + (rough ? " rough" : "");
+                for (int b = 0; b < Tables::kThetaBins; ++b) {
+                    double mass = 0;
+                    EXPECT_EQ(t.cdf[b][0], 0.0f) << what;
+                    EXPECT_EQ(t.cdf[b][Tables::kPhiBins], 1.0f) << what;
+                    for (int k = 0; k < Tables::kPhiBins; ++k) {
+                        EXPECT_GE(t.density[b][k], 0.0f) << what;
+                        mass += double(t.density[b][k]) * kWidth;
+                        EXPECT_NEAR(double(t.cdf[b][k + 1]), mass, 1e-5) << what << " bin " << b << " φ bin " << k;
+                    }
+                    EXPECT_NEAR(mass, 1, 1e-5) << what;
+                    for (int c = 0; c < 3; ++c) {
+                        const double e = double(t.escape[b][c]);
+                        EXPECT_GT(e, 0) << what;
+                        EXPECT_LT(e, 1) << what;
+                        if (c > 0) {
+                            EXPECT_LT(e, double(t.escape[b][c - 1])) << what << " bin " << b << " channel " << c;
+                        }
+                    }
+                    EXPECT_GE(t.longitudinal[b][0], 0.0f) << what;
+                    EXPECT_LE(t.longitudinal[b][0], 1.0f) << what;
+                    EXPECT_GE(t.longitudinal[b][1], -1.0f) << what;
+                    EXPECT_LE(t.longitudinal[b][1], 1.0f) << what;
+                }
+                for (const auto& row : mat.rough_cortex().share)
+                    for (const auto& node : row) {
+                        if (!rough) {
+                            for (float v : node) EXPECT_EQ(v, 0.0f) << what;
+                            continue;
+                        }
+                        EXPECT_NEAR(double(node[0]) + double(node[1]) + double(node[2]), 1.0, 1e-6) << what;
+                        EXPECT_GE(node[3], 0.0f) << what;
+                        EXPECT_LT(node[3], 1.0f) << what;
+                    }
+            }
 }
 
 // The model, averaged over the offset h (a far-field beam, as the reference traces), against
@@ -366,9 +410,9 @@ TEST(FurMaterial, TablesBuildWithinASecond) {
 // (the RGB mean), of the whole f and of the light scattered in the medulla alone (the
 // reference's scattered class against eval_scattered). The rough cortex is GGX 0.17, matched
 // to the model's β_m = β_n = 0.3 by the width of R (fur_roughness_tool), with the 2° cuticle
-// tilt on both sides, and the model's cortex rough too (FurParams::rough_cortex: the orders of
-// exit from a walk over facets whose spread follows from β; nothing fitted to this
-// reference); the whole f then carries what a rough fibre does that the model still does
+// tilt on both sides, and the model's cortex rough too (FurParams::rough_cortex: the entry's
+// reflectance and the orders of exit from a walk over facets whose spread follows from β;
+// nothing fitted to this reference); the whole f then carries what a rough fibre does that the model still does
 // not (TT's width, the trapped light's shape, the tilt feeding the medulla; docs/models.md),
 // and so does the scattered light's energy, which the cortex's paths feed. The nearly smooth, untilted cortex (GGX 0.02, tilt 0 in both) measures
 // the medulla's lobe where the model's smooth-cylinder paths hold. The figures of
@@ -438,13 +482,15 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     std::printf("[ physical ] rough cortex: f worst %.1f %%, mean %.1f %% lossless, %.1f %% blond; scattered worst %.1f %%,"
                 " mean %.1f %%\n", 100 * worst_all, 100 * mean_all[0], 100 * mean_all[1], 100 * worst[0], 100 * mean[0]);
     std::printf("[ physical ] smooth cortex: scattered worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst[1], 100 * mean[1]);
-    // Measured: 58.6 %, mean 12.8 % lossless and 21.6 % blond (19.0 % and 25.2 % with the
-    // smooth cortex's orders); 22.2 %, 10.9 %; 6.3 %, 4.8 % (the reference's noise: 1–3 %).
-    EXPECT_LT(worst_all, 0.63);
-    EXPECT_LT(mean_all[0], 0.145);
-    EXPECT_LT(mean_all[1], 0.235);
+    // Measured: 26.1 %, mean 9.5 % lossless and 15.7 % blond (58.6 %, 12.8 % and 21.6 % with
+    // the smooth F at the rough cortex's entry and a smooth boundary in the medulla tables;
+    // 19.0 % and 25.2 % mean with the smooth cortex's orders); 23.9 %, 9.1 %; 6.3 %, 4.8 %
+    // (the reference's noise: 1–3 %).
+    EXPECT_LT(worst_all, 0.28);
+    EXPECT_LT(mean_all[0], 0.105);
+    EXPECT_LT(mean_all[1], 0.165);
     EXPECT_LT(worst[0], 0.25);
-    EXPECT_LT(mean[0], 0.12);
+    EXPECT_LT(mean[0], 0.10);
     EXPECT_LT(worst[1], 0.07);
     EXPECT_LT(mean[1], 0.052);
 }

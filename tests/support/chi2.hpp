@@ -35,6 +35,11 @@ struct Options {
     // 1.2e-8, at a quarter of the pdf evaluations.
     int min_depth = 1;
     int max_depth = 7;
+    // Azimuths in [-π, π] at which the pdf may jump (a tabulated density's bin edges): every
+    // cell is cut there before the cubature, so that each piece is smooth and converges in a
+    // few levels instead of refining to max_depth around the step. The cells, the samples and
+    // so the test's power are unchanged; only the cost of the expected counts falls.
+    std::vector<double> phi_breaks;
 };
 
 struct Result {
@@ -144,13 +149,21 @@ inline Expected expected_counts(const std::function<double(const glm::dvec3&)>& 
             return pdf(glm::dvec3(x, c * std::cos(phi), c * std::sin(phi)));
         },
         opt.min_depth, opt.max_depth);
+    std::vector<double> breaks = opt.phi_breaks;
+    std::sort(breaks.begin(), breaks.end());
     Expected e;
     e.counts.assign(std::size_t(nx * np), 0.0);
     for (int i = 0; i < nx; ++i)
         for (int j = 0; j < np; ++j) {
             const double x0 = -1 + 2.0 * i / nx, x1 = -1 + 2.0 * (i + 1) / nx;
             const double p0 = -kPi + 2 * kPi * j / np, p1 = -kPi + 2 * kPi * (j + 1) / np;
-            e.counts[std::size_t(i * np + j)] = integ.integrate(x0, x1, p0, p1) * double(opt.samples);
+            double sum = 0, from = p0;
+            for (double b : breaks)
+                if (b > from && b < p1) {
+                    sum += integ.integrate(x0, x1, from, b);
+                    from = b;
+                }
+            e.counts[std::size_t(i * np + j)] = (sum + integ.integrate(x0, x1, from, p1)) * double(opt.samples);
         }
     return e;
 }

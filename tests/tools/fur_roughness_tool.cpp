@@ -25,6 +25,7 @@
 
 #include <hairscatter/models/fur.hpp>
 
+#include "support/fur_model_bins.hpp"
 #include "support/physical_fur_cases.hpp"
 
 namespace hs = hairscatter;
@@ -71,18 +72,6 @@ hs::FurMaterial<double> model(double beta, double tilt, const glm::dvec3& sigma_
     return hs::FurMaterial<double>(p, c);
 }
 
-// The model's f (RGB) per bin of `grid`, averaged over 48 offsets.
-std::vector<glm::dvec3> model_f(const hs::FurMaterial<double>& mat, const phys_fiber::CachedCase& grid) {
-    constexpr int kH = 48;
-    std::vector<hs::FurFiber<double>> fibers;
-    for (int i = 0; i < kH; ++i) fibers.emplace_back(mat, -1 + (i + 0.5) * 2.0 / kH);
-    return phys_fiber::model_bins(grid, [&](const glm::dvec3& wo, const glm::dvec3& wi) {
-        glm::dvec3 f(0.0);
-        for (const auto& fiber : fibers) f += fiber.eval(wo, wi);
-        return f / double(kH);
-    });
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -125,12 +114,12 @@ int main(int argc, char** argv) {
     // The model, lobe by lobe (lossless), and whole (lossless and blond).
     std::vector<std::vector<double>> mf(4, std::vector<double>(std::size_t(kNu * kNphi)));
     for (int l = 0; l < 4; ++l) {
-        const std::vector<glm::dvec3> b = model_f(model(beta, tilt_deg * phys_fiber::kPi / 180, glm::dvec3(0.0), l), fine);
+        const std::vector<glm::dvec3> b = phys_fur::fur_model_bins(model(beta, tilt_deg * phys_fiber::kPi / 180, glm::dvec3(0.0), l), fine);
         for (std::size_t k = 0; k < b.size(); ++k) mf[std::size_t(l)][k] = b[k].x;
     }
     const Widths mw = widths_of(mf);
-    const std::vector<glm::dvec3> whole[2] = {model_f(model(beta, tilt_deg * phys_fiber::kPi / 180, glm::dvec3(0.0), -1), coarse),
-                                              model_f(model(beta, tilt_deg * phys_fiber::kPi / 180, blond, -1), coarse)};
+    const std::vector<glm::dvec3> whole[2] = {phys_fur::fur_model_bins(model(beta, tilt_deg * phys_fiber::kPi / 180, glm::dvec3(0.0), -1), coarse),
+                                              phys_fur::fur_model_bins(model(beta, tilt_deg * phys_fiber::kPi / 180, blond, -1), coarse)};
     std::printf("# fur_roughness_tool --rays %lld --theta %g --beta %g\n", rays, theta, beta);
     std::printf("model beta_m = beta_n = %.3g:", beta);
     for (int l = 0; l < 4; ++l)

@@ -4,6 +4,8 @@
 #pragma once
 
 #include "../config.hpp"
+#include "../math/distributions.hpp"
+#include "../math/elementary.hpp"
 #include "lobe_set.hpp"
 #include "longitudinal.hpp"
 #include "tilt.hpp"
@@ -101,5 +103,42 @@ template <typename T> class DeonLobes {
     T v_[kLobes + 1], inv_v_[kLobes + 1], exp_m2_over_v_[kLobes + 1], norm_[kLobes + 1];
     CuticleTilt<T> tilt_;
 };
+
+// M_p N_p of every lane at (sinθi, cosθi, φ): lane k's M_p conditioned in m (DeonLobes::
+// condition), its N_p Chiang et al. 2016's trimmed logistic n about Φ(p, h) = phi_p[k]
+// (eq. 6) for the kExplicit explicit lobes, 1/2π for the residual. The exponents of N_p
+// and M_p go into one array whose exps are one vectorised loop in float, then the lanes
+// are multiplied out. kAzimuthal lanes take N's arithmetic (every lane in float, where the
+// residual's is part of a whole vector; the explicit ones only in double, one libm exp
+// each); the kept lanes past it are residual lanes. Shared by every model built on these
+// lobes side by side (ChiangFiber, FurFiber).
+template <int kKeptLanes, int kExplicit, int kAzimuthal, typename T, int N>
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void deon_logistic_densities(const DeonLanes<T, N>& m, const T (&phi_p)[std::size_t(N)],
+                                                                    const TrimmedLogistic<T>& n, T sin_i, T cos_i, T phi,
+                                                                    T (&mn)[std::size_t(N)]) {
+    using std::sqrt;
+    constexpr int kM = kAzimuthal;  // where the M_p exponents start in e
+    T e[std::size_t(kAzimuthal + N)], m_factor[std::size_t(N)];
+    // The residual's lane (float: part of the vector) gets the exponent -0, so e = 1,
+    // and its density is then 1/2π through the same arithmetic as N's (e·scale over
+    // (1 + e·0)², bit for bit as a select after it): no select on the chain.
+    for (int k = 0; k < kAzimuthal; ++k)
+        e[k] = n.exponent_of_difference(phi - phi_p[k], select(k < kExplicit, -n.inv_scale(), T(-0.0)));
+    const T sqrt_cos_i = sqrt(cos_i);
+    for (int k = 0; k < N; ++k) m.terms(k, sin_i, cos_i, sqrt_cos_i, e[kM + k], m_factor[k]);
+    elem::exp_each_nonpositive(e);  // (every exponent ≤ 0) in float whole vectors (math/elementary.hpp)
+    // The residual lumps all orders: uniform in φ. Where its lane's N is computed with
+    // the others (float), by the same arithmetic, so that mn is written as one vector.
+    // N's density e/(1 + e)² (times its scale) as one quotient with M in the numerator,
+    // so that the division waits only for the denominator: the chain from the exps to f
+    // is one multiplication shorter. The residual's lane (e = 1) has the scale 1/2π and
+    // the denominator (1 + 1·0)² = 1.
+    for (int k = 0; k < kAzimuthal; ++k) {
+        const T scale = select(k < kExplicit, n.density_numerator(T(1)), kInvTwoPi<T>);
+        const T onto = select(k < kExplicit, T(1), T(0));
+        mn[k] = (m_factor[k] * e[kM + k]) * (e[k] * scale) / sqr(T(1) + e[k] * onto);
+    }
+    for (int k = kAzimuthal; k < kKeptLanes; ++k) mn[k] = m_factor[k] * e[kM + k] * kInvTwoPi<T>;
+}
 
 }  // namespace hairscatter

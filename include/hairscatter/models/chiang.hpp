@@ -379,36 +379,12 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         return r;
     }
 
-    // M_p N_p of every lane at (sinθi, cosθi, φ), from the wo terms o (any channel count),
-    // every lane at once: the exponents of N_p and M_p go into one array whose exps are one
-    // vectorised loop in float, then the lanes are multiplied out.
+    // M_p N_p of every lane at (sinθi, cosθi, φ), from the wo terms o (any channel count):
+    // deon_logistic_densities (lobes/deon_lobes.hpp), every lane at once.
     template <typename O>
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void lobe_densities(const O& o, T sin_i, T cos_i, T phi,
                                                                 T (&mn)[std::size_t(kLanes)]) const {
-        using std::sqrt;
-        const TrimmedLogistic<T>& n = mat_->azimuthal();
-        constexpr int kM = kAzimuthal;  // where the M_p exponents start in e
-        T e[std::size_t(kAzimuthal + kLanes)], m_factor[std::size_t(kLanes)];
-        // The residual's lane (float: part of the vector) gets the exponent -0, so e = 1,
-        // and its density is then 1/2π through the same arithmetic as N's (e·scale over
-        // (1 + e·0)², bit for bit as a select after it): no select on the chain.
-        for (int k = 0; k < kAzimuthal; ++k)
-            e[k] = n.exponent_of_difference(phi - o.phi_p[k], select(k < kExplicit, -n.inv_scale(), T(-0.0)));
-        const T sqrt_cos_i = sqrt(cos_i);
-        for (int k = 0; k < kLanes; ++k) o.m.terms(k, sin_i, cos_i, sqrt_cos_i, e[kM + k], m_factor[k]);
-        elem::exp_each_nonpositive(e);  // (every exponent ≤ 0) in float whole vectors (math/elementary.hpp)
-        // The residual lumps all orders: uniform in φ. Where its lane's N is computed with
-        // the others (float), by the same arithmetic, so that mn is written as one vector.
-        // N's density e/(1 + e)² (times its scale) as one quotient with M in the numerator,
-        // so that the division waits only for the denominator: the chain from the exps to f
-        // is one multiplication shorter. The residual's lane (e = 1) has the scale 1/2π and
-        // the denominator (1 + 1·0)² = 1.
-        for (int k = 0; k < kAzimuthal; ++k) {
-            const T scale = select(k < kExplicit, n.density_numerator(T(1)), kInvTwoPi<T>);
-            const T onto = select(k < kExplicit, T(1), T(0));
-            mn[k] = (m_factor[k] * e[kM + k]) * (e[k] * scale) / sqr(T(1) + e[k] * onto);
-        }
-        for (int k = kAzimuthal; k < kKeptLanes; ++k) mn[k] = m_factor[k] * e[kM + k] * kInvTwoPi<T>;
+        deon_logistic_densities<kKeptLanes, kExplicit, kAzimuthal>(o.m, o.phi_p, mat_->azimuthal(), sin_i, cos_i, phi, mn);
     }
 
     // f = Σ_p (M_p N_p) A_p per channel of o's C channels.

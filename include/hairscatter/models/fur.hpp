@@ -22,6 +22,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -223,19 +224,29 @@ template <typename T> struct MedullaChord {
 };
 
 template <typename T>
-HAIRSCATTER_HD MedullaChord<T> medulla_chord(const FurParams<T>& p, T sin_gamma_t, T chord, T chord_scale) {
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurParams<T>& p, T sin_gamma_t, T chord, T chord_scale) {
     using std::sqrt;
     const T inside = sqr(p.kappa) - sqr(sin_gamma_t);  // < 0: the chord misses the medulla
     const T half_m = inside > T(0) ? sqrt(inside) : T(0);
     const T lm = half_m * chord_scale;  // ℓ_m, 3D
     const T lc = chord > lm ? chord - lm : T(0);
+    // The cortex's half chord exp(−σa^c (ℓ − ℓ_m)/2) and the medulla's expm1(−σt ℓ_m), each
+    // one batch (in float one vector: math/elementary.hpp); T is the half chord squared
+    // times e^(−σt ℓ_m), first_c the half chord times σs ℓ_m (1 − e^(−x))/x.
+    T half[4], m1[4], x[3];
+    for (int c = 0; c < 3; ++c) {
+        x[c] = (p.sigma_s + p.sigma_a_medulla[c]) * lm;
+        half[c] = T(-0.5) * p.cortex.sigma_a[c] * lc;
+        m1[c] = -x[c];
+    }
+    half[3] = m1[3] = T(0);  // (padding)
+    elem::exp_each_nonpositive(half);
+    elem::expm1_each(m1);
     MedullaChord<T> r;
     for (int c = 0; c < 3; ++c) {
-        const T sigma_t = p.sigma_s + p.sigma_a_medulla[c];
-        const T x = sigma_t * lm;
-        r.transmittance[c] = elem::exp(-p.cortex.sigma_a[c] * lc - x);
-        const T frac = x > T(1e-6) ? -elem::expm1(-x) / x : T(1) - T(0.5) * x;  // (1 − e^(−x))/x
-        r.first_scatter[c] = elem::exp(T(-0.5) * p.cortex.sigma_a[c] * lc) * p.sigma_s * lm * frac;
+        r.transmittance[c] = half[c] * half[c] * (T(1) + m1[c]);
+        const T frac = x[c] > T(1e-6) ? -m1[c] / x[c] : T(1) - T(0.5) * x[c];  // (1 − e^(−x))/x
+        r.first_scatter[c] = half[c] * p.sigma_s * lm * frac;
     }
     return r;
 }
@@ -260,19 +271,29 @@ HAIRSCATTER_HD MedullaChord<T> medulla_chord(const FurParams<T>& p, T sin_gamma_
 // Nothing is fitted to a reference. Per node (θo, |h|) the table keeps, of the light that
 // entered, the shares that leave at the first internal event (TT), the second (TRT) and
 // later, and the ratio r of the later orders' geometric tail (r / (1 − r) is their mean
-// number of events past the third). The fibre attenuates each chord as its first one.
+// number of events past the third); and the entry's own reflectance F_r, the rough
+// boundary's R: the Fresnel factor of the facets that wo sees (visible normals), each
+// reflection kept where the facets leave its reflected direction unmasked (Smith's G1 for
+// the same Gaussian slopes), F_r = E[F(wo·m) G1(o_m)]. Light that a facet reflects back into
+// the surface meets another facet and mostly enters: the cortex takes it (1 − F_r). The
+// table holds F_r over the smooth F at the node, which the fibre multiplies by its exact
+// smooth F at h: F rises steeply toward h = 1, and a bilinear F_r between nodes 1/8 apart
+// overstated it there by a quarter at θo 0° (0.082 against 0.068). Toward grazing wo the
+// facets it sees lean toward it, and F_r falls below the smooth F (h-averaged at θo 75°
+// with β 0.3: 0.21 against 0.36). The fibre attenuates each chord as its first one.
 template <typename T> struct RoughCortexTables {
     static constexpr int kTheta = 13, kH = 9;  // θo nodes over ±kThetaMax, |h| nodes over [0, 1]
     static constexpr double kThetaMax = 1.5;   // (beyond, the nearest node: cos θo → 0 there)
-    T share[kTheta][kH][4];                    // TT, TRT, later, r
+    static constexpr int kValues = 5;
+    T share[kTheta][kH][kValues];              // TT, TRT, later, r, F_r / F
 
-    // The four values at (θo, h), bilinear between the nodes.
-    HAIRSCATTER_HD void at(T theta, T h, T (&out)[4]) const {
+    // The five values at (θo, h), bilinear between the nodes.
+    HAIRSCATTER_HD void at(T theta, T h, T (&out)[kValues]) const {
         const T u = clamp((theta / T(kThetaMax) + T(1)) * T(0.5), T(0), T(1)) * T(kTheta - 1);
         const T v = clamp(abs_value(h), T(0), T(1)) * T(kH - 1);
         const int i = u < T(kTheta - 1) ? int(u) : kTheta - 2, j = v < T(kH - 1) ? int(v) : kH - 2;
         const T s = u - T(i), t = v - T(j);
-        for (int k = 0; k < 4; ++k) {
+        for (int k = 0; k < kValues; ++k) {
             const T lo = share[i][j][k] + t * (share[i][j + 1][k] - share[i][j][k]);
             const T hi = share[i + 1][j][k] + t * (share[i + 1][j + 1][k] - share[i + 1][j][k]);
             out[k] = lo + s * (hi - lo);
@@ -333,22 +354,21 @@ inline glm::dvec3 fur_scatter(const glm::dvec3& d, double g, double u1, double u
     return glm::normalize(c * d + sn * (std::cos(phi) * t + std::sin(phi) * b));
 }
 
-// The rough cortex's walk (RoughCortexTables) for index η, cuticle tilt α and roughness β_m,
-// β_n: 2,000 walks per node (each share within ~1 % at one standard deviation), at most 400
-// events per walk (the rest counts as later; a tail ratio of 0.95, the largest at β 0.3,
-// leaves 1e-9 of it there).
-template <typename T>
-RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m, double beta_n) {
-    constexpr int kWalks = 2000, kMaxEvents = 400;
-    const double sigma_a = 0.5 * std::sqrt(longitudinal_variance(beta_m));
-    const double sigma_b = 0.5 * 1.81379936423421785059 * logistic_scale(beta_n);
-    const double mean_a = std::tan(alpha);
-    RoughCortexTables<T> tab;
-    FurRng rng(0x0C0A7E5Eull);
-    // A facet seen from d (frame: axis, normal, tangent; d·n > 0): slopes drawn (a pair of
-    // standard normal numbers by Box–Muller), then kept in proportion to ⟨d·m⟩ (by
-    // rejection against its bound |m|).
-    auto facet = [&](const glm::dvec3& d) {
+// The rough cortex's microfacets (RoughCortexTables): Gaussian slopes centred on the cuticle
+// tilt along the axis, with the spread the model's β implies (the longitudinal slope's
+// standard deviation half the R lobe's, √v(β_m)/2; the azimuthal one half the azimuthal
+// logistic's, (π/√3) s(β_n)/2). Directions in the frame (axis, normal, tangent).
+struct RoughFacets {
+    double sigma_a = 0, sigma_b = 0, mean_a = 0;
+
+    static RoughFacets of(double alpha, double beta_m, double beta_n) {
+        return {0.5 * std::sqrt(longitudinal_variance(beta_m)), 0.5 * 1.81379936423421785059 * logistic_scale(beta_n),
+                std::tan(alpha)};
+    }
+    // A facet seen from d (d·n > 0): slopes drawn (a pair of standard normal numbers by
+    // Box–Muller), then kept in proportion to ⟨d·m⟩ (by rejection against its bound |m|):
+    // the visible normals of Heitz 2014, "Understanding the masking-shadowing function", eq. 2.
+    glm::dvec3 sample(const glm::dvec3& d, FurRng& rng) const {
         for (int tries = 0; tries < 1000; ++tries) {
             const double r = std::sqrt(-2 * std::log(1 - rng.uniform())), phi = 2 * kPi<double> * rng.uniform();
             const glm::dvec3 m(mean_a + sigma_a * r * std::cos(phi), 1, sigma_b * r * std::sin(phi));
@@ -356,7 +376,35 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             if (proj > 0 && rng.uniform() * len < proj) return m / len;
         }
         return glm::dvec3(0, 1, 0);
-    };
+    }
+    // Smith's masking of a direction v by the facets (Smith 1967; for Gaussian slopes Walter,
+    // Marschner, Li & Torrance 2007, "Microfacet models for refraction through rough
+    // surfaces", eq. 27's Λ): G1 = 1 / (1 + Λ(a)), Λ(a) = (erf(a) − 1)/2 + e^(−a²)/(2a√π),
+    // a = cot θv / σ(φv) about the mean facet normal n0 (tilted by α along the axis), with
+    // σ(φv) the slopes' spread along v's azimuth; 0 below the mean plane.
+    double unmasked(const glm::dvec3& v) const {
+        const glm::dvec3 n0 = glm::normalize(glm::dvec3(mean_a, 1, 0)), along = glm::normalize(glm::dvec3(1, -mean_a, 0));
+        const double c = glm::dot(v, n0);
+        if (!(c > 0)) return 0.0;
+        const double spread = std::sqrt(sqr(sigma_a * glm::dot(v, along)) + sqr(sigma_b * v.z));
+        if (!(spread > 1e-12)) return 1.0;
+        const double a = c / spread;
+        const double lambda = 0.5 * (std::erf(a) - 1) + std::exp(-a * a) / (2 * a * std::sqrt(kPi<double>));
+        return 1 / (1 + lambda);
+    }
+};
+
+// The rough cortex's walk (RoughCortexTables) for index η, cuticle tilt α and roughness β_m,
+// β_n: 2,000 walks per node (each share within ~1 % at one standard deviation), at most 400
+// events per walk (the rest counts as later; a tail ratio of 0.95, the largest at β 0.3,
+// leaves 1e-9 of it there).
+template <typename T>
+RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m, double beta_n) {
+    constexpr int kWalks = 2000, kMaxEvents = 400;
+    const RoughFacets facets = RoughFacets::of(alpha, beta_m, beta_n);
+    RoughCortexTables<T> tab;
+    FurRng rng(0x0C0A7E5Eull);
+    auto facet = [&](const glm::dvec3& d) { return facets.sample(d, rng); };
     constexpr int kTheta = RoughCortexTables<T>::kTheta, kH = RoughCortexTables<T>::kH;
     for (int i = 0; i < kTheta; ++i) {
         const double theta = (2.0 * i / (kTheta - 1) - 1) * RoughCortexTables<T>::kThetaMax;
@@ -365,10 +413,11 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             // Toward the light (wo) in the entry point's frame: the normal at offset h is
             // (cos γ, sin γ) in the section, sin γ = h, with wo's section part along (1, 0).
             const glm::dvec3 out(std::sin(theta), std::cos(theta) * std::sqrt(1 - h * h), -std::cos(theta) * h);
-            double entered = 0, first = 0, second = 0, later = 0, tail_events = 0;
+            double entered = 0, first = 0, second = 0, later = 0, tail_events = 0, reflected = 0;
             for (int w = 0; w < kWalks; ++w) {
                 const glm::dvec3 m = facet(out);
                 const double ci = glm::dot(out, m);
+                reflected += fur_fresnel(ci, eta) * facets.unmasked(2 * ci * m - out);  // its expectation: no coin's noise
                 if (rng.uniform() < fur_fresnel(ci, eta)) continue;  // reflected at entry: R
                 entered += 1;
                 const double ct = std::sqrt(std::max(0.0, 1 - (1 - ci * ci) / (eta * eta)));
@@ -391,6 +440,7 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             tab.share[i][j][1] = T(second * inv);
             tab.share[i][j][2] = T(later * inv);
             tab.share[i][j][3] = T(mean_tail / (1 + mean_tail));
+            tab.share[i][j][4] = T(reflected / kWalks / fur_fresnel(out.y, eta));  // F_r over the smooth F
         }
     }
     return tab;
@@ -399,11 +449,14 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
 // One |θo| bin of the tables: light from wo = (sinθo, 0, cosθo) (φo = π/2) enters at offset
 // h (only where its refracted chord meets the medulla), is carried unscattered with the
 // analytic weights of medulla_chord until it first scatters, then random-walks through the
-// medulla and the cortex (smooth boundary, Fresnel by choice) until it leaves. Per exit: the
+// medulla and the cortex (Fresnel by choice at the boundary: the smooth one, or with facets
+// the rough cortex's, where the light trapped at tilted facets crosses the absorbing cortex
+// again before it leaves; the entry stays smooth, its F being the lobes') until it leaves. Per exit: the
 // relative azimuth and sin θi, weighted by the exit's energy, the channels' mean (the shape:
 // N_S's Fourier series and q's moments), and per channel the weight at exit and at the first
 // scattering (the escape fraction).
-inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int bin, MedullaTables<double>& tab) {
+inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int bin, MedullaTables<double>& tab,
+                                 const RoughFacets* facets = nullptr) {
     const double eta = p.cortex.eta, sin_o = std::sin(theta_o), cos_o = std::cos(theta_o);
     const double eta_p = std::sqrt(eta * eta - sin_o * sin_o) / cos_o;  // Bravais' η' (docs/theory.md §3.1)
     const double h_max = std::min(1.0, p.kappa * eta_p);
@@ -490,15 +543,27 @@ inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int
             const double s_exit = std::max(0.0, fur_circle_exit(pos, t2, 1.0));
             for (int c = 0; c < 3; ++c) w[c] *= std::exp(-p.cortex.sigma_a[c] * s_exit / tl);
             pos = glm::normalize(pos + s_exit * t2);
-            const glm::dvec3 n(0, pos.x, pos.y);
+            // The boundary's normal, or with the rough cortex one of its facets as seen from
+            // inside (RoughFacets, the walk's), in the frame (axis, normal, tangent) there.
+            const glm::dvec3 n0(0, pos.x, pos.y);
+            glm::dvec3 n = n0;
+            if (facets) {
+                const glm::dvec3 tn(0, -pos.y, pos.x);
+                const glm::dvec3 m = facets->sample(glm::dvec3(dir.x, glm::dot(dir, n0), glm::dot(dir, tn)), rng);
+                n = glm::normalize(glm::dvec3(m.x, 0, 0) + m.y * n0 + m.z * tn);
+            }
             const double cos_i = glm::dot(dir, n);
             if (rng.uniform() < fur_fresnel(cos_i, 1 / eta)) {
                 dir -= 2 * cos_i * n;
+                const double outward = glm::dot(dir, n0);  // (a facet's reflection may still point out:
+                if (outward > 0) dir -= 2 * outward * n0;  // mirrored in, as the walk does)
                 continue;
             }
             // Leaves: refracted out; its azimuth and the moments of sin θi are kept.
             const double ct_out = std::sqrt(std::max(0.0, 1 - eta * eta * (1 - cos_i * cos_i)));
-            const glm::dvec3 out = glm::normalize(eta * dir + (ct_out - eta * cos_i) * n);
+            glm::dvec3 out = glm::normalize(eta * dir + (ct_out - eta * cos_i) * n);
+            const double inward = glm::dot(out, n0);  // (likewise a refraction that points in)
+            if (inward < 0) out -= 2 * inward * n0;
             const double phi = std::fabs(wrap_pi(std::atan2(out.z, out.y) - kHalfPi<double>));
             // Weighted by the exit's energy, the mean over the channels (w0 when lossless):
             // absorption favours the light that leaves early, and the shape follows it.
@@ -546,6 +611,7 @@ inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int
 }
 
 // The tables of a material (host): uniform and lossless where the medulla does not scatter.
+// With the rough cortex they depend on α, β_m and β_n too (its facets at the boundary).
 template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& params) {
     FurParams<double> p;
     p.cortex.eta = double(params.cortex.eta);
@@ -555,10 +621,12 @@ template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& 
     p.sigma_a_medulla = glm::dvec3(params.sigma_a_medulla);
     p.g = double(params.g);
     MedullaTables<double> d;
+    const RoughFacets facets = RoughFacets::of(double(params.cortex.alpha), double(params.cortex.beta_m),
+                                               double(params.cortex.beta_n));
     constexpr int kTheta = MedullaTables<T>::kThetaBins, kPhi = MedullaTables<T>::kPhiBins;
     for (int t = 0; t < kTheta; ++t) {
         if (p.kappa > 0 && p.sigma_s > 0) {
-            simulate_medulla_bin(p, (t + 0.5) * kHalfPi<double> / kTheta, t, d);
+            simulate_medulla_bin(p, (t + 0.5) * kHalfPi<double> / kTheta, t, d, params.rough_cortex ? &facets : nullptr);
             continue;
         }
         for (int k = 0; k < kPhi; ++k) {
@@ -615,9 +683,11 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
 
     // The medulla tables in a small versioned binary file, to skip their simulation next
     // time: "HSFT", the version, the tables' sizes, the parameters they depend on (η and
-    // σa^c of the cortex, κ, σs^m, σa^m, g), the tables as doubles and an FNV-1a checksum
-    // of everything before it. A float material's tables come back bit for bit.
-    static constexpr std::uint32_t kFileVersion = 2;
+    // σa^c of the cortex, κ, σs^m, σa^m, g, whether the cortex is rough, and its α, β_m and
+    // β_n), the tables as doubles and an FNV-1a checksum of everything before it. A float
+    // material's tables come back bit for bit. (Version 3: version 2 had neither the rough
+    // flag nor α and β, on which the rough cortex's tables now depend.)
+    static constexpr std::uint32_t kFileVersion = 3;
     void save(const std::string& path) const {
         std::vector<unsigned char> buf;
         detail::put_bytes(buf, "HSFT", 4);
@@ -638,7 +708,8 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
     // Throws std::invalid_argument for bad params (as the constructor), std::runtime_error
     // naming the file for a wrong magic, version, table size, file size or checksum, a
     // value outside what the simulation produces, or tables built for other parameters
-    // (those the tables depend on must agree to 1e-6 relative; β_m, β_n and α may differ).
+    // (those the tables depend on must agree to 1e-6 relative; with the smooth cortex β_m,
+    // β_n and α may differ).
     static FurMaterial load(const FurParams<T>& params, const std::string& path,
                             const FurControls<T>& controls = FurControls<T>()) {
         require_valid(params);
@@ -649,7 +720,7 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
         std::ifstream f(path, std::ios::binary);
         if (!f) HAIRSCATTER_THROW(std::runtime_error("hairscatter: cannot open fur medulla tables '" + path + "'"));
         constexpr int kTheta = MedullaTables<T>::kThetaBins, kPhi = MedullaTables<T>::kPhiBins;
-        constexpr std::size_t kParams = 10, kValues = std::size_t(kTheta) * (2 * kPhi + 1 + 3 + 2);
+        constexpr std::size_t kParams = 14, kValues = std::size_t(kTheta) * (2 * kPhi + 1 + 3 + 2);
         constexpr std::size_t kExpected = 4 + 3 * 4 + (kParams + kValues) * 8 + 8;
         // One byte more than a valid file holds: a longer file (or pipe) is seen as such.
         std::vector<unsigned char> buf(kExpected + 1);
@@ -673,10 +744,12 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
         if (detail::get_bytes<std::uint64_t>(buf, end) != detail::fnv1a(buf.data(), kExpected - 8))
             HAIRSCATTER_THROW(fail("checksum mismatch (corrupt file)"));
         static const char* kName[kParams] = {"eta", "sigma_a.r", "sigma_a.g", "sigma_a.b", "kappa",
-                                             "sigma_s", "sigma_a_medulla.r", "sigma_a_medulla.g", "sigma_a_medulla.b", "g"};
+                                             "sigma_s", "sigma_a_medulla.r", "sigma_a_medulla.g", "sigma_a_medulla.b", "g",
+                                             "rough_cortex", "alpha", "beta_m", "beta_n"};
         const auto given = table_parameters(params);
         for (std::size_t k = 0; k < kParams; ++k) {
             const double in_file = detail::get_bytes<double>(buf, at), want = given[k];
+            if (k > 10 && !params.rough_cortex) continue;  // (the smooth cortex's tables serve every α and β)
             if (!(std::fabs(in_file - want) <= 1e-6 * std::fmax(std::fabs(in_file), std::fabs(want))))
                 HAIRSCATTER_THROW(fail(std::string("built for other fur parameters: ") + kName[k] + " " +
                                        std::to_string(in_file) + " in the file, " + std::to_string(want) + " given"));
@@ -708,11 +781,13 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
                                                    double(params.cortex.beta_m), double(params.cortex.beta_n));
     }
 
-    // What the tables depend on, in the file's order.
-    static std::array<double, 10> table_parameters(const FurParams<T>& p) {
+    // What the tables depend on, in the file's order: with the rough cortex also its facets'
+    // α, β_m and β_n (RoughFacets), which load() compares only then.
+    static std::array<double, 14> table_parameters(const FurParams<T>& p) {
         return {double(p.cortex.eta), double(p.cortex.sigma_a[0]), double(p.cortex.sigma_a[1]),
                 double(p.cortex.sigma_a[2]), double(p.kappa), double(p.sigma_s), double(p.sigma_a_medulla[0]),
-                double(p.sigma_a_medulla[1]), double(p.sigma_a_medulla[2]), double(p.g)};
+                double(p.sigma_a_medulla[1]), double(p.sigma_a_medulla[2]), double(p.g), p.rough_cortex ? 1.0 : 0.0,
+                double(p.cortex.alpha), double(p.cortex.beta_m), double(p.cortex.beta_n)};
     }
     // f(value, lo, hi, name) over every value of the tables in the file's order, with the
     // range the simulation keeps it in (a density is at most 1/width when all its mass is
@@ -815,8 +890,8 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         T a[std::size_t(kS + 1)][3];           // A_0 … A_3 and E_S per channel
         T w[std::size_t(kS + 1)];              // selection weights (channel sums)
         T w_total, inv_w_total;
-        T sin_p[std::size_t(kLobes + 1)], cos_p[std::size_t(kLobes + 1)];  // θo tilted per lobe
-        T phi_p[std::size_t(kLobes)];          // Φ(p, h), wrapped
+        DeonLanes<T, kLobes + 1> m;            // M_p conditioned on the tilted θo', lane p lobe p
+        T phi_p[std::size_t(kLobes + 1)];      // Φ(p, h), wrapped (0 for the residual)
         int theta_bin;
         T sin_o;
     };
@@ -842,19 +917,22 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         // (what S's first scattering sees), with Q_k the share of the entered light still
         // inside at the k-th chord. Smooth: Q_k = F^(k−1), the sum 1 / (1 − T F).
         T passes[3];
+        T entry_reflect = fresnel;  // R's share at entry: the smooth F, or the rough boundary's F_r
         if (prm.rough_cortex) {
-            // The rough cortex's walk (RoughCortexTables): of the light that entered (1 − F),
-            // e1 leaves after one chord, e2 after two, the rest (e3) later with a geometric
-            // tail of ratio r, each chord attenuated by T:
-            //   A_1 = (1 − F) e1 T,  A_2 = (1 − F) e2 T²,  A_res = (1 − F) e3 T³ (1 − r)/(1 − r T),
+            // The rough cortex's walk (RoughCortexTables): the facets reflect F_r at entry; of
+            // the light that entered (1 − F_r), e1 leaves after one chord, e2 after two, the
+            // rest (e3) later with a geometric tail of ratio r, each chord attenuated by T:
+            //   A_0 = F_r,  A_1 = (1 − F_r) e1 T,  A_2 = (1 − F_r) e2 T²,
+            //   A_res = (1 − F_r) e3 T³ (1 − r)/(1 − r T),
             //   Σ_k Q_k T^(k−1) = 1 + (1 − e1) T + e3 T² / (1 − r T).
             // Lossless (T = 1) every entered share leaves: Σ_p A_p = 1 as before.
-            T e[4];
+            T e[detail::RoughCortexTables<T>::kValues];
             mat_->rough_cortex().at(elem::asin(sin_o), h_, e);
+            entry_reflect = clamp(e[4] * fresnel, T(0), T(1));
             for (int c = 0; c < 3; ++c) {
-                const T t = chord.transmittance[c], in = T(1) - fresnel, rt = T(1) - e[3] * t;
+                const T t = chord.transmittance[c], in = T(1) - entry_reflect, rt = T(1) - e[3] * t;
                 const T tail = rt > kMinNormal<T> ? T(1) / rt : T(1) / kMinNormal<T>;
-                att[0][c] = fresnel;
+                att[0][c] = entry_reflect;
                 att[1][c] = in * e[0] * t;
                 att[2][c] = in * e[1] * t * t;
                 att[3][c] = in * e[2] * t * t * t * (T(1) - e[3]) * tail;
@@ -873,7 +951,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         o.theta_bin = MedullaTables<T>::theta_bin(abs_value(sin_o));
         o.sin_o = sin_o;
         for (int c = 0; c < 3; ++c)  // (1 − F) first Σ_k Q_k T^(k−1): first scattering on any pass
-            o.a[kS][c] = (T(1) - fresnel) * chord.first_scatter[c] * passes[c] * mat_->medulla().escape[o.theta_bin][c];
+            o.a[kS][c] = (T(1) - entry_reflect) * chord.first_scatter[c] * passes[c] * mat_->medulla().escape[o.theta_bin][c];
         // The lobe controls, in this one place: f, the selection weights, albedo and lobe_split
         // all read the scaled energies (the per-lobe tilts are in the material's DeonLobes).
         if (mat_->has_lobe_weights())
@@ -881,8 +959,8 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
                 const V3 weight = mat_->lobe_weight(p);
                 for (int c = 0; c < 3; ++c) o.a[p][c] *= weight[c];
             }
-        mat_->tilt_all(sin_o, cos_o, o.sin_p, o.cos_p);
-        for (int p = 0; p < kLobes; ++p) o.phi_p[p] = exit_azimuth_wrapped(p, gamma_o_, gamma_t);
+        mat_->template condition<LobeSet::kAll>(o.m, sin_o, cos_o);
+        for (int p = 0; p <= kLobes; ++p) o.phi_p[p] = p < kLobes ? exit_azimuth_wrapped(p, gamma_o_, gamma_t) : T(0);
         if constexpr (kW) {
             T total = T(0);
             for (int p = 0; p <= kS; ++p) total += (o.w[p] = o.a[p][0] + o.a[p][1] + o.a[p][2]);
@@ -892,12 +970,13 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         return o;
     }
 
-    // Each lobe's angular density M_p N_p at (θi, φ): the products f and pdf weigh.
+    // Each lobe's angular density M_p N_p at (θi, φ): the products f and pdf weigh. The
+    // unscattered lobes as Chiang's, side by side (deon_logistic_densities), then S.
+    static constexpr int kAzimuthal = std::is_same<T, float>::value ? kLobes + 1 : kLobes;
     HAIRSCATTER_HD void densities(const Outgoing& o, T sin_i, T cos_i, T phi, T (&mn)[std::size_t(kS + 1)]) const {
-        for (int p = 0; p <= kLobes; ++p) {
-            const T m = mat_->longitudinal(p).eval(sin_i, cos_i, o.sin_p[p], o.cos_p[p]);
-            mn[p] = m * (p < kLobes ? azimuthal_logistic(mat_->azimuthal(), phi, o.phi_p[p]) : kInvTwoPi<T>);
-        }
+        T lanes[std::size_t(kLobes + 1)];
+        deon_logistic_densities<kLobes + 1, kLobes, kAzimuthal>(o.m, o.phi_p, mat_->azimuthal(), sin_i, cos_i, phi, lanes);
+        for (int p = 0; p <= kLobes; ++p) mn[p] = lanes[p];
         mn[kS] = scattered_density(o, sin_i, cos_i, phi);
     }
     // S's density per steradian: q(sin θi) per unit sin θi times N_S(φ).
@@ -936,7 +1015,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             sin_i = mat_->medulla().sample_longitudinal(o.theta_bin, o.sin_o, u.y, u.z, choice.rescaled);
             phi = mat_->medulla().sample_azimuth(o.theta_bin, u.w);
         } else {
-            sin_i = mat_->longitudinal(p).sample_sin_theta(o.sin_p[p], o.cos_p[p], u.y, u.z);
+            sin_i = mat_->longitudinal(p).sample_sin_theta(o.m.sin_o[p], o.m.cos_o[p], u.y, u.z);
             phi = p < kLobes ? o.phi_p[p] + mat_->azimuthal().sample(u.w) : kTwoPi<T> * u.w - kPi<T>;
         }
         phi = wrap_pi(phi);
