@@ -20,13 +20,13 @@ template <typename T> class DeonLobes {
     static constexpr int kLobes = 3;
 
     DeonLobes() = default;
-    HAIRSCATTER_HD DeonLobes(T beta_m, T alpha) : DeonLobes(beta_m, CuticleTilt<T>(alpha)) {}
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DeonLobes(T beta_m, T alpha) : DeonLobes(beta_m, CuticleTilt<T>(alpha)) {}
     // With per-lobe tilts of their own (LobeControls::cuticle_tilt).
     // The four lobes' constants as DeonLongitudinal(v_p) computes them, bit for bit, but
     // as lanes: one division (1/(v/4) = 4 (1/v) exactly, the factors being powers of two)
     // and one vector each of exps and expm1s in float, so that a material is cheap enough
     // to build per hit (ChiangMaterial::per_hit).
-    HAIRSCATTER_HD DeonLobes(T beta_m, const CuticleTilt<T>& tilt) : tilt_(tilt) {
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DeonLobes(T beta_m, const CuticleTilt<T>& tilt) : tilt_(tilt) {
         const T v0 = longitudinal_variance(beta_m);
         const T inv_v0 = T(1) / v0;
         const T scale[kLobes + 1] = {T(1), T(0.25), T(4), T(4)}, inv_scale[kLobes + 1] = {T(1), T(4), T(0.25), T(0.25)};
@@ -37,7 +37,7 @@ template <typename T> class DeonLobes {
             e[p] = m[p] = T(-2) * inv_v_[p];
         }
         elem::exp_each(e);    // underflows to 0 for v < 0.02 in float: harmless
-        elem::expm1_each(m);
+        elem::expm1_each_given_exp(m, e);
         for (int p = 0; p <= kLobes; ++p) {
             exp_m2_over_v_[p] = e[p];
             norm_[p] = inv_v_[p] / -m[p];
