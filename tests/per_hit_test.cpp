@@ -178,6 +178,28 @@ TEST(PerHit, Expm1GivenExpIsExpm1Each) {
     }
 }
 
+// DeonLobes' lane constants (one exp vector in float, the expm1s from it; in double the
+// residual's copied from TRT's) are DeonLongitudinal(v_p)'s, bit for bit: its M_p at a few
+// angles and its θi sample, which reads e^(-2/v), over β_m ∈ [1e-3, 1].
+template <typename T> void deon_lanes_are_deon_longitudinal() {
+    const T angles[][4] = {{T(0.3), T(0.9539392), T(-0.2), T(0.9797959)}, {T(-0.8), T(0.6), T(0.5), T(0.8660254)}};
+    for (int i = 0; i <= 4000; ++i) {
+        const T beta_m = T(1e-3) + (T(1) - T(1e-3)) * T(i) / T(4000);
+        const hs::DeonLobes<T> lanes(beta_m, T(0));
+        for (int p = 0; p <= 3; ++p) {
+            const hs::DeonLongitudinal<T> lane = lanes.longitudinal(p), own(lanes.lobe_variance(p));
+            for (const auto& a : angles)
+                EXPECT_TRUE(same_bits(lane.eval(a[0], a[1], a[2], a[3]), own.eval(a[0], a[1], a[2], a[3])))
+                    << "beta_m " << beta_m << " p " << p;
+            EXPECT_TRUE(same_bits(lane.sample_sin_theta(T(0.3), T(0.95), T(1e-4), T(0.3)),
+                                  own.sample_sin_theta(T(0.3), T(0.95), T(1e-4), T(0.3))))
+                << "beta_m " << beta_m << " p " << p;
+        }
+    }
+}
+TEST(PerHit, DeonLanesAreDeonLongitudinalFloat) { deon_lanes_are_deon_longitudinal<float>(); }
+TEST(PerHit, DeonLanesAreDeonLongitudinalDouble) { deon_lanes_are_deon_longitudinal<double>(); }
+
 // The tilt's sine: in float its Taylor series within |α| ≤ π/8, within 1 ulp of std::sin
 // (the truncation, 4e-13, is far below float's rounding); in double std::sin itself.
 TEST(PerHit, TiltSineMatchesStdSin) {
