@@ -147,6 +147,59 @@ TEST(PerHit, LogisticNormaliserMatchesTanh) {
     }
 }
 
+// Where expm1(-π/s) rounds to -1 the normaliser skips it (TrimmedLogistic's constructor):
+// the density's numerator is then (1/s) / (-m / (2 + m)) with m = elem::expm1(-π/s), the
+// unshortened formula, bit for bit, over scales on both sides of the switch (float 0.179,
+// double 0.082) and far from it.
+template <typename T> void logistic_shortcut_is_the_formula() {
+    for (int i = 0; i <= 20000; ++i) {
+        const T s = T(1e-3) + (T(0.5) - T(1e-3)) * T(i) / T(20000);
+        const T inv_s = T(1) / s, m = hs::elem::expm1(-hs::kPi<T> * inv_s);
+        const T want = inv_s / (-m / (T(2) + m));
+        EXPECT_TRUE(same_bits(hs::TrimmedLogistic<T>(s).density_numerator(T(1)), want)) << "s " << s;
+    }
+}
+TEST(PerHit, LogisticShortcutIsTheFormulaFloat) { logistic_shortcut_is_the_formula<float>(); }
+TEST(PerHit, LogisticShortcutIsTheFormulaDouble) { logistic_shortcut_is_the_formula<double>(); }
+
+// expm1_each_given_exp (DeonLobes' one exp for both of its constants) returns expm1_each's
+// values bit for bit, on either side of its switch at |x| = 1/2 and down to underflow.
+TEST(PerHit, Expm1GivenExpIsExpm1Each) {
+    for (int i = 0; i < 40000; ++i) {
+        float x[4], e[4], y[4];
+        for (int k = 0; k < 4; ++k) {
+            x[k] = -std::ldexp(1.0f + float(i % 1000) / 1000.0f, i / 1000 - 24 + k);  // -2^-24 … -2^19
+            e[k] = y[k] = x[k];
+        }
+        hs::elem::exp_each(e);
+        hs::elem::expm1_each(x);
+        hs::elem::expm1_each_given_exp(y, e);
+        for (int k = 0; k < 4; ++k) EXPECT_TRUE(same_bits(x[k], y[k])) << x[k];
+    }
+}
+
+// DeonLobes' lane constants (one exp vector in float, the expm1s from it; in double the
+// residual's copied from TRT's) are DeonLongitudinal(v_p)'s, bit for bit: its M_p at a few
+// angles and its θi sample, which reads e^(-2/v), over β_m ∈ [1e-3, 1].
+template <typename T> void deon_lanes_are_deon_longitudinal() {
+    const T angles[][4] = {{T(0.3), T(0.9539392), T(-0.2), T(0.9797959)}, {T(-0.8), T(0.6), T(0.5), T(0.8660254)}};
+    for (int i = 0; i <= 4000; ++i) {
+        const T beta_m = T(1e-3) + (T(1) - T(1e-3)) * T(i) / T(4000);
+        const hs::DeonLobes<T> lanes(beta_m, T(0));
+        for (int p = 0; p <= 3; ++p) {
+            const hs::DeonLongitudinal<T> lane = lanes.longitudinal(p), own(lanes.lobe_variance(p));
+            for (const auto& a : angles)
+                EXPECT_TRUE(same_bits(lane.eval(a[0], a[1], a[2], a[3]), own.eval(a[0], a[1], a[2], a[3])))
+                    << "beta_m " << beta_m << " p " << p;
+            EXPECT_TRUE(same_bits(lane.sample_sin_theta(T(0.3), T(0.95), T(1e-4), T(0.3)),
+                                  own.sample_sin_theta(T(0.3), T(0.95), T(1e-4), T(0.3))))
+                << "beta_m " << beta_m << " p " << p;
+        }
+    }
+}
+TEST(PerHit, DeonLanesAreDeonLongitudinalFloat) { deon_lanes_are_deon_longitudinal<float>(); }
+TEST(PerHit, DeonLanesAreDeonLongitudinalDouble) { deon_lanes_are_deon_longitudinal<double>(); }
+
 // The tilt's sine: in float its Taylor series within |α| ≤ π/8, within 1 ulp of std::sin
 // (the truncation, 4e-13, is far below float's rounding); in double std::sin itself.
 TEST(PerHit, TiltSineMatchesStdSin) {

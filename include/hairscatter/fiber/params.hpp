@@ -122,7 +122,7 @@ template <typename T> const FiberParams<T>& validated(const FiberParams<T>& p) {
 // Trivially copyable: pass it to a kernel by value.
 template <typename T> class FiberParamBounds {
   public:
-    HAIRSCATTER_HD FiberParamBounds() {
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE FiberParamBounds() {
         lo_.eta = T(1) + kEpsilon<T>;  // the smallest η above 1
         hi_.eta = kMaxFinite<T>;
         lo_.beta_m = lo_.beta_n = kMinRoughness<T>;
@@ -137,7 +137,7 @@ template <typename T> class FiberParamBounds {
     HAIRSCATTER_HD const FiberParams<T>& lo() const { return lo_; }
     HAIRSCATTER_HD const FiberParams<T>& hi() const { return hi_; }
 
-    HAIRSCATTER_HD FiberParams<T> clamp(const FiberParams<T>& p) const {
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE FiberParams<T> clamp(const FiberParams<T>& p) const {
         FiberParams<T> r;
         r.eta = clamp_field(p.eta, lo_.eta, hi_.eta);
         r.beta_m = clamp_field(p.beta_m, lo_.beta_m, hi_.beta_m);
@@ -148,7 +148,7 @@ template <typename T> class FiberParamBounds {
     }
 
   private:
-    HAIRSCATTER_HD static T clamp_field(T x, T lo, T hi) {
+    static HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T clamp_field(T x, T lo, T hi) {
         if (!is_finite(x)) return lo;
         return x < lo ? lo : (x > hi ? hi : x);
     }
@@ -188,7 +188,7 @@ FiberParamBounds<T> FiberParamBounds<T>::checked(const FiberParams<T>& lo, const
 // The parameters moved into every valid range (FiberParamBounds<T>()'s clamp), for
 // parameters that vary per hit where a renderer cannot stop for an exception
 // (ChiangMaterial::per_hit). Valid parameters come back unchanged. Device-callable.
-template <typename T> HAIRSCATTER_HD FiberParams<T> clamped_params(const FiberParams<T>& p) {
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE FiberParams<T> clamped_params(const FiberParams<T>& p) {
     return FiberParamBounds<T>().clamp(p);
 }
 

@@ -3,6 +3,8 @@
 // from β_m, one energy-conserving M_p per lobe and the cuticle tilt of θo per lobe.
 #pragma once
 
+#include <type_traits>
+
 #include "../config.hpp"
 #include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
@@ -22,27 +24,30 @@ template <typename T> class DeonLobes {
     static constexpr int kLobes = 3;
 
     DeonLobes() = default;
-    HAIRSCATTER_HD DeonLobes(T beta_m, T alpha) : DeonLobes(beta_m, CuticleTilt<T>(alpha)) {}
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DeonLobes(T beta_m, T alpha) : DeonLobes(beta_m, CuticleTilt<T>(alpha)) {}
     // With per-lobe tilts of their own (LobeControls::cuticle_tilt).
     // The four lobes' constants as DeonLongitudinal(v_p) computes them, bit for bit, but
     // as lanes: one division (1/(v/4) = 4 (1/v) exactly, the factors being powers of two)
-    // and one vector each of exps and expm1s in float, so that a material is cheap enough
-    // to build per hit (ChiangMaterial::per_hit).
-    HAIRSCATTER_HD DeonLobes(T beta_m, const CuticleTilt<T>& tilt) : tilt_(tilt) {
+    // and one vector of exps in float, the expm1s taken from them, so that a material is
+    // cheap enough to build per hit (ChiangMaterial::per_hit). In double, where each exp and
+    // expm1 is a libm call, the residual's, whose variance is TRT's, are TRT's copied.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DeonLobes(T beta_m, const CuticleTilt<T>& tilt) : tilt_(tilt) {
         const T v0 = longitudinal_variance(beta_m);
         const T inv_v0 = T(1) / v0;
         const T scale[kLobes + 1] = {T(1), T(0.25), T(4), T(4)}, inv_scale[kLobes + 1] = {T(1), T(4), T(0.25), T(0.25)};
-        T e[kLobes + 1], m[kLobes + 1];
+        constexpr int kExps = std::is_same<T, float>::value ? kLobes + 1 : kLobes;  // (float: a whole vector)
+        T e[kExps], m[kExps];
         for (int p = 0; p <= kLobes; ++p) {
             v_[p] = scale[p] * v0;
             inv_v_[p] = inv_v0 * inv_scale[p];  // (exact)
-            e[p] = m[p] = T(-2) * inv_v_[p];
         }
+        for (int p = 0; p < kExps; ++p) e[p] = m[p] = T(-2) * inv_v_[p];
         elem::exp_each(e);    // underflows to 0 for v < 0.02 in float: harmless
-        elem::expm1_each(m);
+        elem::expm1_each_given_exp(m, e);
         for (int p = 0; p <= kLobes; ++p) {
-            exp_m2_over_v_[p] = e[p];
-            norm_[p] = inv_v_[p] / -m[p];
+            const int q = p < kExps ? p : kLobes - 1;  // (the residual: TRT's, v_3 = v_2)
+            exp_m2_over_v_[p] = e[q];
+            norm_[p] = inv_v_[p] / -m[q];
         }
     }
 

@@ -42,10 +42,10 @@ template <typename T> struct LobeControls {
     }
 
     // Lobe p's factor on A_p: gain × tint.
-    HAIRSCATTER_HD V3 weight(int p) const { return gain[p] * tint[p]; }
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE V3 weight(int p) const { return gain[p] * tint[p]; }
     // Whether lobe p's gain × tint differs from 1, and whether any lobe's does.
-    HAIRSCATTER_HD bool weighted(int p) const { return weight(p) != V3(T(1)); }
-    HAIRSCATTER_HD bool has_weights() const { return weighted(0) || weighted(1) || weighted(2) || weighted(3); }
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE bool weighted(int p) const { return weight(p) != V3(T(1)); }
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE bool has_weights() const { return weighted(0) || weighted(1) || weighted(2) || weighted(3); }
 
     // The tilt of lobe p given the fiber's α.
     HAIRSCATTER_HD T lobe_alpha(int p, T fiber_alpha) const {
@@ -54,7 +54,7 @@ template <typename T> struct LobeControls {
 
     // The per-lobe rotations of θo: pbrt-v4's -2α_R, α_TT, 4α_TRT (lobes/tilt.hpp) with each
     // lobe's α. Without overrides it is CuticleTilt(fiber_alpha) itself, bit for bit.
-    HAIRSCATTER_HD CuticleTilt<T> cuticle_tilt(T fiber_alpha) const {
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE CuticleTilt<T> cuticle_tilt(T fiber_alpha) const {
         if (alpha_override == 0u) return CuticleTilt<T>(fiber_alpha);
         return CuticleTilt<T>(T(-2) * lobe_alpha(0, fiber_alpha), lobe_alpha(1, fiber_alpha),
                               T(4) * lobe_alpha(2, fiber_alpha));
@@ -71,7 +71,7 @@ template <typename T> class LobeWeights {
     static constexpr int kLobes = LobeControls<T>::kLobes;
 
     HAIRSCATTER_HD LobeWeights() : LobeWeights(LobeControls<T>()) {}
-    HAIRSCATTER_HD explicit LobeWeights(const LobeControls<T>& c) : any_(c.has_weights()) {
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE explicit LobeWeights(const LobeControls<T>& c) : any_(c.has_weights()) {
         for (int p = 0; p < kLobes; ++p) {
             const V3 w = c.weight(p);
             for (int ch = 0; ch < kChannelLanes; ++ch) w_[p][ch] = T(1);  // the padding: 1

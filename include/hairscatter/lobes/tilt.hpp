@@ -20,7 +20,7 @@ template <typename T> class CuticleTilt {
     static constexpr int kLobes = 4;  // R, TT, TRT, residual (and every higher order)
 
     CuticleTilt() = default;
-    HAIRSCATTER_HD explicit CuticleTilt(T alpha) {
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE explicit CuticleTilt(T alpha) {
         using std::sin;
         T s[3], c[3];  // sin, cos of α, 2α, 4α
         // Float, |α| ≤ π/8 (every validated tilt): sin's Taylor series to α⁹, truncation

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 
 #include "../config.hpp"
 #include "constants.hpp"
@@ -24,12 +25,22 @@ template <typename T> HAIRSCATTER_HD T gaussian(T sigma, T x) {
 template <typename T> class TrimmedLogistic {
   public:
     TrimmedLogistic() = default;
-    HAIRSCATTER_HD explicit TrimmedLogistic(T s) : s_(s), inv_s_(T(1) / s) {
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE explicit TrimmedLogistic(T s) : s_(s), inv_s_(T(1) / s) {
         // tanh(x) = -m / (2 + m) with m = e^(-2x) - 1 (x = π/2s > 0): elem::expm1 costs a
         // fraction of std::tanh, which was a quarter of a material's construction (a
         // material may be built per hit: ChiangMaterial::per_hit). Within 3 ulp of tanh;
         // e^(-2x) underflowing to 0 gives exactly 1.
-        const T m = elem::expm1(-kPi<T> * inv_s_);
+        const T x = -kPi<T> * inv_s_;
+        // Where e^x is below half an ulp of 1, expm1(x) rounds to -1 exactly, so norm is 1
+        // and pdf_scale 1/s, bit for bit: the expm1 and two divisions are skipped (a material
+        // built per hit pays them otherwise). In float that is every s below 0.179 (β_n
+        // below 0.39 by Chiang's mapping), in double s below 0.082.
+        if (x < kExpm1IsMinusOne) {
+            norm_ = T(1);
+            pdf_scale_ = inv_s_;
+            return;
+        }
+        const T m = elem::expm1(x);
         norm_ = -m / (T(2) + m);
         pdf_scale_ = inv_s_ / norm_;
     }
@@ -92,6 +103,9 @@ template <typename T> class TrimmedLogistic {
     }
 
   private:
+    // e^x < 2^-25 (float) or 2^-54 (double), half an ulp of 1, below these x, with a margin
+    // for exp's own error: ln 2^-25 = -17.33, ln 2^-54 = -37.43.
+    static constexpr T kExpm1IsMinusOne = std::is_same<T, float>::value ? T(-17.5) : T(-38);
     T s_ = T(1), inv_s_ = T(1), norm_ = T(1), pdf_scale_ = T(1);
 };
 

@@ -561,6 +561,22 @@ template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void expm1_each
 #endif
 }
 
+// expm1_each where exp_each of the same x is already known (e): the same results, without a
+// second exp in float, whose expm1 lane form is exp - 1 beyond |x| = 1/2 with exp_each's own
+// exp (elsewhere expm1_each itself). For a pair of constants that a material built per hit
+// needs both of (lobes/deon_lobes.hpp).
+template <typename T, std::size_t N>
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void expm1_each_given_exp(T (&x)[N], const T (&e)[N]) {
+#if HAIRSCATTER_HAS_VECTOR_EXT && !defined(__CUDA_ARCH__)
+    if constexpr (std::is_same<T, float>::value) {
+        for (int k = 0; k < int(N); ++k) x[k] = select(std::fabs(x[k]) < 0.5f, detail::expm1_series(x[k]), e[k] - 1.0f);
+        return;
+    }
+#endif
+    (void)e;
+    expm1_each(x);
+}
+
 // ln(1 + x) for x > -1: with s = x / (2 + x), ln(1 + x) = 2 atanh s; |s| ≤ 0.172 (x within
 // [-0.29, 0.41]) by the series to s⁹ (truncation 2e-9 relative), beyond it the float log of
 // 1 + x (whose rounding costs at most 3 ulp there). Inf and NaN go to the standard library.

@@ -54,13 +54,14 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
     // fiber/strand_variation.hpp): no checks and no exceptions, device-callable. The
     // parameters are clamped into their ranges first (clamped_params, fiber/params.hpp: NaN
     // to the lower end), and the lobe controls are the defaults: unchecked() with every valid
-    // range as the bounds. 27–44 ns in float, about
-    // 60 % of the checked constructor (bench/results/vs_pbrt.md, build rows); from valid
-    // parameters it is bit for bit the checked constructor's material (tests/per_hit_test.cpp).
+    // range as the bounds. Forced inline, down to the lobes' constants, so that the default
+    // controls fold away and the build interleaves with the caller's own work (its cost:
+    // bench/results/vs_pbrt.md, build rows). From valid parameters it is bit for bit the
+    // checked constructor's material (tests/per_hit_test.cpp).
     // The fiber refers to it: keep it alive while it is used,
     //   const auto m = ChiangMaterial<float>::per_hit(params_at_hit);
     //   const auto f = ChiangFiber<float>(m, h).at(wo);
-    HAIRSCATTER_HD static ChiangMaterial per_hit(const FiberParams<T>& params) {
+    static HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE ChiangMaterial per_hit(const FiberParams<T>& params) {
         return ChiangMaterial(Unchecked{}, clamped_params(params), LobeControls<T>());
     }
 
@@ -78,7 +79,8 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
 
   private:
     struct Unchecked {};
-    HAIRSCATTER_HD ChiangMaterial(Unchecked, const FiberParams<T>& params, const LobeControls<T>& controls)
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE ChiangMaterial(Unchecked, const FiberParams<T>& params,
+                                                      const LobeControls<T>& controls)
         : DeonLobes<T>(params.beta_m, controls.cuticle_tilt(params.alpha)), params_(params), controls_(controls),
           n_(logistic_scale(params.beta_n)), weights_(controls) {
         HAIRSCATTER_DCHECK(detail::params_in_range(params) && detail::controls_in_range(controls));
