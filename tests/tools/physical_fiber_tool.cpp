@@ -6,6 +6,8 @@
 //   physical_fiber_tool report --cache FILE [--quadrature default|fine]
 //   physical_fiber_tool residual --rays N --threads T   the residual's θ shape against the
 //                                                       reference's orders ≥ TRRT
+//   physical_fiber_tool breakdown --rays N --threads T  each lobe's share of each case's
+//                                                       error, and the lattices' part in it
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -26,6 +28,15 @@ namespace {
 struct Row {
     double err[2] = {0, 0}, r_model = 0;
 };
+
+// A case with no cached data: the bins model_bins integrates the model over.
+CachedCase grid_of(const phys_fiber::Case& c, int n_u, int n_phi) {
+    CachedCase cc;
+    cc.c = c;
+    cc.n_u = n_u;
+    cc.n_phi = n_phi;
+    return cc;
+}
 Row report_row(const CachedCase& c, const std::string& quadrature) {
     Row row;
     for (int blond = 0; blond < 2; ++blond) {
@@ -105,10 +116,7 @@ int diagnose(long long rays, int threads, bool blond_only) {
             pool.emplace_back([&, t] { tracer.trace(c.wo(), rays / threads, 77 + std::uint64_t(t), parts[std::size_t(t)]); });
         for (auto& th : pool) th.join();
         for (const auto& p : parts) h.add(p);
-        CachedCase cc;
-        cc.c = c;
-        cc.n_u = 24;
-        cc.n_phi = 48;
+        const CachedCase cc = grid_of(c, 24, 48);
         for (int blond = blond_only ? 1 : 0; blond < 2; ++blond) {
             const int ch = blond ? 2 : 0;
             double l1[5] = {}, total_ref = 0, em[4] = {}, er[4] = {};
@@ -143,6 +151,100 @@ int diagnose(long long rays, int threads, bool blond_only) {
     return 0;
 }
 
+// Per case, lossless and blond (RGB mean): how much each lobe contributes to the relative
+// L1 of f, traced afresh with the classes apart (R, TT, TRT, ≥ TRRT against the model's
+// residual): Σ_bins |f_p,model − f_p,ref| dω over the reference's total energy, so that the
+// lobes' shares add up to at least the total. TT and TRT once more at a fine quadrature
+// (`fine`: 512 paths × 4 internal normals, 128 offset nodes): what is left there is the
+// model's definition, the difference is its lattices' error.
+int breakdown(long long rays, int threads) {
+    const int nu = 24, nphi = 48;
+    const std::vector<phys_fiber::Case> all = phys_fiber::physical_cases();
+    struct Result {
+        double total[2] = {}, lobe[2][4] = {}, fine[2][2] = {}, noise[2] = {};
+    };
+    std::vector<Result> results(all.size());
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t)
+        pool.emplace_back([&, t] {
+            for (std::size_t k = std::size_t(t); k < all.size(); k += std::size_t(threads)) {
+                const phys_fiber::Case& c = all[k];
+                const phys_fiber::Tracer tracer(c.fiber());
+                phys_fiber::Histogram half[2] = {phys_fiber::Histogram(nu, nphi), phys_fiber::Histogram(nu, nphi)};
+                for (int s = 0; s < 2; ++s) tracer.trace(c.wo(), rays / 2, 4242 + 2 * k + std::uint64_t(s), half[s]);
+                phys_fiber::Histogram h(nu, nphi);
+                h.add(half[0]);
+                h.add(half[1]);
+                const CachedCase cc = grid_of(c, nu, nphi);
+                const double dw = h.bin_solid_angle();
+                const glm::dvec3 wo = c.wo();
+                Result& res = results[k];
+                for (int blond = 0; blond < 2; ++blond) {
+                    const hs::HuangParams<double> p = phys_fiber::huang_params(c, blond != 0);
+                    const int channels = blond ? 3 : 1;
+                    // model[q][lobe][bin]: q 0 default, 1 fine (TT, TRT only)
+                    std::vector<glm::dvec3> model[2][4];
+                    for (int q = 0; q < 2; ++q)
+                        for (int l = 0; l < 4; ++l) {
+                            if (q == 1 && (l == 0 || l == 3)) continue;
+                            hs::LobeControls<double> only;
+                            for (int j = 0; j < 4; ++j) only.gain[j] = j == l ? 1 : 0;
+                            hs::HuangQuadrature quad;
+                            if (q == 1) quad = hs::HuangQuadrature{128, 512, 4};
+                            const hs::HuangMaterial<double> mat(p, quad, only);
+                            const hs::HuangFiber<double, 4096> fiber(mat);
+                            const auto bound = fiber.at(wo);
+                            model[q][l] = phys_fiber::model_bins(
+                                cc, [&](const glm::dvec3&, const glm::dvec3& wi) { return bound.eval(wi); });
+                        }
+                    for (int ch = 0; ch < channels; ++ch) {
+                        const int rch = blond ? ch + 1 : 0, mch = blond ? ch : 0;
+                        double ref_total = 0, l1 = 0, diff = 0;
+                        double lobe[4] = {}, fine[2] = {};
+                        for (int b = 0; b < nu * nphi; ++b) {
+                            ref_total += h.f(b, rch) * dw;
+                            diff += std::fabs(half[0].f(b, rch) - half[1].f(b, rch)) * dw;
+                            double sum = 0;
+                            for (int l = 0; l < 4; ++l) {
+                                const double x = model[0][l][std::size_t(b)][mch];
+                                sum += x;
+                                lobe[l] += std::fabs(x - h.f(b, rch, l)) * dw;
+                            }
+                            for (int l = 1; l < 3; ++l)
+                                fine[l - 1] += std::fabs(model[1][l][std::size_t(b)][mch] - h.f(b, rch, l)) * dw;
+                            l1 += std::fabs(sum - h.f(b, rch)) * dw;
+                        }
+                        res.total[blond] += l1 / ref_total / channels;
+                        res.noise[blond] += 0.5 * diff / ref_total / channels;
+                        for (int l = 0; l < 4; ++l) res.lobe[blond][l] += lobe[l] / ref_total / channels;
+                        for (int l = 0; l < 2; ++l) res.fine[blond][l] += fine[l] / ref_total / channels;
+                    }
+                }
+                std::fprintf(stderr, "%s done\n", c.name().c_str());
+            }
+        });
+    for (auto& th : pool) th.join();
+    std::printf("| case | fiber | total | R | TT | TRT | residual vs ≥ TRRT | TT fine | TRT fine | noise |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+    double mean[10] = {};
+    for (std::size_t k = 0; k < all.size(); ++k)
+        for (int blond = 0; blond < 2; ++blond) {
+            const Result& r = results[k];
+            const double row[8] = {r.total[blond],   r.lobe[blond][0], r.lobe[blond][1], r.lobe[blond][2],
+                                   r.lobe[blond][3], r.fine[blond][0], r.fine[blond][1], r.noise[blond]};
+            std::printf("| %s | %s |", all[k].name().c_str(), blond ? "blond" : "lossless");
+            for (int j = 0; j < 8; ++j) {
+                std::printf(" %.1f %% |", 100 * row[j]);
+                mean[j] += row[j] / double(2 * all.size());
+            }
+            std::printf("\n");
+        }
+    std::printf("| mean | |");
+    for (int j = 0; j < 8; ++j) std::printf(" %.1f %% |", 100 * mean[j]);
+    std::printf("\n");
+    return 0;
+}
+
 // The residual's longitudinal shape against the reference's orders ≥ TRRT, traced afresh
 // with the classes apart: per case and channel (lossless, blond G), the model's residual
 // energy times M(v; θi | θo)/2π for several variances v (the model's 4β and a wider 8β; the sum over
@@ -168,10 +270,7 @@ int residual_shapes(long long rays, int threads) {
         for (auto& th : pool) th.join();
         phys_fiber::Histogram h(nu, nphi);
         for (const auto& p : parts) h.add(p);
-        CachedCase cc;
-        cc.c = c;
-        cc.n_u = nu;
-        cc.n_phi = nphi;
+        const CachedCase cc = grid_of(c, nu, nphi);
         const double dw = h.bin_solid_angle();
         const glm::dvec3 wo = c.wo();
         const double so = wo.x, co = std::sqrt(1 - so * so);
@@ -278,6 +377,7 @@ int main(int argc, char** argv) {
         if (mode == "lobes") return lobes(cache);
         if (mode == "diagnose") return diagnose(rays, threads, quadrature == "blond");
         if (mode == "residual") return residual_shapes(rays, threads);
+        if (mode == "breakdown") return breakdown(rays, threads);
         throw std::invalid_argument("unknown mode " + mode);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "physical_fiber_tool: %s\n", e.what());

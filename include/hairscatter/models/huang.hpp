@@ -83,10 +83,10 @@ template <typename T> std::string validate(const HuangParams<T>& p) {
 
 // The quadrature of HuangFiber, three knobs (0: the automatic choice of each):
 //   offset_nodes  the R rule: Gauss–Legendre nodes in γ (auto_nodes);
-//   tt_points     the paths into the fiber: points of a rank-1 lattice over (γ, u1, u2),
+//   tt_points     the paths into the fiber: points of a rank-1 lattice over (h, u1, u2),
 //                 the offset and the entry's visible normal (auto_tt_points);
 //   trt_per_tt    internal reflections per path: with them the TRT paths are the points of
-//                 a rank-1 lattice of N_TT × trt_per_tt points over (γ, u1, u2, u1', u2'),
+//                 a rank-1 lattice of N_TT × trt_per_tt points over (h, u1, u2, u1', u2'),
 //                 (u1', u2') the visible normal that reflects inside (auto_trt_per_tt).
 struct HuangQuadrature {
     int offset_nodes = 0;
@@ -107,17 +107,21 @@ struct HuangQuadrature {
 //
 // Rules that integrate each path order jointly:
 //   R    n Gauss–Legendre nodes in γ (the R lobe is closed-form in the normal);
-//   TT   a rank-1 lattice of N_TT points over (γ, u1, u2): u the entry's visible normal in
-//        the unit square of lobes/microfacet.hpp (u1 the cap's azimuth, u2 its height);
-//   TRT  a rank-1 lattice of N_TRT = m N_TT points over (γ, u1, u2, u1', u2'), (u1', u2')
+//   TT   a rank-1 lattice of N_TT points over (h, u1, u2): u the entry's visible normal in
+//        the unit square of lobes/microfacet.hpp (u1 the cap's azimuth, u2 its height), h
+//        uniform as the beam is, so that the paths carry near-equal shares of it (per unit
+//        h the intercepted beam is max(0, v·m)|A⁻¹c| / cos γ, 1 for a round untilted fiber;
+//        uniform in γ and weighted by cos γ, most of the paths sat where little light
+//        enters, and TT was far lumpier: docs/models.md);
+//   TRT  a rank-1 lattice of N_TRT = m N_TT points over (h, u1, u2, u1', u2'), (u1', u2')
 //        the visible normal that reflects inside, whose generator is m times TT's in its
 //        first three coordinates: TRT point k continues TT path k mod N_TT, so each TT path
 //        reflects at m normals of its own and the TRT paths share TT's entries and chords.
 // A lattice's N points are x_k = frac((k g + 1/2) / N) with the Korobov generator
 // g = (1, a, a², …) mod N (TRT's last two: (b, b²) mod N_TRT) whose a (b) minimises the
 // worst-case error P₂ (Sloan & Joe 1994) of the unshifted lattice, found at construction,
-// and shifted by half a cell. (The tent map 1 - |2x - 1| of Hickernell 2002 on γ
-// and the heights measured worse here: it halves the distinct offsets, and the integrand
+// and shifted by half a cell. (The tent map 1 - |2x - 1| of Hickernell 2002 on the
+// offset and the heights measured worse here: it halves the distinct offsets, and the integrand
 // has kinks anyway.) Unlike a product rule,
 // every point has its own offset and its own normals, so TT and TRT are not a few shifted
 // copies of the same lobes.
@@ -322,7 +326,7 @@ template <typename T> class HuangMaterial {
     struct NormalPoint {
         T cos_u1, sin_u1, u2;
     };
-    // A lattice point's offset (h = sin γ, cos γ) and entry normal.
+    // A lattice point's offset (h and cos γ = sqrt(1 − h²)) and entry normal.
     struct EntryPoint {
         T h, cos_gamma;
         NormalPoint normal;
@@ -392,15 +396,15 @@ template <typename T> class HuangMaterial {
 
     // frac(i g / N) in double.
     // frac((i g + 1/2) / N): the lattice shifted by half a cell, so that no point sits on the
-    // edges (γ = ±π/2, the cap's rim) and every coordinate is a midpoint rule of N points.
+    // edges (h = ±1, the cap's rim) and every coordinate is a midpoint rule of N points.
     static double lattice(int n, int i, long long g) { return (double((static_cast<long long>(i) * g) % n) + 0.5) / n; }
     static NormalPoint normal_point(double u1, double u2) {
         const double two_pi = 6.28318530717958647692;
         return {T(std::cos(two_pi * u1)), T(std::sin(two_pi * u1)), T(u2)};
     }
     static EntryPoint entry_point(int n, int i, const long long* g) {
-        const double gamma = 3.14159265358979323846 * (lattice(n, i, g[0]) - 0.5);
-        return {T(std::sin(gamma)), T(std::cos(gamma)), normal_point(lattice(n, i, g[1]), lattice(n, i, g[2]))};
+        const double h = 2 * lattice(n, i, g[0]) - 1;
+        return {T(h), T(std::sqrt(1 - h * h)), normal_point(lattice(n, i, g[1]), lattice(n, i, g[2]))};
     }
     // P₂ = -1 + (1/n) Σ_k Π_j (1 + 2π² B₂(x_kj)), B₂(x) = x² - x + 1/6, of the unshifted
     // rank-1 lattice of n points with generator g (d coordinates): the worst-case error of
@@ -580,7 +584,7 @@ template <typename T> HuangQuadrature huang_fast_quadrature(T roughness, int div
 //   TT, TRT = (1 - F(v·h)) D_v(h) |wi·h| / |η v + wi|², the refraction out of the fiber at
 //           the exit's mesonormal, v the internal ray reversed (their TT and TRT, with the
 //           generalised half vector and Jacobian of Walter et al. 2007 eqs. 16–17);
-//   y_i   = max(0, v·m)|A⁻¹c| (1 - F) at path i's offset and entry normal, A_1, A_2 the
+//   y_i   = max(0, v·m)|A⁻¹c| / cos γ (1 - F) at path i's offset and entry normal, A_1, A_2 the
 //           chords' transmittances;
 //   s_TT  = Σ_k ŵ_k (1 - E_out) / Σ_i y_i: the paths carry exactly the light the surface
 //           transmits;
@@ -942,7 +946,8 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     }
 
     // A lattice point's entry: the hit, the direction t the light refracts into through the
-    // point's visible normal, and its weight y = beam (1 - F). False where nothing enters.
+    // point's visible normal, and its weight y = beam (1 - F), the beam per unit h (the
+    // points are uniform in h; hit's is per unit γ = asin h). False where nothing enters.
     HAIRSCATTER_HD bool enter(const Outgoing& o, const typename Material::EntryPoint& p, Hit& g, V3& t, T& y) const {
         g = hit(o, p.h, p.cos_gamma);
         if (!(g.beam > T(0) && g.cos_v > T(0))) return false;
@@ -954,7 +959,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         // The share that leaves the microsurface downward unshadowed (G1 of −t), scaled to
         // the interface's total transmission at this offset (entry_gain): the shadowed light
         // that still gets in follows the same directions.
-        y = g.beam * (T(1) - fresnel_any(glm::dot(o.v, h), eta)) * mat_->ggx().g1(-glm::dot(t, g.m)) *
+        y = g.beam / p.cos_gamma * (T(1) - fresnel_any(glm::dot(o.v, h), eta)) * mat_->ggx().g1(-glm::dot(t, g.m)) *
             mat_->entry_gain(g.cos_v);
         return y > T(0);
     }
