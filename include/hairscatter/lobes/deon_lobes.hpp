@@ -36,7 +36,7 @@ template <typename T> class DeonLobes {
         const T inv_v0 = T(1) / v0;
         const T scale[kLobes + 1] = {T(1), T(0.25), T(4), T(4)}, inv_scale[kLobes + 1] = {T(1), T(4), T(0.25), T(0.25)};
         constexpr int kExps = std::is_same<T, float>::value ? kLobes + 1 : kLobes;  // (float: a whole vector)
-        T e[kExps], m[kExps];
+        T e[std::size_t(kExps)], m[std::size_t(kExps)];
         for (int p = 0; p <= kLobes; ++p) {
             v_[p] = scale[p] * v0;
             inv_v_[p] = inv_v0 * inv_scale[p];  // (exact)
