@@ -18,22 +18,16 @@
 // unobstructed: c_f = 1, c_b = 0, and the light is the source's own, unspread.
 //
 // The kernels are densities over the direction s the light came from (fiber frame of x):
-//     K_f(s | a) = M(v_f; θs around θa) · G(u_f; φs − φa)
+//     K_f(s | a) = M(v_f; θs around θa) · [|φs − φa| < π/2] / π
 //     K_b(s | a) = M(v_b; θs around θa) · [|φs − φa − π| < π/2] / π
-// M is d'Eon et al. 2011's normalised longitudinal lobe, G(u; ·) the Gaussian of variance u
-// restricted to the half-circle |φs − φa| < π/2. Scattering by a fiber keeps the
+// M is d'Eon et al. 2011's normalised longitudinal lobe. Scattering by a fiber keeps the
 // component of the light's travel along the fiber, so θ is kept and spread; a transmitted
 // path stays on a's side of the circle of azimuths, a returned one comes from the other
-// half (Zinke et al. 2008 spread forward-scattered light uniformly over a half-circle; K_b
-// still does). Each event also turns the light around the fiber by an angle of mean cosine
-// μ_f or μ_b (the tables' mu_f, mu_b), so K_f narrows to the forward lobe's turn after one
-// fiber and widens toward the uniform half-circle as the events add up, and the stacks are
-// as deep as the fibers the turning light crosses (dual_turned_depth; docs/theory.md §5.7).
+// half (Zinke et al. 2008 spread forward-scattered light uniformly over a half-circle).
 // The variances come from the stacks themselves, nothing fitted: a path of the stack
 // passes k_f forward and k_b backward events on average, k_f = a_f ∂ln X/∂a_f and
 // k_b = a_b ∂ln X/∂a_b for X = T_n or R_n (and T_m for the far side's passage), and each
-// event adds its lobe's mean variance β̄²_f or β̄²_b (tables.hpp), and to u_f the variance
-// −2 ln μ of its turn.
+// event adds its lobe's mean variance β̄²_f or β̄²_b (tables.hpp).
 #pragma once
 
 #include <glm/glm.hpp>
@@ -53,9 +47,6 @@ template <typename T> struct DualStreams {
     glm::vec<3, T> forward{T(1)};  // c_f: share of the light entering on a's side that arrives along a
     glm::vec<3, T> back{T(0)};     // c_b: share of the light entering on the far side that arrives along a
     T spread_f = T(0), spread_b = T(0);  // variances v_f, v_b of the source kernels (rad², channel mean)
-    // Variance of K_f's azimuth around a (rad², channel mean): the turns of the events the
-    // transmitted light passed. The default is wide enough to be uniform over the half-circle.
-    T turn_f = T(1e4);
 };
 
 // The smallest and largest kernel variance used: below, M is sharper than any table can
@@ -131,119 +122,6 @@ template <typename T> HAIRSCATTER_HD T poisson_fiber_count(T mean, T u, bool giv
     return given_hit && k < T(1) ? T(1) : k;
 }
 
-// The variance of the Gaussian whose mean cosine is μ, −2 ln μ: one event's azimuthal turn.
-// μ ≤ 1e-6 (no preferred direction, or a NaN) gives 27.6, which spreads K_f evenly.
-template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T dual_turn_variance(T mu) {
-    return T(-2) * elem::log(mu > T(1e-6) ? (mu < T(1) ? mu : T(1)) : T(1e-6));
-}
-
-// The inverse error function: Giles 2010 ("Approximating the erfinv function", GPU Computing
-// Gems Jade, the single-precision rational-free form), then one Newton step on erf, which
-// brings double to a few ulp. |y| is kept below 1.
-template <typename T> HAIRSCATTER_HD T erf_inverse(T y) {
-    using std::erf;
-    using std::sqrt;
-    constexpr T lim = T(1) - T(4) * kEpsilon<T>;
-    const T x = clamp(y, -lim, lim);
-    T w = -elem::log((T(1) - x) * (T(1) + x)), p;
-    if (w < T(5)) {
-        w -= T(2.5);
-        p = T(2.81022636e-08);
-        p = T(3.43273939e-07) + p * w;
-        p = T(-3.5233877e-06) + p * w;
-        p = T(-4.39150654e-06) + p * w;
-        p = T(0.00021858087) + p * w;
-        p = T(-0.00125372503) + p * w;
-        p = T(-0.00417768164) + p * w;
-        p = T(0.246640727) + p * w;
-        p = T(1.50140941) + p * w;
-    } else {
-        w = sqrt(w) - T(3);
-        p = T(-0.000200214257);
-        p = T(0.000100950558) + p * w;
-        p = T(0.00134934322) + p * w;
-        p = T(-0.00367342844) + p * w;
-        p = T(0.00573950773) + p * w;
-        p = T(-0.0076224613) + p * w;
-        p = T(0.00943887047) + p * w;
-        p = T(1.00167406) + p * w;
-        p = T(2.83297682) + p * w;
-    }
-    T r = p * x;
-    // Newton on erf(r) = x: erf'(r) = 2/√π e^{−r²}.
-    const T slope = T(1.1283791670955126) * elem::exp(-r * r);
-    if (slope > T(0)) r -= (erf(r) - x) / slope;
-    return r;
-}
-
-// The Gaussian of variance v restricted and renormalised to the half-circle [−π/2, π/2]:
-// K_f's azimuth around a. One fiber's forward turn, averaged over h, is close to a Gaussian
-// of the same mean cosine (for Chiang's fiber at θ = 0, η = 1.55, β_n = 0.3: density 0.688
-// against 0.685 at the peak, 0.468 against 0.475 at 0.5 rad), and Gaussians compose: the
-// turns of k events are the Gaussian of k times the variance. Large v tends to the uniform
-// half-circle of Zinke et al. 2008.
-template <typename T> class HalfCircleGaussian {
-  public:
-    HalfCircleGaussian() = default;
-    HAIRSCATTER_HD explicit HalfCircleGaussian(T variance) {
-        using std::erf;
-        using std::sqrt;
-        const T v = is_finite(variance) ? clamp(variance, kMinSourceSpread<T>, kMaxSourceSpread<T>) : kMaxSourceSpread<T>;
-        root_2v_ = sqrt(T(2) * v);
-        inv_2v_ = T(0.5) / v;
-        mass_ = erf(kHalfPi<T> / root_2v_);  // of [−π/2, π/2]
-        scale_ = T(0.56418958354775628695) / (root_2v_ * mass_);  // 1 / (√π √(2v) mass)
-    }
-    // Density on [−π/2, π/2] (0 outside).
-    HAIRSCATTER_HD T pdf(T x) const {
-        if (!(abs_value(x) <= kHalfPi<T>)) return T(0);
-        return scale_ * elem::exp(-x * x * inv_2v_);
-    }
-    // u ∈ [0, 1] → x ∈ [−π/2, π/2].
-    HAIRSCATTER_HD T sample(T u) const {
-        const T y = mass_ * (T(2) * clamp(u, T(0), T(1)) - T(1));
-        return clamp(root_2v_ * erf_inverse(y), -kHalfPi<T>, kHalfPi<T>);
-    }
-
-  private:
-    T root_2v_ = T(1), inv_2v_ = T(1), mass_ = T(1), scale_ = T(1);
-};
-
-// The fibers that light crosses to come n fibers deep along a when every fiber it passes
-// turns it (docs/theory.md §5.7, "Turning light"). The 1D stack lets light run straight along
-// a; each forward event turns it by an angle of mean cosine μ_f, so after j events its
-// direction makes an angle φ_j with a, and it crosses 1/E[cos φ_j] fibers per fiber of
-// progress along a (the flux's diffusivity). E[cos φ_j] runs from 1 (j = 0: the last
-// fiber before the point is crossed along a) to 2/π, the uniform half-circle's (the 2D
-// diffusivity π/2), through the Gaussian turn of variance −2 j ln μ_f:
-//     c_j = 2/π + (1 − 2/π) exp(−v_j / (2 (1 − 2/π))),   v_j = −2 j ln μ_f,
-// which has the Gaussian's slope at v = 0 and the half-circle's limit (within 4.5 % of the
-// truncated Gaussian's own mean cosine everywhere). The depth is Σ_{j<n} 1/c_j, with the
-// fraction of the last fiber counted as such; n ≤ 1 is unchanged (one fiber is crossed
-// along a). Lossless stacks still pass or return everything at any depth. n comes from
-// dual_stack_depth (finite, ≥ 0); μ_f is clamped to [1e-6, 1].
-template <typename T> HAIRSCATTER_HD T dual_turned_depth(T n, T mu_f) {
-    if (!(n > T(1))) return n;
-    constexpr T lim = T(0.63661977236758134308), w = T(1) - lim;  // 2/π and 1 − 2/π
-    const T mu = mu_f > T(1e-6) ? (mu_f < T(1) ? mu_f : T(1)) : T(1e-6);
-    const T lambda = -elem::log(mu) / w;  // q^j = e^{−λ j} = μ_f^{j/w}
-    const T q = elem::exp(-lambda);
-    // The first fibers one by one; past 32 (fibers that turn light very little), the rest as
-    // the integral of the same summand over [j − ½, n − ½], the midpoint rule's span:
-    //     ∫ dx / (2/π + w e^{−λx}) = (x + ln(2/π + w e^{−λx}) / λ) / (2/π).
-    constexpr int kTerms = 32;
-    T depth = T(0), qj = T(1);
-    int j = 0;
-    for (; T(j + 1) <= n && j < kTerms; ++j) {
-        depth += T(1) / (lim + w * qj);
-        qj *= q;
-    }
-    const T rest = n - T(j);  // fibers left, the last perhaps a fraction
-    if (rest <= T(1) || !(lambda > T(1e-6))) return depth + rest / (lim + w * qj);
-    const T e0 = qj * elem::exp(T(0.5) * lambda), e1 = qj * elem::exp(-(rest - T(0.5)) * lambda);  // e^{−λx} at both ends
-    return depth + (rest + elem::log((lim + w * e1) / (lim + w * e0)) / lambda) / lim;
-}
-
 namespace detail {
 // ln(x / y) / ln(1 - ε): the mean number of events of a kind, from a stack made with that
 // kind's albedo scaled by (1 - ε); 0 where either stack is empty.
@@ -259,10 +137,7 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T mean_events(T sc
 template <typename T>
 HAIRSCATTER_HD DualStreams<T> dual_streams(const DualScatteringEntry<T>& e, T n_fibers, T m_fibers) {
     DualStreams<T> s;
-    const T mf = (e.mu_f.x + e.mu_f.y + e.mu_f.z) * T(1.0 / 3.0), mb = (e.mu_b.x + e.mu_b.y + e.mu_b.z) * T(1.0 / 3.0);
-    // The stacks' depths as the fibers the turning light crosses (at most kDeepStack).
-    const T n = dual_stack_depth(dual_turned_depth(dual_stack_depth(n_fibers), mf));
-    const T m = dual_stack_depth(dual_turned_depth(dual_stack_depth(m_fibers), mf));
+    const T n = dual_stack_depth(n_fibers), m = dual_stack_depth(m_fibers);
     // Lanes 0–2: the channels; lane 3: the channel mean, whose albedos give the events below.
     // The same four layers n deep (lanes 0–3) and m deep (4–7), as one batch.
     const T af = (e.a_f.x + e.a_f.y + e.a_f.z) * T(1.0 / 3.0), ab = (e.a_b.x + e.a_b.y + e.a_b.z) * T(1.0 / 3.0);
@@ -280,38 +155,26 @@ HAIRSCATTER_HD DualStreams<T> dual_streams(const DualScatteringEntry<T>& e, T n_
         s.forward[k] = den > T(0) ? clamp(T_[k] / den, T(0), T(1)) : T(0);
         s.back[k] = den > T(0) ? clamp(R[k] * T_[4 + k] / den, T(0), T(1)) : T(0);
     }
-    // The events, from the mean channel's stacks with a_f, then a_b, scaled by 1 - ε: in
-    // double whatever T is (a float quotient of two stacks 1e-3 apart loses the events of
-    // deep stacks: 40 % in v_f at 15 fibers, 80° off normal), with the unscaled stacks
-    // recomputed beside them (lanes 4 and 5).
-    constexpr double eps = 1e-6;
-    const double inv_log = 1.0 / elem::log1p(-eps);
-    LayerLanes<double, 8> d;
-    const double nd = double(n), md = double(m), afd = double(af), abd = double(ab);
-    const double depth_d[8] = {nd, nd, md, md, nd, md, 0.0, 0.0};
-    d.a_f[0] = afd * (1 - eps), d.a_b[0] = abd;
-    d.a_f[1] = afd, d.a_b[1] = abd * (1 - eps);
-    d.a_f[2] = afd * (1 - eps), d.a_b[2] = abd;
-    d.a_f[3] = afd, d.a_b[3] = abd * (1 - eps);
-    for (int k = 4; k < 8; ++k) d.a_f[k] = afd, d.a_b[k] = abd;
+    // The events, from the mean channel's stacks with a_f, then a_b, scaled by 1 - ε.
+    constexpr T eps = sizeof(T) < 8 ? T(1e-3) : T(1e-6);
+    const T inv_log = T(1) / elem::log1p(-eps);
+    LayerLanes<T, 4> d;
+    const T depth_d[4] = {n, n, m, m};
+    d.a_f[0] = af * (T(1) - eps), d.a_b[0] = ab;
+    d.a_f[1] = af, d.a_b[1] = ab * (T(1) - eps);
+    d.a_f[2] = af * (T(1) - eps), d.a_b[2] = ab;
+    d.a_f[3] = af, d.a_b[3] = ab * (T(1) - eps);
     layer_lanes(d);
-    double Rd[8], Td[8];
+    T Rd[4], Td[4];
     layered_stacks(d, depth_d, Rd, Td);
-    using detail::mean_events;
-    const T events_f = T(mean_events(Td[0], Td[4], inv_log)), events_b = T(mean_events(Td[1], Td[4], inv_log));
-    const T returned_f = T(mean_events(Rd[0], Rd[4], inv_log)), returned_b = T(mean_events(Rd[1], Rd[4], inv_log));
-    const T far_f = T(mean_events(Td[2], Td[5], inv_log)), far_b = T(mean_events(Td[3], Td[5], inv_log));
     const T bf = (e.beta2_f.x + e.beta2_f.y + e.beta2_f.z) * T(1.0 / 3.0);
     const T bb = (e.beta2_b.x + e.beta2_b.y + e.beta2_b.z) * T(1.0 / 3.0);
-    const T vf = events_f * bf + events_b * bb;
-    const T vb = returned_f * bf + returned_b * bb + far_f * bf + far_b * bb;
+    using detail::mean_events;
+    const T far_side = mean_events(Td[2], T_[7], inv_log) * bf + mean_events(Td[3], T_[7], inv_log) * bb;
+    const T vf = mean_events(Td[0], T_[3], inv_log) * bf + mean_events(Td[1], T_[3], inv_log) * bb;
+    const T vb = mean_events(Rd[0], R[3], inv_log) * bf + mean_events(Rd[1], R[3], inv_log) * bb + far_side;
     s.spread_f = clamp(is_finite(vf) ? vf : T(0), kMinSourceSpread<T>, kMaxSourceSpread<T>);
     s.spread_b = clamp(is_finite(vb) ? vb : T(0), kMinSourceSpread<T>, kMaxSourceSpread<T>);
-    // Each event turns the light around the fiber by an angle whose mean cosine is μ (the
-    // entry's mu_f, mu_b). Mean cosines of independent turns multiply, so the variance of the
-    // equivalent Gaussian, −2 ln μ per event, adds over the events like the θ spreads.
-    const T turn = events_f * dual_turn_variance(mf) + events_b * dual_turn_variance(mb);
-    s.turn_f = clamp(is_finite(turn) ? turn : T(0), kMinSourceSpread<T>, kMaxSourceSpread<T>);
     return s;
 }
 template <typename T>
@@ -388,8 +251,7 @@ template <typename T> class DualSourceKernel {
     };
 
     HAIRSCATTER_HD DualSourceKernel(const V3& a, const DualStreams<T>& streams)
-        : a_(a), c_f_(streams.forward), c_b_(streams.back), m_f_(streams.spread_f), m_b_(streams.spread_b),
-          turn_f_(streams.turn_f) {
+        : a_(a), c_f_(streams.forward), c_b_(streams.back), m_f_(streams.spread_f), m_b_(streams.spread_b) {
         valid_ = is_finite(a) && is_finite(c_f_) && is_finite(c_b_);
         const T sa = clamp(a.x, T(-1), T(1));
         sin_a_ = is_finite(sa) ? sa : T(0);
@@ -419,8 +281,7 @@ template <typename T> class DualSourceKernel {
         r.pdf = p_f_ * kf + p_b_ * kb;
         return r;
     }
-    // u.x picks the side, (u.y, u.z) θs, u.w the azimuth within the half-circle (K_f's
-    // Gaussian, K_b's uniform).
+    // u.x picks the side, (u.y, u.z) θs, u.w the azimuth within the half-circle.
     HAIRSCATTER_HD Sample sample(const V4& u) const {
         Sample r;
         if (!(p_f_ + p_b_ > T(0)) || !is_finite(u)) return r;
@@ -429,7 +290,7 @@ template <typename T> class DualSourceKernel {
         // Conditioned on θo = -θa, M peaks at θs = θa.
         const T sin_s = lobe.sample_sin_theta(-sin_a_, cos_a_, clamp(u.y, T(0), T(1)), clamp(u.z, T(0), T(1)));
         const T half = kPi<T> * (clamp(u.w, T(0), T(1)) - T(0.5));
-        const T psi = forward ? turn_f_.sample(u.w) : (half >= T(0) ? kPi<T> - half : -kPi<T> - half);
+        const T psi = forward ? half : (half >= T(0) ? kPi<T> - half : -kPi<T> - half);
         r.s = direction_from_azimuth(a_, clamp(sin_s, T(-1), T(1)), psi);
         const EvalPdf ep = eval_pdf(r.s);
         r.pdf = ep.pdf > T(0) ? ep.pdf : T(0);
@@ -443,8 +304,8 @@ template <typename T> class DualSourceKernel {
         kf = kb = T(0);
         if (!(valid_ && is_finite(s))) return false;
         const T sin_s = clamp(s.x, T(-1), T(1)), cos_s = cos_from_sin(sin_s);
-        const T turn = relative_azimuth(a_, s);
-        if (abs_value(turn) < kHalfPi<T>) kf = m_f_.eval(sin_s, cos_s, -sin_a_, cos_a_) * turn_f_.pdf(turn);
+        const bool near_half = abs_value(relative_azimuth(a_, s)) < kHalfPi<T>;
+        if (near_half) kf = m_f_.eval(sin_s, cos_s, -sin_a_, cos_a_) * kInvPi<T>;
         else kb = m_b_.eval(sin_s, cos_s, -sin_a_, cos_a_) * kInvPi<T>;
         return true;
     }
@@ -452,7 +313,6 @@ template <typename T> class DualSourceKernel {
     V3 a_;
     V3 c_f_, c_b_;
     DeonLongitudinal<T> m_f_, m_b_;
-    HalfCircleGaussian<T> turn_f_;
     T sin_a_ = T(0), cos_a_ = T(1);
     T p_f_ = T(0), p_b_ = T(0);
     bool valid_ = false;
