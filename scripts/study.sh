@@ -221,16 +221,21 @@ table() {  # csv → markdown table
 }
 # The seconds to reach a relative RMSE (log-log interpolation between levels; "not reached"
 # when the largest level is still above it).
-reach() {  # csv integrator target [error column: 4 per pixel (default), 6 after 4×4 blocks]
-    awk -F, -v n="$2" -v t="$3" -v c="${4:-4}" '
-        $1 == n { e = $c; if (prev != "" && e <= t && pe > t) { f = (log(pe) - log(t)) / (log(pe) - log(e));
+# With a noise column (5 per pixel, 7 after 4×4 blocks), the error against the truth instead:
+# √(e² − e_ref²), the reference's own noise removed (the image and the reference are
+# independent, so their squared errors add).
+reach() {  # csv integrator target [error column: 4 per pixel (default), 6 after 4×4 blocks] [noise column]
+    awk -F, -v n="$2" -v t="$3" -v c="${4:-4}" -v r="${5:-0}" '
+        $1 == n { e = $c; if (r > 0) { v = e * e - $r * $r; e = v > 0 ? sqrt(v) : 1e-9 }
+                  if (prev != "" && e <= t && pe > t) { f = (log(pe) - log(t)) / (log(pe) - log(e));
                       printf "%.3g", exp(log(ps) + f * (log($3) - log(ps))); done = 1; exit }
                   if (e <= t && prev == "") { printf "%.3g", $3; done = 1; exit }
                   prev = 1; pe = e; ps = $3 }
         END { if (!done) printf "not reached" }' "$1"
 }
-floor_of() {  # csv integrator column: the error at the largest spp
-    awk -F, -v n="$2" -v c="$3" '$1 == n { e = $c } END { printf "%.3f", e }' "$1"
+floor_of() {  # csv integrator column [noise column]: the error at the largest spp
+    awk -F, -v n="$2" -v c="$3" -v r="${4:-0}" '$1 == n { e = $c; if (r > 0) { v = e * e - $r * $r; e = v > 0 ? sqrt(v) : 0 } }
+        END { printf "%.3f", e }' "$1"
 }
 {
     echo "# Results of the origin study's measurements"
@@ -341,7 +346,9 @@ floor_of() {  # csv integrator column: the error at the largest spp
     echo "relative RMSE = √(mean (x − ref)²) / mean ref over the hair pixels against the path-traced"
     echo "reference of the --reference-spp above (its own relative RMSE in the reference columns);"
     echo "after 4×4 blocks: each 4 × 4 block's hair pixels averaged first, which removes most noise"
-    echo "and keeps the bias."
+    echo "and keeps the bias. The reference is noisy too; the rows \"against the truth\" remove its"
+    echo "noise from each error, √(e² − e_ref²) (image and reference are independent, so their squared"
+    echo "errors add), which estimates the error against a converged reference."
     echo
     for t in "$out"/time_to_error_*.csv; do
         tag="$(basename "$t" .csv)"; tag="${tag#time_to_error_}"
@@ -357,6 +364,15 @@ floor_of() {  # csv integrator column: the error at the largest spp
         done
         echo "| floor per pixel (largest spp) | $(floor_of "$t" dual 4) | $(floor_of "$t" dual_field 4) | $(floor_of "$t" path 4) |"
         echo "| floor after 4×4 blocks | $(floor_of "$t" dual 6) | $(floor_of "$t" dual_field 6) | $(floor_of "$t" path 6) |"
+        echo "| *against the truth (the reference's noise removed):* | | | |"
+        for e in 0.20 0.10; do
+            echo "| ${e} per pixel | $(reach "$t" dual "$e" 4 5) | $(reach "$t" dual_field "$e" 4 5) | $(reach "$t" path "$e" 4 5) |"
+        done
+        for e in 0.10 0.08; do
+            echo "| ${e} after 4×4 blocks | $(reach "$t" dual "$e" 6 7) | $(reach "$t" dual_field "$e" 6 7) | $(reach "$t" path "$e" 6 7) |"
+        done
+        echo "| floor per pixel (largest spp) | $(floor_of "$t" dual 4 5) | $(floor_of "$t" dual_field 4 5) | $(floor_of "$t" path 4 5) |"
+        echo "| floor after 4×4 blocks | $(floor_of "$t" dual 6 7) | $(floor_of "$t" dual_field 6 7) | $(floor_of "$t" path 6 7) |"
         echo
         [[ -f "$out/time_to_error_$tag.png" ]] && echo "![relative RMSE against seconds](time_to_error_$tag.png)" && echo
         table "$t"

@@ -192,41 +192,39 @@ class TwoStreamIntegrator final : public PixelIntegrator {
             }
         }
 
-        // One arrival direction from the fiber's sampler. The first thing along it is one ray:
-        // where that is not hair the direction is open and sees the source itself; only
-        // behind hair are the surfaces traced on their own (for the counts' bound) and the
-        // fibers counted or looked up (a blocked ray has at least one fiber). The same ray
-        // sees the hair as the light sample's shadow ray does, so that the two halves of the
-        // direct light see the same hair.
+        // One arrival direction from the fiber's sampler. Along it, the first surface (a ray
+        // through the surfaces alone: the source, and the counts' bound) and whether any hair
+        // lies before it (an any-hit ray through the hair alone, cheaper than a closest hit
+        // through both): where none does, the direction is open and sees the source itself;
+        // else the fibers are counted or looked up (a blocked ray has at least one fiber). The
+        // hair ray sees the hair as the light sample's shadow ray does, so that the two halves
+        // of the direct light see the same hair.
         const hs::HairSample<float> s = bound.sample(rng.u4());
         if (!(s.pdf > 0)) return L;
         const vec3 a = sp.to_world(s.wi);
-        const Hit first = scene.intersect(sp.p, a, kInf, sp.strand);
-        if (first.kind != Hit::kHair) return L + s.weight * at_hit(first, a, depth + 1, s.pdf, rng);
         const Hit source = scene.intersect_opaque(sp.p, a, kInf);
+        const float t_source = source.kind == Hit::kMiss ? kInf : source.t;
+        if (!scene.hair_occluded(sp.p, a, t_source, sp.strand))
+            return L + s.weight * at_hit(source, a, depth + 1, s.pdf, rng);
         const hs::DualScatteringEntry<float> entry = tables_.lookup(s.wi.x);
         const std::uint32_t limit = count_limit(entry);
         const bool beyond = c_.shading.options().source == DualSource::kBeyondExit;
         const bool exact = c_.shading.options().counts == DualCounts::kExact;
-        const float t_source = source.kind == Hit::kMiss ? kInf : source.t;
         const Stack n = fibers(sp.p, a, t_source, sp.strand, limit, true, beyond, rng);
         if (n.n == 0) return L + s.weight * at_hit(source, a, depth + 1, s.pdf, rng);
 
-        // Behind the point, along −a, the same: hair first, or no fibers there. (With field
-        // counts this matters beyond the ray's cost: the field spreads the hair's faces over a
-        // lattice spacing, so at a point on a face a lookup alone expects about half a fiber
-        // outside it, and a fiber drawn there takes T_m of the light the face's own side sends
-        // back in: dense blond blocks and the scalp were 7–11 % too dark; docs/dual.md.) The far
-        // stack's end is found only when a source direction needs it (exact counts find it with
-        // the count, at no extra cost).
-        const Hit first_behind = scene.intersect(sp.p, -a, kInf, sp.strand);
-        float t_behind = first_behind.kind == Hit::kMiss ? kInf : first_behind.t;
+        // Behind the point, along −a, the same two rays: hair before the first surface, or no
+        // fibers there. (With field counts this matters beyond the rays' cost: the field
+        // spreads the hair's faces over a lattice spacing, so at a point on a face a lookup
+        // alone expects about half a fiber outside it, and a fiber drawn there takes T_m of the
+        // light the face's own side sends back in: dense blond blocks and the scalp were 7–11 %
+        // too dark; docs/dual.md.) The far stack's end is found only when a source direction
+        // needs it (exact counts find it with the count, at no extra cost).
+        const Hit behind = scene.intersect_opaque(sp.p, -a, kInf);
+        const float t_behind = behind.kind == Hit::kMiss ? kInf : behind.t;
         Stack m;
-        if (first_behind.kind == Hit::kHair) {
-            const Hit behind = scene.intersect_opaque(sp.p, -a, kInf);
-            t_behind = behind.kind == Hit::kMiss ? kInf : behind.t;
+        if (scene.hair_occluded(sp.p, -a, t_behind, sp.strand))
             m = fibers(sp.p, -a, t_behind, sp.strand, limit, true, beyond && exact, rng);
-        }
         bool m_end_known = !beyond || exact || m.n == 0;
         const hs::DualSourceKernel<float> kernel(s.wi, hs::dual_streams(entry, n.n, m.n));
         // Sources beyond the exits (the default): light from s enters the stack on a's side
