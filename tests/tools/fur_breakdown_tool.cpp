@@ -10,8 +10,10 @@
 // reference's energy and the lobe's share of the error, Σ_bins |f_p − f_ref,p| dω over the
 // reference's whole energy (the shares add up to at least the whole f's relative L1, which
 // is printed next to them: lobes that overlap can cancel). Blond is the mean over RGB.
+// With --marginals, per case and lobe instead: the lossless model's and reference's f
+// integrated over φ per bin of sin θi, and over sin θi per bin of φ (the lobe's shape).
 //
-//   fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING]
+//   fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals]
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -46,18 +48,42 @@ std::vector<glm::dvec3> lobe_bins(const phys_fur::FurCase& fc, const glm::dvec3&
     return phys_fur::fur_model_bins(hs::FurMaterial<double>(p, c), grid);
 }
 
+// Per lobe, the lossless model's and reference's f over sin θi (summed over φ) and over φ
+// (summed over sin θi), each bin's energy.
+void print_marginals(const phys_fur::FurCase& fc, const phys_fur::Histogram& h, const phys_fiber::CachedCase& grid) {
+    static const char* kName[5] = {"R", "TT", "TRT", "higher", "S"};
+    const double dw = (2.0 / kNu) * (2 * phys_fiber::kPi / kNphi);
+    for (int l = 0; l < 5; ++l) {
+        const std::vector<glm::dvec3> model = lobe_bins(fc, glm::dvec3(0.0), l, grid);
+        double mu[2][kNu] = {}, mp[2][kNphi] = {};
+        for (int b = 0; b < kNu * kNphi; ++b) {
+            const double m = model[std::size_t(b)][0] * dw, r = h.f(b, 0, l) * dw;
+            mu[0][b / kNphi] += m, mu[1][b / kNphi] += r;
+            mp[0][b % kNphi] += m, mp[1][b % kNphi] += r;
+        }
+        std::printf("%s %s sin(theta_i) model/ref:", fc.name().c_str(), kName[l]);
+        for (int i = 0; i < kNu; ++i) std::printf(" %.4f/%.4f", mu[0][i], mu[1][i]);
+        std::printf("\n%s %s phi model/ref:", fc.name().c_str(), kName[l]);
+        for (int i = 0; i < kNphi; ++i) std::printf(" %.4f/%.4f", mp[0][i], mp[1][i]);
+        std::printf("\n");
+    }
+    std::fflush(stdout);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     long long rays = 1000000;
     int threads = 2;
     std::string only;
+    bool marginals = false;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--rays") && i + 1 < argc) rays = std::atoll(argv[++i]);
         else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
+        else if (!std::strcmp(argv[i], "--marginals")) marginals = true;
         else {
-            std::fprintf(stderr, "usage: fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING]\n");
+            std::fprintf(stderr, "usage: fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals]\n");
             return 2;
         }
     }
@@ -77,6 +103,10 @@ int main(int argc, char** argv) {
         grid.c = fc.cortex_case();
         grid.n_u = kNu, grid.n_phi = kNphi;
         phys_fur::trace_parallel(tracer, grid.c.wo(), rays, 11, threads, h);
+        if (marginals) {
+            print_marginals(fc, h, grid);
+            continue;
+        }
         for (int pigment = 0; pigment < 2; ++pigment) {
             std::vector<glm::dvec3> lobe[5];
             for (int l = 0; l < 5; ++l) lobe[l] = lobe_bins(fc, pigment ? blond : glm::dvec3(0.0), l, grid);

@@ -281,13 +281,20 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 // overstated it there by a quarter at θo 0° (0.082 against 0.068). Toward grazing wo the
 // facets it sees lean toward it, and F_r falls below the smooth F (h-averaged at θo 75°
 // with β 0.3: 0.21 against 0.36). The fibre attenuates each chord as its first one.
+// The same reflections give R's shape at the node: the d'Eon lobe (variance v_R, centre θc)
+// whose first two moments of sin θi are theirs, each reflection weighted by F G1 (vmf_lobe),
+// kept as v_R and δ_R = θo − 2α + θc, the turn from the smooth tilt's conditioning angle
+// θo − 2α to −θc. A facet of longitudinal slope a turns sin θi by 2a cos θo cos γ to first
+// order (γ the incidence angle in the section, sin γ = h): toward the rim, where F is
+// largest, the facets' spread and tilt nearly stop acting on R (v_R ≈ v cos²γ at θo 0°), a
+// narrowing Chiang's single v per lobe does not have.
 template <typename T> struct RoughCortexTables {
     static constexpr int kTheta = 13, kH = 9;  // θo nodes over ±kThetaMax, |h| nodes over [0, 1]
     static constexpr double kThetaMax = 1.5;   // (beyond, the nearest node: cos θo → 0 there)
-    static constexpr int kValues = 5;
-    T share[kTheta][kH][kValues];              // TT, TRT, later, r, F_r / F
+    static constexpr int kValues = 7;
+    T share[kTheta][kH][kValues];              // TT, TRT, later, r, F_r / F, v_R, δ_R
 
-    // The five values at (θo, h), bilinear between the nodes.
+    // The values at (θo, h), bilinear between the nodes.
     HAIRSCATTER_HD void at(T theta, T h, T (&out)[kValues]) const {
         const T u = clamp((theta / T(kThetaMax) + T(1)) * T(0.5), T(0), T(1)) * T(kTheta - 1);
         const T v = clamp(abs_value(h), T(0), T(1)) * T(kH - 1);
@@ -394,6 +401,38 @@ struct RoughFacets {
     }
 };
 
+// The d'Eon lobe whose moments of sin θi are m1 and m2. d'Eon et al. 2011's M_p of variance v
+// is the θ-marginal of a von Mises–Fisher lobe of concentration κ = 1/v about a direction c of
+// inclination θc, whose moments are (Mardia & Jupp 2000, "Directional statistics", §9.3.2)
+//   E[x] = A sin θc,  E[x²] = A/κ + (1 − 3A/κ) sin²θc,  A(κ) = coth κ − 1/κ,
+// x = sin θi. v is found by bisection (in log v) between the narrowest lobe and the widest
+// whose sin θc = m1/A stays within [−1, 1]; E[x²] grows with v there.
+struct VmfLobe {
+    double v, theta_c;
+};
+inline VmfLobe vmf_lobe(double m1, double m2) {
+    const auto mean_length = [](double kappa) {  // A(κ), its series below κ = 1e-3
+        return kappa < 1e-3 ? kappa / 3 : (kappa > 20 ? 1.0 : 1 / std::tanh(kappa)) - 1 / kappa;
+    };
+    const auto second = [&](double v) {  // E[x²] of the lobe of variance v with E[x] = m1
+        const double a = mean_length(1 / v), s = clamp(m1 / a, -1.0, 1.0);
+        return a * v + (1 - 3 * a * v) * s * s;
+    };
+    double lo = std::log(longitudinal_variance(1e-3)), hi = std::log(100.0);
+    if (std::fabs(m1) > 1e-12)  // the widest lobe that keeps |sin θc| ≤ 1: A(1/v) ≥ |m1|
+        for (int k = 0; k < 60 && std::fabs(m1) < 1; ++k) {
+            const double mid = 0.5 * (lo + hi);
+            (mean_length(std::exp(-mid)) >= std::fabs(m1) ? lo : hi) = mid;
+        }
+    double v_lo = std::log(longitudinal_variance(1e-3)), v_hi = hi;
+    for (int k = 0; k < 60; ++k) {
+        const double mid = 0.5 * (v_lo + v_hi);
+        (second(std::exp(mid)) < m2 ? v_lo : v_hi) = mid;
+    }
+    const double v = std::exp(0.5 * (v_lo + v_hi));
+    return {v, std::asin(clamp(m1 / mean_length(1 / v), -1.0, 1.0))};
+}
+
 // The rough cortex's walk (RoughCortexTables) for index η, cuticle tilt α and roughness β_m,
 // β_n: 2,000 walks per node (each share within ~1 % at one standard deviation), at most 400
 // events per walk (the rest counts as later; a tail ratio of 0.95, the largest at β 0.3,
@@ -414,10 +453,15 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             // (cos γ, sin γ) in the section, sin γ = h, with wo's section part along (1, 0).
             const glm::dvec3 out(std::sin(theta), std::cos(theta) * std::sqrt(1 - h * h), -std::cos(theta) * h);
             double entered = 0, first = 0, second = 0, later = 0, tail_events = 0, reflected = 0;
+            double r_x = 0, r_x2 = 0;  // R's sin θi and its square, F G1-weighted sums
             for (int w = 0; w < kWalks; ++w) {
                 const glm::dvec3 m = facet(out);
                 const double ci = glm::dot(out, m);
-                reflected += fur_fresnel(ci, eta) * facets.unmasked(2 * ci * m - out);  // its expectation: no coin's noise
+                const glm::dvec3 r = 2 * ci * m - out;
+                const double kept = fur_fresnel(ci, eta) * facets.unmasked(r);  // its expectation: no coin's noise
+                reflected += kept;
+                r_x += kept * r.x;
+                r_x2 += kept * r.x * r.x;
                 if (rng.uniform() < fur_fresnel(ci, eta)) continue;  // reflected at entry: R
                 entered += 1;
                 const double ct = std::sqrt(std::max(0.0, 1 - (1 - ci * ci) / (eta * eta)));
@@ -441,6 +485,9 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             tab.share[i][j][2] = T(later * inv);
             tab.share[i][j][3] = T(mean_tail / (1 + mean_tail));
             tab.share[i][j][4] = T(reflected / kWalks / fur_fresnel(out.y, eta));  // F_r over the smooth F
+            const VmfLobe lobe = reflected > 0 ? vmf_lobe(r_x / reflected, r_x2 / reflected) : VmfLobe{0, -theta + 2 * alpha};
+            tab.share[i][j][5] = T(lobe.v);
+            tab.share[i][j][6] = T(theta - 2 * alpha + lobe.theta_c);  // δ_R: θo' = θo − 2α turned to −θc
         }
     }
     return tab;
@@ -894,6 +941,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         T phi_p[std::size_t(kLobes + 1)];      // Φ(p, h), wrapped (0 for the residual)
         int theta_bin;
         T sin_o;
+        DeonLongitudinal<T> r_lobe;            // R's M_p (the rough cortex's width at h)
     };
 
     HAIRSCATTER_HD V3 albedo_from(const Outgoing& o) const {
@@ -918,6 +966,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         // inside at the k-th chord. Smooth: Q_k = F^(k−1), the sum 1 / (1 − T F).
         T passes[3];
         T entry_reflect = fresnel;  // R's share at entry: the smooth F, or the rough boundary's F_r
+        T r_shape[2] = {T(0), T(0)};  // R's v_R and δ_R (the rough cortex's)
         if (prm.rough_cortex) {
             // The rough cortex's walk (RoughCortexTables): the facets reflect F_r at entry; of
             // the light that entered (1 − F_r), e1 leaves after one chord, e2 after two, the
@@ -928,6 +977,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             // Lossless (T = 1) every entered share leaves: Σ_p A_p = 1 as before.
             T e[detail::RoughCortexTables<T>::kValues];
             mat_->rough_cortex().at(elem::asin(sin_o), h_, e);
+            r_shape[0] = e[5], r_shape[1] = e[6];
             entry_reflect = clamp(e[4] * fresnel, T(0), T(1));
             for (int c = 0; c < 3; ++c) {
                 const T t = chord.transmittance[c], in = T(1) - entry_reflect, rt = T(1) - e[3] * t;
@@ -961,6 +1011,19 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             }
         mat_->template condition<LobeSet::kAll>(o.m, sin_o, cos_o);
         for (int p = 0; p <= kLobes; ++p) o.phi_p[p] = p < kLobes ? exit_azimuth_wrapped(p, gamma_o_, gamma_t) : T(0);
+        o.r_lobe = mat_->longitudinal(0);
+        if (prm.rough_cortex) {
+            // R's shape at h from the same facets (RoughCortexTables): the lobe of variance v_R
+            // (floored at the narrowest lobe the parameters allow), its conditioning angle
+            // turned by −δ_R from the tilt's (the controls' R tilt still acts on top).
+            const T v_floor = longitudinal_variance(kMinRoughness<T>);
+            o.r_lobe = DeonLongitudinal<T>(r_shape[0] > v_floor ? r_shape[0] : v_floor);
+            T sd, cd;
+            elem::sincos(r_shape[1], sd, cd);
+            const T s0 = o.m.sin_o[0], c0 = o.m.cos_o[0];
+            o.r_lobe.condition(o.m, 0, s0 * cd - c0 * sd, abs_value(c0 * cd + s0 * sd));
+            o.m.take_roots();
+        }
         if constexpr (kW) {
             T total = T(0);
             for (int p = 0; p <= kS; ++p) total += (o.w[p] = o.a[p][0] + o.a[p][1] + o.a[p][2]);
@@ -1015,7 +1078,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             sin_i = mat_->medulla().sample_longitudinal(o.theta_bin, o.sin_o, u.y, u.z, choice.rescaled);
             phi = mat_->medulla().sample_azimuth(o.theta_bin, u.w);
         } else {
-            sin_i = mat_->longitudinal(p).sample_sin_theta(o.m.sin_o[p], o.m.cos_o[p], u.y, u.z);
+            sin_i = (p == 0 ? o.r_lobe : mat_->longitudinal(p)).sample_sin_theta(o.m.sin_o[p], o.m.cos_o[p], u.y, u.z);
             phi = p < kLobes ? o.phi_p[p] + mat_->azimuthal().sample(u.w) : kTwoPi<T> * u.w - kPi<T>;
         }
         phi = wrap_pi(phi);
