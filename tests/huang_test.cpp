@@ -262,14 +262,16 @@ TEST(HuangChi2, ShiftedLobeIsRejected) {
     const hs::HuangMaterial<double> mat(specs::huang_params<double>(0.3, 2, glm::dvec3(0.2), 0.6, 0.3), Spec::quadrature(6, 8, 2));
     const hs::HuangFiber<double> fiber(mat);
     const glm::dvec3 wo = direction(30, 0.7);
+    // Through at(wo): the fiber's sample and pdf to the bit, the path walk done once.
+    const auto at = fiber.at(wo);
     // One pdf table for both samplers.
-    const chi2::Expected expected = chi2::expected_counts([&](const glm::dvec3& wi) { return fiber.pdf(wo, wi); }, options);
+    const chi2::Expected expected = chi2::expected_counts([&](const glm::dvec3& wi) { return at.pdf(wi); }, options);
     const chi2::Result good =
-        chi2::compare(chi2::histogram([&](const glm::dvec4& u) { return fiber.sample(wo, u).wi; }, options), expected, options);
+        chi2::compare(chi2::histogram([&](const glm::dvec4& u) { return at.sample(u).wi; }, options), expected, options);
     EXPECT_TRUE(good.passed) << good.report;
     const chi2::Histogram turned = chi2::histogram(
         [&](const glm::dvec4& u) {
-            const auto s = fiber.sample(wo, u);
+            const auto s = at.sample(u);
             if (s.lobe != hs::SampledLobe::kTT) return s.wi;
             const double d = 0.05;
             return glm::dvec3(s.wi.x, s.wi.y * std::cos(d) - s.wi.z * std::sin(d), s.wi.y * std::sin(d) + s.wi.z * std::cos(d));
@@ -456,10 +458,11 @@ TEST(HuangDual, DefaultTablesAreFastAndMatchMonteCarlo) {
     for (int node : {3, 20, 40, 60}) {
         const double th = t.theta_of(node);
         const glm::dvec3 wo(std::sin(th), std::cos(th), 0.0);
+        const auto at = fiber.at(wo);  // the fiber's samples to the bit, the path walk done once
         const int n = 40000;
         glm::dvec3 fwd(0.0), bwd(0.0), fwd2(0.0), bwd2(0.0);
         for (int k = 0; k < n; ++k) {
-            const auto s = fiber.sample(wo, glm::dvec4(uni(rng), uni(rng), uni(rng), uni(rng)));
+            const auto s = at.sample(glm::dvec4(uni(rng), uni(rng), uni(rng), uni(rng)));
             if (!(s.pdf > 0)) continue;
             const bool back = std::abs(hs::relative_azimuth(wo, s.wi)) < 0.5 * kPi;
             (back ? bwd : fwd) += s.weight;
