@@ -222,8 +222,8 @@ LONG_TESTS='HuangReference'
 # ctest -E pattern of the long statistical tests (see step_clang, step_asan).
 STATISTICAL_TESTS='Chi2|Furnace'
 # ...and of the long integrations that the asan step also leaves to the gcc and clang steps:
-# each checks a number by integrating eval thousands of times (Huang's lobe split, 20 s in
-# Release, three minutes under the sanitizers; Huang against its brute-force reference;
+# each checks a number by integrating eval thousands of times (the lobe split, 2 s in Release
+# for Huang through at(wo); Huang against its brute-force reference;
 # dual tables and a BCSDF built from Huang, 12 s in Release, 71 s under the sanitizers;
 # the dual tables against Monte Carlo, 5 s and 92 s; float M_p's normalisation by adaptive
 # quadrature, 5 s and 80 s; far-field and tabulated dual tables, 15 s and 40 s), code that

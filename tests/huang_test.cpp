@@ -200,26 +200,30 @@ TEST(HuangTables, MatchAFineRule) {
 
 // A round section has no orientation, and turning an ellipse by π is the same ellipse.
 TEST(HuangFiber, SectionSymmetries) {
-    auto eval_at = [](double aspect, double psi, const glm::dvec3& wo, const glm::dvec3& wi) {
-        const hs::HuangMaterial<double> mat(specs::huang_params<double>(0.3, 2, glm::dvec3(0.3), aspect, psi),
-                                            Spec::quadrature(9, 16, 2));
-        return hs::HuangFiber<double>(mat).eval(wo, wi);
+    // Each section's material once (its reflectance tables are nearly all of the test's time).
+    auto material = [](double aspect, double psi) {
+        return hs::HuangMaterial<double>(specs::huang_params<double>(0.3, 2, glm::dvec3(0.3), aspect, psi),
+                                         Spec::quadrature(9, 16, 2));
     };
+    const hs::HuangMaterial<double> round = material(1.0, 0.0), round_turned = material(1.0, 1.3);
+    const hs::HuangMaterial<double> ellipse = material(0.6, 0.5), ellipse_turned = material(0.6, 0.5 - kPi);
+    const hs::HuangFiber<double> a(round), b(round_turned), c(ellipse), d(ellipse_turned);
     std::mt19937_64 rng(3);
     std::uniform_real_distribution<double> uni(0, 1);
     for (int i = 0; i < 20; ++i) {
         const glm::dvec3 wo = direction(-80 + 160 * uni(rng), 2 * kPi * uni(rng));
         const glm::dvec3 wi = direction(-80 + 160 * uni(rng), 2 * kPi * uni(rng));
-        const glm::dvec3 a = eval_at(1.0, 0.0, wo, wi), b = eval_at(1.0, 1.3, wo, wi);
-        const glm::dvec3 c = eval_at(0.6, 0.5, wo, wi), d = eval_at(0.6, 0.5 - kPi, wo, wi);
+        const glm::dvec3 fa = a.eval(wo, wi), fb = b.eval(wo, wi), fc = c.eval(wo, wi), fd = d.eval(wo, wi);
         for (int ch = 0; ch < 3; ++ch) {
-            EXPECT_NEAR(a[ch], b[ch], 1e-9 * (1 + a[ch]));
-            EXPECT_NEAR(c[ch], d[ch], 1e-9 * (1 + c[ch]));
+            EXPECT_NEAR(fa[ch], fb[ch], 1e-9 * (1 + fa[ch]));
+            EXPECT_NEAR(fc[ch], fd[ch], 1e-9 * (1 + fc[ch]));
         }
     }
     // An ellipse seen along its minor axis differs from one seen along its major axis.
+    const hs::HuangMaterial<double> minor = material(0.5, 0.0), major = material(0.5, kPi / 2);
     const glm::dvec3 wo = direction(20, 0.0), wi = direction(-20, 0.4);
-    EXPECT_GT(std::abs(eval_at(0.5, 0.0, wo, wi).x - eval_at(0.5, kPi / 2, wo, wi).x), 1e-3 * eval_at(0.5, 0.0, wo, wi).x);
+    const double f_minor = hs::HuangFiber<double>(minor).eval(wo, wi).x, f_major = hs::HuangFiber<double>(major).eval(wo, wi).x;
+    EXPECT_GT(std::abs(f_minor - f_major), 1e-3 * f_minor);
 }
 
 // Energy: a lossless fiber's albedo is 1 to rounding at every direction, also for the most
@@ -258,14 +262,16 @@ TEST(HuangChi2, ShiftedLobeIsRejected) {
     const hs::HuangMaterial<double> mat(specs::huang_params<double>(0.3, 2, glm::dvec3(0.2), 0.6, 0.3), Spec::quadrature(6, 8, 2));
     const hs::HuangFiber<double> fiber(mat);
     const glm::dvec3 wo = direction(30, 0.7);
+    // Through at(wo): the fiber's sample and pdf to the bit, the path walk done once.
+    const auto at = fiber.at(wo);
     // One pdf table for both samplers.
-    const chi2::Expected expected = chi2::expected_counts([&](const glm::dvec3& wi) { return fiber.pdf(wo, wi); }, options);
+    const chi2::Expected expected = chi2::expected_counts([&](const glm::dvec3& wi) { return at.pdf(wi); }, options);
     const chi2::Result good =
-        chi2::compare(chi2::histogram([&](const glm::dvec4& u) { return fiber.sample(wo, u).wi; }, options), expected, options);
+        chi2::compare(chi2::histogram([&](const glm::dvec4& u) { return at.sample(u).wi; }, options), expected, options);
     EXPECT_TRUE(good.passed) << good.report;
     const chi2::Histogram turned = chi2::histogram(
         [&](const glm::dvec4& u) {
-            const auto s = fiber.sample(wo, u);
+            const auto s = at.sample(u);
             if (s.lobe != hs::SampledLobe::kTT) return s.wi;
             const double d = 0.05;
             return glm::dvec3(s.wi.x, s.wi.y * std::cos(d) - s.wi.z * std::sin(d), s.wi.y * std::sin(d) + s.wi.z * std::cos(d));
@@ -322,16 +328,18 @@ TEST(HuangControls, GainsScaleEachLobe) {
     // f is linear in the weights: one lobe on at a time, summed, is the controlled f.
     std::mt19937_64 rng(41);
     std::uniform_real_distribution<double> uni(0, 1);
+    // (The four one-lobe materials built once: their tables are most of the test's time.)
+    std::vector<hs::HuangMaterial<double>> one_lobe;
+    for (int k = 0; k < 4; ++k) {
+        hs::LobeControls<double> one;
+        for (int j = 0; j < 4; ++j) one.gain[j] = j == k ? c.gain[k] : 0.0;
+        one.tint[k] = c.tint[k];
+        one_lobe.emplace_back(p, q, one);
+    }
     for (int i = 0; i < 20; ++i) {
         const glm::dvec3 wi = direction(-80 + 160 * uni(rng), 2 * kPi * uni(rng));
         glm::dvec3 sum(0.0);
-        for (int k = 0; k < 4; ++k) {
-            hs::LobeControls<double> one;
-            for (int j = 0; j < 4; ++j) one.gain[j] = j == k ? c.gain[k] : 0.0;
-            one.tint[k] = c.tint[k];
-            const hs::HuangMaterial<double> m(p, q, one);
-            sum += hs::HuangFiber<double>(m).eval(wo, wi);
-        }
+        for (const hs::HuangMaterial<double>& m : one_lobe) sum += hs::HuangFiber<double>(m).eval(wo, wi);
         const glm::dvec3 f = hs::HuangFiber<double>(controlled).eval(wo, wi);
         for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(f[ch], sum[ch], 1e-12 * (1 + sum[ch]));
     }
@@ -450,10 +458,11 @@ TEST(HuangDual, DefaultTablesAreFastAndMatchMonteCarlo) {
     for (int node : {3, 20, 40, 60}) {
         const double th = t.theta_of(node);
         const glm::dvec3 wo(std::sin(th), std::cos(th), 0.0);
+        const auto at = fiber.at(wo);  // the fiber's samples to the bit, the path walk done once
         const int n = 40000;
         glm::dvec3 fwd(0.0), bwd(0.0), fwd2(0.0), bwd2(0.0);
         for (int k = 0; k < n; ++k) {
-            const auto s = fiber.sample(wo, glm::dvec4(uni(rng), uni(rng), uni(rng), uni(rng)));
+            const auto s = at.sample(glm::dvec4(uni(rng), uni(rng), uni(rng), uni(rng)));
             if (!(s.pdf > 0)) continue;
             const bool back = std::abs(hs::relative_azimuth(wo, s.wi)) < 0.5 * kPi;
             (back ? bwd : fwd) += s.weight;

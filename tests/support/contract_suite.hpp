@@ -167,16 +167,21 @@ TYPED_TEST_P(ModelContract, BoundToWoMatchesUnbound) {
 // ∫ eval dωi (adaptive cubature over sinθi × φ) equals albedo(wo); for the models that
 // conserve energy the albedo of a lossless fiber is 1 (Marschner's is an estimate:
 // checked against the integral, not against 1).
+// The cubatures here and in LobeSplitAddsUp, and SampleMatchesPdfChi2's samples and
+// cubature, call the model at one wo hundreds of thousands of times: through at(wo), whose
+// eval, pdf and sample are the fiber's to the bit (BoundToWoMatchesUnbound), the wo terms
+// are computed once instead of per call (Huang's path walk: most of a stateless call).
 TYPED_TEST_P(ModelContract, FurnaceAndAlbedo) {
     using Fiber = typename TypeParam::Fiber;
     using T = typename Fiber::Real;
     const Instance<Fiber> in = TypeParam::lossless();
     for (double theta_o : {-70.0, 0.0, 35.0}) {
         const glm::vec<3, T> wo(dir(theta_o * kPi / 180, 0.3));
+        const auto at = in.fiber.at(wo);
         const chi2::CellIntegrator integrate(
             [&](double x, double phi) {
                 const double c = std::sqrt(std::max(0.0, 1 - x * x));
-                const glm::vec<3, T> f = in.fiber.eval(wo, glm::vec<3, T>(T(x), T(c * std::cos(phi)), T(c * std::sin(phi))));
+                const glm::vec<3, T> f = at.eval(glm::vec<3, T>(T(x), T(c * std::cos(phi)), T(c * std::sin(phi))));
                 return double(f.x + f.y + f.z) / 3;
             },
             2, TypeParam::kFurnaceDepth);
@@ -215,11 +220,12 @@ TYPED_TEST_P(ModelContract, LobeSplitAddsUp) {
             }
             const glm::dvec3 a(in.fiber.albedo(wo));
             for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum[c], a[c], 1e-5 * a[c]);
+            const auto at = in.fiber.at(wo);
             const chi2::CellIntegrator integrate(
                 [&](double x, double phi) {
                     const double c = std::sqrt(std::max(0.0, 1 - x * x));
                     const glm::vec<3, T> wi(T(x), T(c * std::cos(phi)), T(c * std::sin(phi)));
-                    const glm::vec<3, T> f = in.fiber.eval(wo, wi);
+                    const glm::vec<3, T> f = at.eval(wi);
                     return double(f.x + f.y + f.z);
                 },
                 2, 6);
@@ -251,10 +257,12 @@ TYPED_TEST_P(ModelContract, SampleMatchesPdfChi2) {
         const V3 wo(dir(c.theta_o_deg * kPi / 180, 0.7));
         const Fiber& fiber = c.instance.fiber;
         const chi2::Options opt = TypeParam::chi2_options();
+        // Sample and pdf through at(wo) (see FurnaceAndAlbedo).
+        const auto at = fiber.at(wo);
         const chi2::Histogram hist =
-            chi2::histogram([&](const glm::dvec4& u) { return glm::dvec3(fiber.sample(wo, glm::vec<4, T>(u)).wi); }, opt);
+            chi2::histogram([&](const glm::dvec4& u) { return glm::dvec3(at.sample(glm::vec<4, T>(u)).wi); }, opt);
         const chi2::Expected expected =
-            chi2::expected_counts([&](const glm::dvec3& wi) { return double(fiber.pdf(wo, V3(wi))); }, opt);
+            chi2::expected_counts([&](const glm::dvec3& wi) { return double(at.pdf(V3(wi))); }, opt);
         const chi2::Result r = chi2::compare(hist, expected, opt);
         min_p = std::min(min_p, r.p_value);
         EXPECT_TRUE(r.passed) << "case " << k << " (" << c.instance.label << ", θo " << c.theta_o_deg << "°)\n" << r.report;

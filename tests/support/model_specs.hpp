@@ -3,7 +3,9 @@
 // The model tests reuse them (a chi-square negative control runs at its grid's options).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <initializer_list>
 #include <limits>
 #include <memory>
@@ -652,16 +654,33 @@ template <typename T> struct FurSpec : SpecBase<hs::FurFiber<T>, hs::FurMaterial
     }
     // No medulla, one filling the fibre densely, a barely scattering and a dense absorbing
     // one, around the d'Eon family's extreme cortices at the tilt's limit; h = -1, 0, 1 share
-    // a material (the dense medullas' tables take up to a second each).
+    // a material. The medulla tables, nearly all of the sweep's time (up to a second each
+    // for the dense medullas), do not depend on the smooth cortex's β_m: per medulla and
+    // cortex σa the first material's tables are built and saved, and the other β_m load them
+    // (FurMaterial::load, bit for bit the tables the constructor builds: fur_tables_test).
     static std::vector<Instance<Fiber>> extremes() {
         std::vector<Instance<Fiber>> r;
         const double medullas[][4] = {{0, 0, 0, 0}, {0.999999, 200, 0.99, 0}, {0.5, 1e-6, -0.99, 50}, {0.9, 50, 0, 50}};
+        // A name of this process's own: other test processes may sweep at the same time.
+        const std::string stem = ::testing::TempDir() + "hairscatter_fur_extremes_" + std::to_string(sizeof(T)) + "_" +
+                                 std::to_string(std::random_device()()) + "_";
+        std::vector<std::string> files;
         for (const auto& m : medullas)
             for_extreme_params<T>({0.3}, {22.5}, [&](const hs::FiberParams<T>& cortex, const std::string& l) {
-                const auto material = std::make_shared<const Material>(params(cortex, m[0], m[1], m[2], m[3]));
+                const hs::FurParams<T> p = params(cortex, m[0], m[1], m[2], m[3]);
+                const std::string file = stem + std::to_string(&m - medullas) + (cortex.sigma_a.x > T(0) ? "_absorbing" : "_clear");
+                std::shared_ptr<const Material> material;
+                if (std::find(files.begin(), files.end(), file) == files.end()) {
+                    material = std::make_shared<const Material>(p);
+                    material->save(file);
+                    files.push_back(file);
+                } else {
+                    material = std::make_shared<const Material>(Material::load(p, file));
+                }
                 for (double h : {-1.0, 0.0, 1.0})
                     r.push_back(make_instance<Fiber>(material, l + " " + label(m[0], m[1], m[2], m[3]) + " h " + std::to_string(h), T(h)));
             });
+        for (const std::string& f : files) std::remove(f.c_str());
         return r;
     }
     // Medullas small to filling, thin to dense, g from -0.5 to 0.8, θo from 0 to ±85°, offsets
