@@ -3,6 +3,7 @@
 // cortex (not with the rough one, whose tables depend on it), and a file
 // of another version, table size or length, a corrupt one, one with a value out of range
 // and one built for other parameters are refused with an error naming the file and why.
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -156,6 +157,21 @@ TEST(FurTables, RejectsBadFilesNamingThem) {
     std::memcpy(skew.data() + 4 + 3 * 4 + 14 * 8 + (32 + 33 + 3 + 1) * 8, &two, 8);
     reseal(skew);
     expect_refused(skew, "a longitudinal skew = 2");
+    // A cdf value an ulp above 1 before the last edge (a running sum's rounding, as a build
+    // of the tables once wrote) loads, brought to 1; a thousandth above is refused.
+    const std::size_t cdf_31 = 4 + 3 * 4 + 14 * 8 + (32 + 31) * 8;
+    std::vector<unsigned char> ulp = good;
+    const double above = std::nextafter(1.0, 2.0);
+    std::memcpy(ulp.data() + cdf_31, &above, 8);
+    reseal(ulp);
+    const std::string ulp_path = temp_path("hairscatter_fur_ulp.hsft");
+    write_bytes(ulp_path, ulp);
+    EXPECT_NO_THROW(hs::FurMaterial<double>::load(medulla_params<double>(), ulp_path));
+    std::vector<unsigned char> past = good;
+    const double thousandth = 1.001;
+    std::memcpy(past.data() + cdf_31, &thousandth, 8);
+    reseal(past);
+    expect_refused(past, "a cdf value = 1.001");
 
     hs::FurParams<double> other = medulla_params<double>();
     other.kappa = 0.3;

@@ -643,7 +643,9 @@ inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int
     tab.cdf[bin][0] = 0;
     for (int k = 0; k < MedullaTables<double>::kPhiBins; ++k) {
         tab.density[bin][k] = mass[k] / (total * width);
-        tab.cdf[bin][k + 1] = k + 1 < MedullaTables<double>::kPhiBins ? tab.cdf[bin][k] + mass[k] / total : 1.0;
+        // (the running sum can pass 1 by rounding before its last bin: kept within [0, 1])
+        tab.cdf[bin][k + 1] =
+            k + 1 < MedullaTables<double>::kPhiBins ? std::min(1.0, tab.cdf[bin][k] + mass[k] / total) : 1.0;
     }
     // q(x)'s w and b from E[x²] and E[x] (x = sin θi; sin θo > 0 here): the uniform part has
     // E[x²] = 1/3, the cos θi law 1/4; (1 + bx) adds b·E_sym[x²] to E[x].
@@ -804,9 +806,13 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
         MedullaTables<T> tables;
         for_each_value(tables, [&](T& v, double lo, double hi, const char* what) {
             v = T(detail::get_bytes<double>(buf, at));  // checked in T (1e300 is a double, not a float)
-            if (!(std::isfinite(double(v)) && double(v) >= lo && double(v) <= hi))
+            // Within rounding of the range (a sum that passed 1 by an ulp in a file an earlier
+            // build wrote) is brought into it; beyond that the file is refused.
+            const double slack = 1e-9 * std::fmax(1.0, std::fmax(std::fabs(lo), std::fabs(hi)));
+            if (!(std::isfinite(double(v)) && double(v) >= lo - slack && double(v) <= hi + slack))
                 HAIRSCATTER_THROW(fail(std::string(what) + " = " + std::to_string(double(v)) + " outside [" +
                                        std::to_string(lo) + ", " + std::to_string(hi) + "]"));
+            v = clamp(v, T(lo), T(hi));
         });
         for (int t = 0; t < kTheta; ++t) {
             if (tables.cdf[t][0] != T(0) || tables.cdf[t][kPhi] != T(1)) HAIRSCATTER_THROW(fail("a cdf not from 0 to 1"));
