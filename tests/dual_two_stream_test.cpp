@@ -44,6 +44,12 @@ dvec3 direction(double theta_deg, double phi) {
 
 }  // namespace
 
+// The depth dual_streams gives a stack of n fibers: the fibers the turning light crosses.
+double turned(const hs::DualScatteringEntry<double>& e, double n) {
+    const double mu_f = (e.mu_f.x + e.mu_f.y + e.mu_f.z) / 3;
+    return std::min(hs::dual_turned_depth(std::min(n, hs::kDeepStack<double>), mu_f), hs::kDeepStack<double>);
+}
+
 TEST(DualTwoStream, LosslessStacksPassOrReturnEverything) {
     // c_f + c_b = (T_n + R_n T_m) / (1 - R_n R_m) = 1 when T_k + R_k = 1: what keeps the
     // furnace. Checked against layered_stack, at fractional, huge and unbounded depths
@@ -57,8 +63,8 @@ TEST(DualTwoStream, LosslessStacksPassOrReturnEverything) {
                 const auto s = hs::dual_streams(e, n, m);
                 for (int c = 0; c < 3; ++c) {
                     EXPECT_NEAR(s.forward[c] + s.back[c], 1.0, 2e-6) << theta << " " << n << " " << m;
-                    const auto sn = hs::layered_stack(e.a_f[c], e.a_b[c], std::min(n, hs::kDeepStack<double>));
-                    const auto sm = hs::layered_stack(e.a_f[c], e.a_b[c], std::min(m, hs::kDeepStack<double>));
+                    const auto sn = hs::layered_stack(e.a_f[c], e.a_b[c], turned(e, n));
+                    const auto sm = hs::layered_stack(e.a_f[c], e.a_b[c], turned(e, m));
                     const double den = 1 - sn.R * sm.R;
                     if (den > 1e-9) {
                         EXPECT_NEAR(s.forward[c], sn.T_ / den, 1e-9);
@@ -90,7 +96,7 @@ TEST(DualTwoStream, UnobstructedAndOneSidedLimits) {
     // nothing beyond: the n stack's own transmittance and reflectance
     const auto s = hs::dual_streams(e, 4.0, 0.0);
     for (int c = 0; c < 3; ++c) {
-        const auto st = hs::layered_stack(e.a_f[c], e.a_b[c], 4.0);
+        const auto st = hs::layered_stack(e.a_f[c], e.a_b[c], turned(e, 4.0));
         EXPECT_NEAR(s.forward[c], st.T_, 1e-12);
         EXPECT_NEAR(s.back[c], st.R, 1e-12);
     }
@@ -411,4 +417,96 @@ TEST(DualTwoStream, BackLitSlabAgreesWithPathTracing) {
                 r.exact / r.path, r.expected / r.path, 100 * r.path_noise() / r.path_mean());
     EXPECT_NEAR(r.exact / r.path, 1.0, 0.15);
     EXPECT_NEAR(r.expected / r.path, 1.0, 0.15);
+}
+
+
+namespace {
+
+// Parallel fibers along x filling z ∈ [0, depth] and |y| ≤ half_width: the fibers a ray
+// crosses are `density` times its path's length across the fibers (in the y–z plane) inside
+// that region. An exact density source for dual_turn_limit's geometry.
+struct FiberBlock {
+    double depth = 1, half_width = 1e9, density = 10;
+    double fibers_crossed(const dvec3& o, const dvec3& d, double tmax) const {
+        double t0 = 0, t1 = std::min(tmax, 1e12);
+        const auto clip = [&](double p, double v, double lo, double hi) {
+            if (v == 0) {
+                if (p < lo || p > hi) t1 = -1;
+                return;
+            }
+            double a = (lo - p) / v, b = (hi - p) / v;
+            if (a > b) std::swap(a, b);
+            t0 = std::max(t0, a), t1 = std::min(t1, b);
+        };
+        clip(o.z, d.z, 0, depth);
+        clip(o.y, d.y, -half_width, half_width);
+        return t1 > t0 ? density * (t1 - t0) * std::sqrt(d.y * d.y + d.z * d.z) : 0.0;
+    }
+};
+
+}  // namespace
+
+TEST(DualTwoStream, TurnLimitIsTheSlabsTwoOverPiAndGrowsInNarrowHair) {
+    // Deep in a wide slab, across it: C(φ) = C(0)/cos φ, so the limit is the six-point
+    // midpoint rule of E[cos φ] over the half-circle (0.6440, within 1.2 % of 2/π).
+    const dvec3 axis(1, 0, 0), across(0, 0, 1);
+    double mid = 0;
+    for (int k = 0; k < 6; ++k) mid += std::cos((k + 0.5) * hs::kPi<double> / 6 - hs::kPi<double> / 2) / 6;
+    const FiberBlock slab{10, 1e9, 10};
+    EXPECT_NEAR(hs::dual_turn_limit(slab, dvec3(0, 0, 0.5), axis, across, 1e9), mid, 1e-9);
+    EXPECT_NEAR(mid, 2 / hs::kPi<double>, 0.012 * 2 / hs::kPi<double>);
+    // Tilted away from the fibers' axis: the turns keep d.x, and the limit is the same.
+    const dvec3 tilted = glm::normalize(dvec3(0.6, 0, 0.8));
+    EXPECT_NEAR(hs::dual_turn_limit(slab, dvec3(0, 0, 0.5), axis, tilted, 1e9), mid, 1e-9);
+    // A column one tenth as wide as it is deep: turned light leaves through the sides after
+    // fewer fibers than along d, so the limit exceeds 1 (fewer fibers per fiber of depth).
+    const FiberBlock column{10, 0.5, 10};
+    const double narrow = hs::dual_turn_limit(column, dvec3(0, 0, 0.5), axis, across, 1e9);
+    EXPECT_GT(narrow, 1.0);
+    EXPECT_LE(narrow, hs::kMaxTurnLimit<double>);
+    // Bad input gives the slab's limit, never NaN.
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_EQ(hs::dual_turn_limit(slab, dvec3(nan, 0, 0), axis, across, 1e9), hs::kSlabTurnLimit<double>);
+    EXPECT_EQ(hs::dual_turn_limit(slab, dvec3(0, 0, 0.5), axis, dvec3(0, nan, 1), 1e9), hs::kSlabTurnLimit<double>);
+}
+
+TEST(DualTwoStream, TurnedDepthFollowsItsLimit) {
+    // Limit 1: light that turns crosses one fiber per fiber, the straight stack; a slab's
+    // 2/π gives more, a narrow volume's limit above 1 fewer; n ≤ 1 is never changed.
+    for (double mu : {0.3, 0.84, 0.99})
+        for (double n : {0.5, 1.0, 2.5, 10.0, 200.0}) {
+            EXPECT_NEAR(hs::dual_turned_depth(n, mu, 1.0), n, 1e-9 * n) << mu << " " << n;
+            const double slab = hs::dual_turned_depth(n, mu), narrow = hs::dual_turned_depth(n, mu, 2.0);
+            if (n <= 1) {
+                EXPECT_EQ(slab, n);
+                EXPECT_EQ(narrow, n);
+            } else {
+                EXPECT_GT(slab, n);
+                EXPECT_LT(slab, n * hs::kPi<double> / 2 + 1e-9);
+                EXPECT_LT(narrow, n);
+                EXPECT_GE(narrow, 1.0);
+            }
+        }
+    EXPECT_EQ(hs::dual_turned_depth(5.0, 0.84, std::numeric_limits<double>::quiet_NaN()),
+              hs::dual_turned_depth(5.0, 0.84));
+}
+
+TEST(DualTwoStream, LitHairSourceKeepsTheFurnace) {
+    // The hair along a source direction read as hair of albedo a_f + a_b lit by the light
+    // around it: lossless hair passes t and glows 1 − t, so a furnace reads L at any depth;
+    // absorbing hair glows less than the stack's 1 − t.
+    const auto white = tables_of<double>(-1), brown = tables_of<double>(1.3);
+    for (double theta : {-70.0, 0.0, 45.0})
+        for (double count : {0.0, 0.5, 3.0, 40.0, hs::kUnbounded<double>}) {
+            const double s = std::sin(theta * hs::kPi<double> / 180);
+            const auto ew = white.view().lookup(s), eb = brown.view().lookup(s);
+            const auto sw = hs::dual_source_stack(ew, count), sb = hs::dual_source_stack(eb, count);
+            const dvec3 hw = hs::dual_source_hair(ew, sw), hb = hs::dual_source_hair(eb, sb);
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_NEAR(sw.t[c] + hw[c], 1.0, 1e-9) << theta << " " << count;
+                EXPECT_NEAR(sw.t[c] + sw.r[c], hs::dual_source_gain(ew, count)[c], 1e-12);
+                EXPECT_LE(hb[c], 1 - sb.t[c] + 1e-12);
+                EXPECT_GE(hb[c], 0.0);
+            }
+        }
 }

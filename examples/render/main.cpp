@@ -117,6 +117,19 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     int field_side = 12;
     float field_spacing = 1.0f;
+    std::string dual_depth = "shape";
+    int dual_glow = 16;
+    app.add_option("--dual-depth", dual_depth,
+                   "dual two-stream with grid or field counts: how many fibers turning light crosses per fiber of "
+                   "a stack, from the hair's shape around the point (shape) or a slab's (slab)")
+        ->check(CLI::IsMember({"shape", "slab"}))
+        ->capture_default_str();
+    app.add_option("--dual-glow", dual_glow,
+                   "dual two-stream with grid or field counts: hair points per grid cell of the glow volume (the "
+                   "hair's mean radiance, built before rendering; hair along a source direction is read as lit "
+                   "hair); 0: none")
+        ->check(CLI::Range(0, 1024))
+        ->capture_default_str();
     app.add_option("--field-side", field_side,
                    "dual two-stream, field counts: the octahedral map's side, [2, 64] (side² directions)")
         ->check(CLI::Range(2, 64))
@@ -237,6 +250,8 @@ int main(int argc, char** argv) {
                     : dual_counts == "grid"  ? render::DualCounts::kGrid
                                              : render::DualCounts::kField;
         so.source = dual_source == "point" ? render::DualSource::kPoint : render::DualSource::kBeyondExit;
+        so.shape_depth = dual_depth == "shape";
+        so.glow_points = dual_glow;
         so.field_side = field_side;
         so.field_spacing = field_spacing;
         so.dual = dual_formulation == "zinke" ? hs::DualScatteringSettings<float>::zinke2008()

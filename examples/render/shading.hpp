@@ -50,6 +50,12 @@ struct ShadingOptions {
     // built only where something reads it (grid and field counts), the field for field counts.
     DualCounts counts = DualCounts::kField;
     DualSource source = DualSource::kBeyondExit;
+    // Two-stream with grid or field counts: the stacks' diffusivity from the hair's shape
+    // (hs::dual_turn_limit) rather than a slab's 2/π, and the glow volume (the hair's mean
+    // radiance, this many hair points per grid cell; 0: none), through which hair along a
+    // source direction is read as lit hair (docs/theory.md §5.7).
+    bool shape_depth = true;
+    int glow_points = 16;
     // Field counts: the octahedral map's side (side² directions, docs/dual.md) and the
     // lattice spacing in grid cells.
     int field_side = 12;

@@ -20,7 +20,7 @@ template <typename T> py::array_t<T> entry_field(const DualScatteringTables<T>& 
 }
 
 constexpr const char* kFieldNames[DualScatteringEntry<float>::kFields] = {
-    "a_f", "a_b", "alpha_f", "alpha_b", "beta2_f", "beta2_b", "A_b", "delta_b", "sigma2_b"};
+    "a_f", "a_b", "alpha_f", "alpha_b", "beta2_f", "beta2_b", "A_b", "delta_b", "sigma2_b", "mu_f", "mu_b"};
 
 template <typename T> py::dict arrays_of(const DualScatteringTables<T>& t) {
     py::dict d;

@@ -13,6 +13,12 @@
 // vertex continues one path at most, so the cost per sample is bounded by kMaxDepth.
 #include "integrator.hpp"
 
+#include <algorithm>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace render {
 
 namespace {
@@ -26,7 +32,10 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         : c_(c),
           tables_(c.shading.tables().view()),
           field_(c.shading.field() ? c.shading.field()->view() : hs::DirectionalCountFieldView<float>()),
-          amplifies_(c.shading.options().fiber_extras.amplifies()) {}
+          amplifies_(c.shading.options().fiber_extras.amplifies()) {
+        const ShadingOptions& o = c.shading.options();
+        if (o.glow_points > 0 && o.counts != DualCounts::kExact && c.shading.grid()) build_glow(o.glow_points);
+    }
 
     vec3 radiance(const vec3& o, const vec3& d, Sampler& rng) const override {
         return at_hit(c_.scene.intersect(o, d, kInf), d, 0, 0.0f, rng);
@@ -140,16 +149,102 @@ class TwoStreamIntegrator final : public PixelIntegrator {
                    : 0xffffffffu;
     }
 
-    // The share of L(s) that reaches the stack's far face along s (hs::dual_source_gain):
-    // the fibers from the face `from` along s, up to the first surface at t_surface from the
-    // shading point p (kInf: none).
-    vec3 source_gain(const vec3& from, const vec3& p, const vec3& s, const vec3& s_local,
-                     float t_surface, Sampler& rng) const {
+    // The stack beyond a face along s (hs::dual_source_stack): what it transmits of L(s) and
+    // reflects of the light on the face's own side: the fibers from the face `from` along s,
+    // up to the first surface at t_surface from the shading point p (kInf: none).
+    hs::DualSourceStack<float> source_stack(const vec3& from, const vec3& p, const vec3& s, const vec3& s_local,
+                                            float t_surface, Sampler& rng) const {
         const float tmax = std::isfinite(t_surface) ? std::max(t_surface - glm::dot(from - p, s), 0.0f) : kInf;
-        if (!(tmax > 0)) return vec3(1);
+        if (!(tmax > 0)) return {};
         const hs::DualScatteringEntry<float> entry = tables_.lookup(s_local.x);
         const Stack k = fibers(from, s, tmax, kNoStrand, count_limit(entry), false, false, rng);
-        return hs::dual_source_gain(entry, k.n);
+        return hs::dual_source_stack(entry, k.n);
+    }
+
+    // The hair's mean radiance around x (trilinear between the grid's cell centres, over the
+    // cells that hold hair points), or −1 where none is held.
+    vec3 glow(const vec3& x) const {
+        if (glow_.empty()) return vec3(-1);
+        const vec3 q = (x - glow_lo_) / glow_cell_ - 0.5f;
+        const glm::ivec3 i0 = glm::ivec3(glm::floor(q));
+        const vec3 f = q - vec3(i0);
+        vec3 sum(0);
+        float w = 0;
+        for (int c = 0; c < 8; ++c) {
+            const glm::ivec3 i = glm::clamp(i0 + glm::ivec3(c & 1, (c >> 1) & 1, c >> 2), glm::ivec3(0), glow_res_ - 1);
+            const float wc = ((c & 1) ? f.x : 1 - f.x) * ((c & 2) ? f.y : 1 - f.y) * ((c & 4) ? f.z : 1 - f.z);
+            const std::size_t k = glow_index(i);
+            if (glow_n_[k] > 0) sum += wc * glow_[k], w += wc;
+        }
+        return w > 1e-3f ? sum / w : vec3(-1);
+    }
+
+    std::size_t glow_index(const glm::ivec3& i) const {
+        return std::size_t(i.x) + std::size_t(glow_res_.x) * (std::size_t(i.y) + std::size_t(glow_res_.y) * std::size_t(i.z));
+    }
+
+    // The glow volume: per cell of the density grid, the mean radiance arriving at hair
+    // points in it, over uniform directions (the fluence over 4π). Random rays from random
+    // points of the hair's box find the points, `per_cell` rays per cell on average; at each,
+    // one uniform direction's arrival by this estimator (with the hair along source
+    // directions read as before: no glow yet). The lights must not move after it is built:
+    // the renderer builds it with the integrator, for each render.
+    void build_glow(int per_cell) {
+        const hs::DensityGridView<float> g = c_.shading.grid()->view();
+        glow_res_ = g.resolution();
+        glow_lo_ = g.box_min();
+        const vec3 extent = g.box_max() - g.box_min();
+        glow_cell_ = extent / vec3(glow_res_);
+        const std::size_t cells = std::size_t(glow_res_.x) * std::size_t(glow_res_.y) * std::size_t(glow_res_.z);
+        constexpr std::size_t kChunk = 4096;
+        const std::size_t chunks = (cells * std::size_t(per_cell) + kChunk - 1) / kChunk;
+        std::vector<std::vector<std::pair<std::size_t, vec3>>> parts(chunks);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t ci = r.begin(); ci != r.end(); ++ci) {
+                Pcg32 pcg(0x9107u + ci, ci);
+                Sampler rng{pcg};
+                for (std::size_t k = 0; k < kChunk; ++k) {
+                    const vec3 o = glow_lo_ + vec3(rng.u(), rng.u(), rng.u()) * extent;
+                    const vec3 d = uniform_sphere(rng.u(), rng.u());
+                    const vec3 a = uniform_sphere(rng.u(), rng.u());
+                    const Hit hit = c_.scene.intersect(o, d, kInf);
+                    if (hit.kind != Hit::kHair) continue;
+                    const glm::ivec3 cell = glm::ivec3(glm::floor((hit.p - glow_lo_) / glow_cell_));
+                    if (glm::any(glm::lessThan(cell, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(cell, glow_res_)))
+                        continue;
+                    const vec3 L = arrival_uniform(ShadingPoint(hit, -d), a, rng);
+                    if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z))
+                        parts[ci].push_back({glow_index(cell), L});
+                }
+            }
+        });
+        std::vector<vec3> mean(cells, vec3(0));
+        std::vector<std::uint32_t> n(cells, 0);
+        for (const auto& part : parts)
+            for (const auto& [k, L] : part) mean[k] += L, ++n[k];
+        for (std::size_t k = 0; k < cells; ++k)
+            if (n[k] > 0) mean[k] /= float(n[k]);
+        glow_ = std::move(mean);
+        glow_n_ = std::move(n);
+    }
+
+    // The light arriving at sp along a, with nothing to weigh it against (a uniform direction).
+    vec3 arrival_uniform(const ShadingPoint& sp, const vec3& a, Sampler& rng) const {
+        const Scene& scene = c_.scene;
+        const Hit source = scene.intersect_opaque(sp.p, a, kInf);
+        const float t_source = source.kind == Hit::kMiss ? kInf : source.t;
+        if (!scene.hair_occluded(sp.p, a, t_source, sp.strand)) return at_hit(source, a, 1, 0.0f, rng);
+        Lights::Sample ls;
+        bool open = false;
+        if (c_.lights.any()) {
+            const float u0 = rng.u(), u1 = rng.u(), u2 = rng.u();
+            ls = c_.lights.sample(sp.p, u0, u1, u2);
+            if (ls.pdf > 0) {
+                const float tmax = std::isfinite(ls.dist) ? ls.dist * kShadowShorten : kInf;
+                open = scene.intersect_opaque(sp.p, ls.wi, tmax).kind == Hit::kMiss;
+            }
+        }
+        return blocked_arrival(sp, a, sp.to_local(a), source, t_source, ls, open, 0, 0.0f, rng);
     }
 
     // The fiber the tables were built from: fur's with --model fur, else Chiang's.
@@ -206,12 +301,22 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         const float t_source = source.kind == Hit::kMiss ? kInf : source.t;
         if (!scene.hair_occluded(sp.p, a, t_source, sp.strand))
             return L + s.weight * at_hit(source, a, depth + 1, s.pdf, rng);
-        const hs::DualScatteringEntry<float> entry = tables_.lookup(s.wi.x);
+        return L + s.weight * blocked_arrival(sp, a, s.wi, source, t_source, ls, open, depth, s.pdf, rng);
+    }
+
+    // The light arriving at sp along a (a_local in its frame), where a ray along a found hair
+    // before the first surface (`source`, at t_source): the two streams of the stacks along ±a
+    // with their sources estimated by the light sample ls (open: no surface in its way) and one
+    // kernel sample. chosen_pdf: the density a was chosen with, for MIS where a turns out open.
+    vec3 blocked_arrival(const ShadingPoint& sp, const vec3& a, const vec3& a_local, const Hit& source, float t_source,
+                         const Lights::Sample& ls, bool open, int depth, float chosen_pdf, Sampler& rng) const {
+        const Scene& scene = c_.scene;
+        const hs::DualScatteringEntry<float> entry = tables_.lookup(a_local.x);
         const std::uint32_t limit = count_limit(entry);
         const bool beyond = c_.shading.options().source == DualSource::kBeyondExit;
         const bool exact = c_.shading.options().counts == DualCounts::kExact;
         const Stack n = fibers(sp.p, a, t_source, sp.strand, limit, true, beyond, rng);
-        if (n.n == 0) return L + s.weight * at_hit(source, a, depth + 1, s.pdf, rng);
+        if (n.n == 0) return at_hit(source, a, depth + 1, chosen_pdf, rng);
 
         // Behind the point, along −a, the same two rays: hair before the first surface, or no
         // fibers there. (With field counts this matters beyond the rays' cost: the field
@@ -226,43 +331,94 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         if (scene.hair_occluded(sp.p, -a, t_behind, sp.strand))
             m = fibers(sp.p, -a, t_behind, sp.strand, limit, true, beyond && exact, rng);
         bool m_end_known = !beyond || exact || m.n == 0;
-        const hs::DualSourceKernel<float> kernel(s.wi, hs::dual_streams(entry, n.n, m.n));
+        // How many fibers turning light crosses per fiber of the stacks: a slab's 2/π in the
+        // limit, or what the hair's shape around the point gives (hs::dual_turn_limit).
+        const ShadingOptions& opt = c_.shading.options();
+        float limit_n = hs::kSlabTurnLimit<float>, limit_m = hs::kSlabTurnLimit<float>;
+        if (opt.shape_depth && !exact) {
+            const vec3 axis = sp.to_world(vec3(1, 0, 0));
+            const auto shape_limit = [&](const vec3& d) {
+                if (opt.counts == DualCounts::kField)
+                    return hs::dual_turn_limit(field_, sp.p, axis, d, hs::kUnbounded<float>);
+                const hs::DensityGridView<float> grid = c_.shading.grid()->view();
+                return hs::dual_turn_limit(grid, sp.p, axis, d, box_distance(grid, sp.p, d));
+            };
+            if (n.n > 1) limit_n = shape_limit(a);
+            if (m.n > 1) limit_m = shape_limit(-a);
+        }
+        const hs::DualSourceKernel<float> kernel(a_local, hs::dual_streams(entry, n.n, m.n, limit_n, limit_m));
         // Sources beyond the exits (the default): light from s enters the stack on a's side
         // past its last fiber (K_f's half-circle) and the far stack past its own (K_b's),
-        // through whatever hair lies there along s (docs/theory.md §5.7).
+        // through whatever hair lies there along s (docs/theory.md §5.7). With the glow
+        // volume, hair along s is read as lit hair (hs::dual_source_hair), and where no fiber
+        // lies behind the point its own side's hair along s is counted too.
         const float r = c_.scene.description().hair.radius;
-        const auto gain = [&](const vec3& d, const vec3& d_local, float t_surface) {
-            if (!beyond) return vec3(1);
-            const bool forward = s.wi.y * d_local.y + s.wi.z * d_local.z > 0;  // K_f's half-circle
-            if (forward) return source_gain(sp.p + a * (n.end + 2 * r), sp.p, d, d_local, t_surface, rng);
-            if (m.n == 0) return vec3(1);  // nothing beyond the point on that side
-            if (!m_end_known) {
-                m.end = stack_end(sp.p, -a, t_behind);
-                m_end_known = true;
-            }
-            return source_gain(sp.p - a * (m.end + 2 * r), sp.p, d, d_local, t_surface, rng);
+        const bool lit_hair = opt.glow_points > 0 && !exact;
+        struct Source {
+            hs::DualSourceStack<float> st;
+            vec3 face{0};
         };
+        const auto source_of = [&](const vec3& d, const vec3& d_local, float t_surface) {
+            Source src;
+            if (!beyond) return src;
+            const bool forward = a_local.y * d_local.y + a_local.z * d_local.z > 0;  // K_f's half-circle
+            if (forward) {
+                src.face = sp.p + a * (n.end + 2 * r);
+            } else if (m.n == 0) {  // nothing beyond the point on that side
+                src.face = sp.p;
+                if (!lit_hair) return src;
+                // Whether hair lies along d is a ray (the field spreads the faces; §5.8).
+                const float tmax = std::isfinite(t_surface) ? t_surface : kInf;
+                if (!c_.scene.hair_occluded(sp.p, d, tmax, sp.strand)) return src;
+                const hs::DualScatteringEntry<float> e = tables_.lookup(d_local.x);
+                src.st = hs::dual_source_stack(e, fibers(sp.p, d, tmax, sp.strand, count_limit(e), true, false, rng).n);
+                return src;
+            } else {
+                if (!m_end_known) {
+                    m.end = stack_end(sp.p, -a, t_behind);
+                    m_end_known = true;
+                }
+                src.face = sp.p - a * (m.end + 2 * r);
+            }
+            src.st = source_stack(src.face, sp.p, d, d_local, t_surface, rng);
+            return src;
+        };
+        // With a glow around the face, the light sample estimates the transmitted part t L(s)
+        // alone and the kernel's sample adds the lit hair's h L̄ (a term of its own, without
+        // MIS); without one, both estimate (t + r) L(s).
         vec3 source_light(0);
         if (open) {
             const vec3 dl = sp.to_local(ls.wi);
             const auto kl = kernel.eval_pdf(dl);
-            if (kl.pdf > 0)
-                source_light += kl.f * gain(ls.wi, dl, ls.dist) * ls.Le * power_heuristic(ls.pdf, kl.pdf) / ls.pdf;
+            if (kl.pdf > 0) {
+                const Source src = source_of(ls.wi, dl, ls.dist);
+                const vec3 g = glow(src.face).x >= 0 ? src.st.t : src.st.t + src.st.r;
+                source_light += kl.f * g * ls.Le * power_heuristic(ls.pdf, kl.pdf) / ls.pdf;
+            }
         }
         const auto ks = kernel.sample(rng.u4());
         if (ks.pdf > 0) {
             const vec3 d = sp.to_world(ks.s);
             const Hit h = scene.intersect_opaque(sp.p, d, kInf);
-            source_light += ks.f * gain(d, ks.s, h.kind == Hit::kMiss ? kInf : h.t) / ks.pdf *
-                            at_hit(h, d, depth + 1, ks.pdf, rng);
+            const Source src = source_of(d, ks.s, h.kind == Hit::kMiss ? kInf : h.t);
+            const vec3 around = glow(src.face);
+            const vec3 L = at_hit(h, d, depth + 1, ks.pdf, rng);
+            if (around.x >= 0)
+                source_light += ks.f / ks.pdf * (src.st.t * L + hs::dual_source_hair(tables_.lookup(ks.s.x), src.st) * around);
+            else
+                source_light += ks.f / ks.pdf * (src.st.t + src.st.r) * L;
         }
-        return L + s.weight * source_light;
+        return source_light;
     }
 
     const RenderContext& c_;
     hs::DualTablesView<float> tables_;
     hs::DirectionalCountFieldView<float> field_;
     bool amplifies_;
+    std::vector<vec3> glow_;               // the hair's mean radiance per grid cell (empty: none)
+    std::vector<std::uint32_t> glow_n_;    // hair points behind each cell's mean
+    glm::ivec3 glow_res_{0};
+    vec3 glow_lo_{0}, glow_cell_{1};
 };
 
 }  // namespace

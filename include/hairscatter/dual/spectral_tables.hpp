@@ -62,7 +62,7 @@ template <typename T> class SpectralDualTables {
     int channel_of(int k) const { return k % 3; }
 
     // The entry at the light's inclination θ whose channel c is wavelength lambda[c] (nm,
-    // clamped into [360, 830]): a_f, a_b, ᾱ and β̄² interpolated linearly in λ between the two
+    // clamped into [360, 830]): a_f, a_b, ᾱ, β̄², μ_f and μ_b interpolated linearly in λ between the two
     // nearest grid wavelengths (each read at θ as DualScatteringTables::lookup reads it), the
     // backscattering terms A_b, Δ_b, σ_b² derived from them (Zinke et al. 2008 eqs. 13–15).
     // A path with four wavelengths reads two entries.
@@ -75,8 +75,9 @@ template <typename T> class SpectralDualTables {
             const T t = x - T(k0);
             const Entry e0 = tables_of(k0).lookup(theta), e1 = tables_of(k0 + 1).lookup(theta);
             const int c0 = channel_of(k0), c1 = channel_of(k0 + 1);
-            for (int f = 0; f < Entry::kFieldA_b; ++f)
-                e.fields()[f][c] = e0.fields()[f][c0] + t * (e1.fields()[f][c1] - e0.fields()[f][c0]);
+            for (int f = 0; f < Entry::kFields; ++f)
+                if (f < Entry::kFieldA_b || f >= Entry::kFieldMu_f)  // A_b, Δ_b, σ_b² are derived below
+                    e.fields()[f][c] = e0.fields()[f][c0] + t * (e1.fields()[f][c1] - e0.fields()[f][c0]);
         }
         derive_backscattering(e, tables_.front().settings().d_b);
         return e;

@@ -18,16 +18,22 @@
 // unobstructed: c_f = 1, c_b = 0, and the light is the source's own, unspread.
 //
 // The kernels are densities over the direction s the light came from (fiber frame of x):
-//     K_f(s | a) = M(v_f; θs around θa) · [|φs − φa| < π/2] / π
+//     K_f(s | a) = M(v_f; θs around θa) · G(u_f; φs − φa)
 //     K_b(s | a) = M(v_b; θs around θa) · [|φs − φa − π| < π/2] / π
-// M is d'Eon et al. 2011's normalised longitudinal lobe. Scattering by a fiber keeps the
+// M is d'Eon et al. 2011's normalised longitudinal lobe, G(u; ·) the Gaussian of variance u
+// restricted to the half-circle |φs − φa| < π/2. Scattering by a fiber keeps the
 // component of the light's travel along the fiber, so θ is kept and spread; a transmitted
 // path stays on a's side of the circle of azimuths, a returned one comes from the other
-// half (Zinke et al. 2008 spread forward-scattered light uniformly over a half-circle).
+// half (Zinke et al. 2008 spread forward-scattered light uniformly over a half-circle; K_b
+// still does). Each event also turns the light around the fiber by an angle of mean cosine
+// μ_f or μ_b (the tables' mu_f, mu_b), so K_f narrows to the forward lobe's turn after one
+// fiber and widens toward the uniform half-circle as the events add up, and the stacks are
+// as deep as the fibers the turning light crosses (dual_turned_depth; docs/theory.md §5.7).
 // The variances come from the stacks themselves, nothing fitted: a path of the stack
 // passes k_f forward and k_b backward events on average, k_f = a_f ∂ln X/∂a_f and
 // k_b = a_b ∂ln X/∂a_b for X = T_n or R_n (and T_m for the far side's passage), and each
-// event adds its lobe's mean variance β̄²_f or β̄²_b (tables.hpp).
+// event adds its lobe's mean variance β̄²_f or β̄²_b (tables.hpp), and to u_f the variance
+// −2 ln μ of its turn.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -47,6 +53,9 @@ template <typename T> struct DualStreams {
     glm::vec<3, T> forward{T(1)};  // c_f: share of the light entering on a's side that arrives along a
     glm::vec<3, T> back{T(0)};     // c_b: share of the light entering on the far side that arrives along a
     T spread_f = T(0), spread_b = T(0);  // variances v_f, v_b of the source kernels (rad², channel mean)
+    // Variance of K_f's azimuth around a (rad², channel mean): the turns of the events the
+    // transmitted light passed. The default is wide enough to be uniform over the half-circle.
+    T turn_f = T(1e4);
 };
 
 // The smallest and largest kernel variance used: below, M is sharper than any table can
@@ -122,6 +131,130 @@ template <typename T> HAIRSCATTER_HD T poisson_fiber_count(T mean, T u, bool giv
     return given_hit && k < T(1) ? T(1) : k;
 }
 
+// The variance of the Gaussian whose mean cosine is μ, −2 ln μ: one event's azimuthal turn.
+// μ ≤ 1e-6 (no preferred direction, or a NaN) gives 27.6, which spreads K_f evenly.
+template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T dual_turn_variance(T mu) {
+    return T(-2) * elem::log(mu > T(1e-6) ? (mu < T(1) ? mu : T(1)) : T(1e-6));
+}
+
+// The inverse error function: Giles 2010 ("Approximating the erfinv function", GPU Computing
+// Gems Jade, the single-precision rational-free form), then one Newton step on erf, which
+// brings double to a few ulp. |y| is kept below 1.
+template <typename T> HAIRSCATTER_HD T erf_inverse(T y) {
+    using std::erf;
+    using std::sqrt;
+    constexpr T lim = T(1) - T(4) * kEpsilon<T>;
+    const T x = clamp(y, -lim, lim);
+    T w = -elem::log((T(1) - x) * (T(1) + x)), p;
+    if (w < T(5)) {
+        w -= T(2.5);
+        p = T(2.81022636e-08);
+        p = T(3.43273939e-07) + p * w;
+        p = T(-3.5233877e-06) + p * w;
+        p = T(-4.39150654e-06) + p * w;
+        p = T(0.00021858087) + p * w;
+        p = T(-0.00125372503) + p * w;
+        p = T(-0.00417768164) + p * w;
+        p = T(0.246640727) + p * w;
+        p = T(1.50140941) + p * w;
+    } else {
+        w = sqrt(w) - T(3);
+        p = T(-0.000200214257);
+        p = T(0.000100950558) + p * w;
+        p = T(0.00134934322) + p * w;
+        p = T(-0.00367342844) + p * w;
+        p = T(0.00573950773) + p * w;
+        p = T(-0.0076224613) + p * w;
+        p = T(0.00943887047) + p * w;
+        p = T(1.00167406) + p * w;
+        p = T(2.83297682) + p * w;
+    }
+    T r = p * x;
+    // Newton on erf(r) = x: erf'(r) = 2/√π e^{−r²}.
+    const T slope = T(1.1283791670955126) * elem::exp(-r * r);
+    if (slope > T(0)) r -= (erf(r) - x) / slope;
+    return r;
+}
+
+// The Gaussian of variance v restricted and renormalised to the half-circle [−π/2, π/2]:
+// K_f's azimuth around a. One fiber's forward turn, averaged over h, is close to a Gaussian
+// of the same mean cosine (for Chiang's fiber at θ = 0, η = 1.55, β_n = 0.3: density 0.688
+// against 0.685 at the peak, 0.468 against 0.475 at 0.5 rad), and Gaussians compose: the
+// turns of k events are the Gaussian of k times the variance. Large v tends to the uniform
+// half-circle of Zinke et al. 2008.
+template <typename T> class HalfCircleGaussian {
+  public:
+    HalfCircleGaussian() = default;
+    HAIRSCATTER_HD explicit HalfCircleGaussian(T variance) {
+        using std::erf;
+        using std::sqrt;
+        const T v = is_finite(variance) ? clamp(variance, kMinSourceSpread<T>, kMaxSourceSpread<T>) : kMaxSourceSpread<T>;
+        root_2v_ = sqrt(T(2) * v);
+        inv_2v_ = T(0.5) / v;
+        mass_ = erf(kHalfPi<T> / root_2v_);  // of [−π/2, π/2]
+        scale_ = T(0.56418958354775628695) / (root_2v_ * mass_);  // 1 / (√π √(2v) mass)
+    }
+    // Density on [−π/2, π/2] (0 outside).
+    HAIRSCATTER_HD T pdf(T x) const {
+        if (!(abs_value(x) <= kHalfPi<T>)) return T(0);
+        return scale_ * elem::exp(-x * x * inv_2v_);
+    }
+    // u ∈ [0, 1] → x ∈ [−π/2, π/2].
+    HAIRSCATTER_HD T sample(T u) const {
+        const T y = mass_ * (T(2) * clamp(u, T(0), T(1)) - T(1));
+        return clamp(root_2v_ * erf_inverse(y), -kHalfPi<T>, kHalfPi<T>);
+    }
+
+  private:
+    T root_2v_ = T(1), inv_2v_ = T(1), mass_ = T(1), scale_ = T(1);
+};
+
+// The fibers that light crosses to come n fibers deep along a when every fiber it passes
+// turns it (docs/theory.md §5.7, "Turning light"). The 1D stack lets light run straight along
+// a; each forward event turns it by an angle of mean cosine μ_f, so after j events its
+// direction makes an angle φ_j with a, and it crosses 1/E[cos φ_j] fibers per fiber of
+// progress along a (the flux's diffusivity). E[cos φ_j] runs from 1 (j = 0: the last
+// fiber before the point is crossed along a) to 2/π, the uniform half-circle's (the 2D
+// diffusivity π/2), through the Gaussian turn of variance −2 j ln μ_f:
+//     c_j = 2/π + (1 − 2/π) exp(−v_j / (2 (1 − 2/π))),   v_j = −2 j ln μ_f,
+// which has the Gaussian's slope at v = 0 and the half-circle's limit (within 4.5 % of the
+// truncated Gaussian's own mean cosine everywhere). The depth is Σ_{j<n} 1/c_j, with the
+// fraction of the last fiber counted as such; n ≤ 1 is unchanged (one fiber is crossed
+// along a). Lossless stacks still pass or return everything at any depth. n comes from
+// dual_stack_depth (finite, ≥ 0); μ_f is clamped to [1e-6, 1].
+//
+// `limit` replaces the slab's 2/π by what the hair's own shape gives (dual_turn_limit): in
+// a volume of finite width light that turns leaves through the sides sooner, and the
+// fibers it crosses are fewer. The turns' rate stays the Gaussian's. limit is clamped to
+// [kMinTurnLimit, kMaxTurnLimit]; NaN gives the slab's.
+template <typename T> inline constexpr T kSlabTurnLimit = T(0.63661977236758134308);  // 2/π
+template <typename T> inline constexpr T kMinTurnLimit = T(0.3);
+template <typename T> inline constexpr T kMaxTurnLimit = T(3);
+template <typename T> HAIRSCATTER_HD T dual_turned_depth(T n, T mu_f, T limit = kSlabTurnLimit<T>) {
+    if (!(n > T(1))) return n;
+    const T lim = limit == limit ? clamp(limit, kMinTurnLimit<T>, kMaxTurnLimit<T>) : kSlabTurnLimit<T>;
+    const T w = T(1) - lim;
+    const T mu = mu_f > T(1e-6) ? (mu_f < T(1) ? mu_f : T(1)) : T(1e-6);
+    // The rate at which the turns spread the light is the Gaussian's (slope −1/2 at v = 0),
+    // whatever the limit the geometry sets.
+    const T lambda = -elem::log(mu) / (T(1) - kSlabTurnLimit<T>);
+    const T q = elem::exp(-lambda);
+    // The first fibers one by one; past 32 (fibers that turn light very little), the rest as
+    // the integral of the same summand over [j − ½, n − ½], the midpoint rule's span:
+    //     ∫ dx / (2/π + w e^{−λx}) = (x + ln(2/π + w e^{−λx}) / λ) / (2/π).
+    constexpr int kTerms = 32;
+    T depth = T(0), qj = T(1);
+    int j = 0;
+    for (; T(j + 1) <= n && j < kTerms; ++j) {
+        depth += T(1) / (lim + w * qj);
+        qj *= q;
+    }
+    const T rest = n - T(j);  // fibers left, the last perhaps a fraction
+    if (rest <= T(1) || !(lambda > T(1e-6))) return depth + rest / (lim + w * qj);
+    const T e0 = qj * elem::exp(T(0.5) * lambda), e1 = qj * elem::exp(-(rest - T(0.5)) * lambda);  // e^{−λx} at both ends
+    return depth + (rest + elem::log((lim + w * e1) / (lim + w * e0)) / lambda) / lim;
+}
+
 namespace detail {
 // ln(x / y) / ln(1 - ε): the mean number of events of a kind, from a stack made with that
 // kind's albedo scaled by (1 - ε); 0 where either stack is empty.
@@ -135,9 +268,13 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T mean_events(T sc
 // of one ray each (then an average over samples is an average over the counts'
 // distribution), or expectations. NaN counts count as 0, +Inf as a deep volume.
 template <typename T>
-HAIRSCATTER_HD DualStreams<T> dual_streams(const DualScatteringEntry<T>& e, T n_fibers, T m_fibers) {
+HAIRSCATTER_HD DualStreams<T> dual_streams(const DualScatteringEntry<T>& e, T n_fibers, T m_fibers,
+                                           T limit_n = kSlabTurnLimit<T>, T limit_m = kSlabTurnLimit<T>) {
     DualStreams<T> s;
-    const T n = dual_stack_depth(n_fibers), m = dual_stack_depth(m_fibers);
+    const T mf = (e.mu_f.x + e.mu_f.y + e.mu_f.z) * T(1.0 / 3.0), mb = (e.mu_b.x + e.mu_b.y + e.mu_b.z) * T(1.0 / 3.0);
+    // The stacks' depths as the fibers the turning light crosses (at most kDeepStack).
+    const T n = dual_stack_depth(dual_turned_depth(dual_stack_depth(n_fibers), mf, limit_n));
+    const T m = dual_stack_depth(dual_turned_depth(dual_stack_depth(m_fibers), mf, limit_m));
     // Lanes 0–2: the channels; lane 3: the channel mean, whose albedos give the events below.
     // The same four layers n deep (lanes 0–3) and m deep (4–7), as one batch.
     const T af = (e.a_f.x + e.a_f.y + e.a_f.z) * T(1.0 / 3.0), ab = (e.a_b.x + e.a_b.y + e.a_b.z) * T(1.0 / 3.0);
@@ -155,31 +292,85 @@ HAIRSCATTER_HD DualStreams<T> dual_streams(const DualScatteringEntry<T>& e, T n_
         s.forward[k] = den > T(0) ? clamp(T_[k] / den, T(0), T(1)) : T(0);
         s.back[k] = den > T(0) ? clamp(R[k] * T_[4 + k] / den, T(0), T(1)) : T(0);
     }
-    // The events, from the mean channel's stacks with a_f, then a_b, scaled by 1 - ε.
-    constexpr T eps = sizeof(T) < 8 ? T(1e-3) : T(1e-6);
-    const T inv_log = T(1) / elem::log1p(-eps);
-    LayerLanes<T, 4> d;
-    const T depth_d[4] = {n, n, m, m};
-    d.a_f[0] = af * (T(1) - eps), d.a_b[0] = ab;
-    d.a_f[1] = af, d.a_b[1] = ab * (T(1) - eps);
-    d.a_f[2] = af * (T(1) - eps), d.a_b[2] = ab;
-    d.a_f[3] = af, d.a_b[3] = ab * (T(1) - eps);
+    // The events, from the mean channel's stacks with a_f, then a_b, scaled by 1 - ε: in
+    // double whatever T is (a float quotient of two stacks 1e-3 apart loses the events of
+    // deep stacks: 40 % in v_f at 15 fibers, 80° off normal), with the unscaled stacks
+    // recomputed beside them (lanes 4 and 5).
+    constexpr double eps = 1e-6;
+    const double inv_log = 1.0 / elem::log1p(-eps);
+    LayerLanes<double, 8> d;
+    const double nd = double(n), md = double(m), afd = double(af), abd = double(ab);
+    const double depth_d[8] = {nd, nd, md, md, nd, md, 0.0, 0.0};
+    d.a_f[0] = afd * (1 - eps), d.a_b[0] = abd;
+    d.a_f[1] = afd, d.a_b[1] = abd * (1 - eps);
+    d.a_f[2] = afd * (1 - eps), d.a_b[2] = abd;
+    d.a_f[3] = afd, d.a_b[3] = abd * (1 - eps);
+    for (int k = 4; k < 8; ++k) d.a_f[k] = afd, d.a_b[k] = abd;
     layer_lanes(d);
-    T Rd[4], Td[4];
+    double Rd[8], Td[8];
     layered_stacks(d, depth_d, Rd, Td);
+    using detail::mean_events;
+    const T events_f = T(mean_events(Td[0], Td[4], inv_log)), events_b = T(mean_events(Td[1], Td[4], inv_log));
+    const T returned_f = T(mean_events(Rd[0], Rd[4], inv_log)), returned_b = T(mean_events(Rd[1], Rd[4], inv_log));
+    const T far_f = T(mean_events(Td[2], Td[5], inv_log)), far_b = T(mean_events(Td[3], Td[5], inv_log));
     const T bf = (e.beta2_f.x + e.beta2_f.y + e.beta2_f.z) * T(1.0 / 3.0);
     const T bb = (e.beta2_b.x + e.beta2_b.y + e.beta2_b.z) * T(1.0 / 3.0);
-    using detail::mean_events;
-    const T far_side = mean_events(Td[2], T_[7], inv_log) * bf + mean_events(Td[3], T_[7], inv_log) * bb;
-    const T vf = mean_events(Td[0], T_[3], inv_log) * bf + mean_events(Td[1], T_[3], inv_log) * bb;
-    const T vb = mean_events(Rd[0], R[3], inv_log) * bf + mean_events(Rd[1], R[3], inv_log) * bb + far_side;
+    const T vf = events_f * bf + events_b * bb;
+    const T vb = returned_f * bf + returned_b * bb + far_f * bf + far_b * bb;
     s.spread_f = clamp(is_finite(vf) ? vf : T(0), kMinSourceSpread<T>, kMaxSourceSpread<T>);
     s.spread_b = clamp(is_finite(vb) ? vb : T(0), kMinSourceSpread<T>, kMaxSourceSpread<T>);
+    // Each event turns the light around the fiber by an angle whose mean cosine is μ (the
+    // entry's mu_f, mu_b). Mean cosines of independent turns multiply, so the variance of the
+    // equivalent Gaussian, −2 ln μ per event, adds over the events like the θ spreads.
+    const T turn = events_f * dual_turn_variance(mf) + events_b * dual_turn_variance(mb);
+    s.turn_f = clamp(is_finite(turn) ? turn : T(0), kMinSourceSpread<T>, kMaxSourceSpread<T>);
     return s;
 }
 template <typename T>
 HAIRSCATTER_HD DualStreams<T> dual_streams(const DualTablesView<T>& tables, T sin_theta_a, T n_fibers, T m_fibers) {
     return dual_streams(tables.lookup(sin_theta_a), n_fibers, m_fibers);
+}
+
+template <typename T> struct DualSourceStack {
+    glm::vec<3, T> t{T(1)}, r{T(0)};  // T_N' and R_N' per channel
+};
+
+// The stack of N' fibers beyond a stack's face along a source direction, apart: what it
+// transmits of L(s) (t = T_N') and what it reflects of the light on the face's own side
+// (r = R_N'); each in [0, 1], t + r = dual_source_gain. NaN or negative counts give no
+// fibers (t = 1, r = 0), +Inf a deep stack.
+template <typename T>
+HAIRSCATTER_HD DualSourceStack<T> dual_source_stack(const DualScatteringEntry<T>& e, T count) {
+    DualSourceStack<T> st;
+    const T n = dual_stack_depth(count);
+    if (!(n > T(0))) return st;
+    LayerLanes<T, 4> layer;
+    elem::store4(layer.a_f, e.a_f.x, e.a_f.y, e.a_f.z, T(0));
+    elem::store4(layer.a_b, e.a_b.x, e.a_b.y, e.a_b.z, T(0));
+    layer_lanes(layer);
+    const T depth[4] = {n, n, n, n};
+    T R[4], T_[4];
+    layered_stacks(layer, depth, R, T_);
+    for (int k = 0; k < 3; ++k) {
+        st.t[k] = is_finite(T_[k]) ? clamp(T_[k], T(0), T(1)) : T(0);
+        st.r[k] = is_finite(R[k]) ? clamp(R[k], T(0), T(1) - st.t[k]) : T(0);
+    }
+    return st;
+}
+
+// Where the renderer knows the light around the face (its hair's mean radiance L̄ there, as
+// the example renderer's glow volume holds it), the hair along s is better read as a
+// medium of albedo a_f + a_b lit by L̄: the face receives t L(s) + h L̄ with
+// h = (1 − t)(a_f + a_b) per channel (docs/theory.md §5.7, "The hair along a source
+// direction"). Exact in a furnace (lossless: a_f + a_b = 1 and L̄ = L).
+template <typename T>
+HAIRSCATTER_HD glm::vec<3, T> dual_source_hair(const DualScatteringEntry<T>& e, const DualSourceStack<T>& st) {
+    glm::vec<3, T> h;
+    for (int k = 0; k < 3; ++k) {
+        const T v = (T(1) - st.t[k]) * (e.a_f[k] + e.a_b[k]);
+        h[k] = is_finite(v) ? clamp(v, T(0), T(1)) : T(0);
+    }
+    return h;
 }
 
 // The share of L(s) that reaches a stack's far face from direction s when `count` more
@@ -190,21 +381,38 @@ HAIRSCATTER_HD DualStreams<T> dual_streams(const DualTablesView<T>& tables, T si
 // rounding), and no brighter than the source wherever the hair is dimmer than it. NaN or
 // negative counts give 1 (no fibers), +Inf a deep stack.
 template <typename T> HAIRSCATTER_HD glm::vec<3, T> dual_source_gain(const DualScatteringEntry<T>& e, T count) {
-    const T n = dual_stack_depth(count);
-    if (!(n > T(0))) return glm::vec<3, T>(T(1));
-    LayerLanes<T, 4> layer;
-    elem::store4(layer.a_f, e.a_f.x, e.a_f.y, e.a_f.z, T(0));
-    elem::store4(layer.a_b, e.a_b.x, e.a_b.y, e.a_b.z, T(0));
-    layer_lanes(layer);
-    const T depth[4] = {n, n, n, n};
-    T R[4], T_[4];
-    layered_stacks(layer, depth, R, T_);
-    glm::vec<3, T> g;
-    for (int k = 0; k < 3; ++k) {
-        const T v = R[k] + T_[k];
-        g[k] = is_finite(v) ? clamp(v, T(0), T(1)) : T(0);
-    }
-    return g;
+    const DualSourceStack<T> st = dual_source_stack(e, count);
+    return st.t + st.r;
+}
+
+// The limit of dual_turned_depth for a stack along d from origin, from the hair's own
+// shape (docs/theory.md §5.7, "The hair's shape sets the diffusivity"): light spread evenly
+// over the half-circle of directions around d (turned about the fiber's axis) crosses
+// 1/E[cos φ] fibers per fiber of progress in a slab, where the count along the turned
+// direction is C(φ) = C(0)/cos φ. So C(0) · E[1/C(φ)] is 2/π deep in a slab across d, and
+// larger where turned light leaves the hair sooner (a volume of finite width, a face).
+// E over the half-circle by its six-point midpoint rule; counts below one fiber count as
+// one (the fiber a ray along d meets). Any density source (fibers_crossed); d and axis unit
+// vectors; max_distance as for fibers_crossed. Non-finite input gives the slab's 2/π.
+template <typename T, class Source>
+HAIRSCATTER_HD T dual_turn_limit(const Source& source, const glm::vec<3, T>& origin, const glm::vec<3, T>& axis,
+                                 const glm::vec<3, T>& d, T max_distance) {
+    using V3 = glm::vec<3, T>;
+    if (!(is_finite(origin) && is_finite(axis) && is_finite(d))) return kSlabTurnLimit<T>;
+    const auto count = [&](const V3& dir) {
+        const T c = source.fibers_crossed(origin, dir, max_distance);
+        return c > T(1) ? c : T(1);  // also NaN → 1
+    };
+    // cos and sin of (k + ½) π/6 − π/2, k = 0..2 (the other three are their mirrors).
+    constexpr T cs[3] = {T(0.25881904510252076), T(0.70710678118654752), T(0.96592582628906829)};
+    constexpr T sn[3] = {T(0.96592582628906829), T(0.70710678118654752), T(0.25881904510252076)};
+    const V3 along = axis * glm::dot(axis, d), across = d - along, side = glm::cross(axis, d);
+    T inv = T(0);
+    for (int k = 0; k < 3; ++k)
+        for (int sign = -1; sign <= 1; sign += 2)
+            inv += T(1) / count(glm::normalize(along + across * cs[k] + side * (T(sign) * sn[k])));
+    const T limit = count(d) * inv / T(6);
+    return is_finite(limit) ? clamp(limit, kMinTurnLimit<T>, kMaxTurnLimit<T>) : kSlabTurnLimit<T>;
 }
 
 // Where the fibers along a ray end, for a density source (density_source.hpp: anything with
@@ -251,7 +459,8 @@ template <typename T> class DualSourceKernel {
     };
 
     HAIRSCATTER_HD DualSourceKernel(const V3& a, const DualStreams<T>& streams)
-        : a_(a), c_f_(streams.forward), c_b_(streams.back), m_f_(streams.spread_f), m_b_(streams.spread_b) {
+        : a_(a), c_f_(streams.forward), c_b_(streams.back), m_f_(streams.spread_f), m_b_(streams.spread_b),
+          turn_f_(streams.turn_f) {
         valid_ = is_finite(a) && is_finite(c_f_) && is_finite(c_b_);
         const T sa = clamp(a.x, T(-1), T(1));
         sin_a_ = is_finite(sa) ? sa : T(0);
@@ -281,7 +490,8 @@ template <typename T> class DualSourceKernel {
         r.pdf = p_f_ * kf + p_b_ * kb;
         return r;
     }
-    // u.x picks the side, (u.y, u.z) θs, u.w the azimuth within the half-circle.
+    // u.x picks the side, (u.y, u.z) θs, u.w the azimuth within the half-circle (K_f's
+    // Gaussian, K_b's uniform).
     HAIRSCATTER_HD Sample sample(const V4& u) const {
         Sample r;
         if (!(p_f_ + p_b_ > T(0)) || !is_finite(u)) return r;
@@ -290,7 +500,7 @@ template <typename T> class DualSourceKernel {
         // Conditioned on θo = -θa, M peaks at θs = θa.
         const T sin_s = lobe.sample_sin_theta(-sin_a_, cos_a_, clamp(u.y, T(0), T(1)), clamp(u.z, T(0), T(1)));
         const T half = kPi<T> * (clamp(u.w, T(0), T(1)) - T(0.5));
-        const T psi = forward ? half : (half >= T(0) ? kPi<T> - half : -kPi<T> - half);
+        const T psi = forward ? turn_f_.sample(u.w) : (half >= T(0) ? kPi<T> - half : -kPi<T> - half);
         r.s = direction_from_azimuth(a_, clamp(sin_s, T(-1), T(1)), psi);
         const EvalPdf ep = eval_pdf(r.s);
         r.pdf = ep.pdf > T(0) ? ep.pdf : T(0);
@@ -304,8 +514,8 @@ template <typename T> class DualSourceKernel {
         kf = kb = T(0);
         if (!(valid_ && is_finite(s))) return false;
         const T sin_s = clamp(s.x, T(-1), T(1)), cos_s = cos_from_sin(sin_s);
-        const bool near_half = abs_value(relative_azimuth(a_, s)) < kHalfPi<T>;
-        if (near_half) kf = m_f_.eval(sin_s, cos_s, -sin_a_, cos_a_) * kInvPi<T>;
+        const T turn = relative_azimuth(a_, s);
+        if (abs_value(turn) < kHalfPi<T>) kf = m_f_.eval(sin_s, cos_s, -sin_a_, cos_a_) * turn_f_.pdf(turn);
         else kb = m_b_.eval(sin_s, cos_s, -sin_a_, cos_a_) * kInvPi<T>;
         return true;
     }
@@ -313,6 +523,7 @@ template <typename T> class DualSourceKernel {
     V3 a_;
     V3 c_f_, c_b_;
     DeonLongitudinal<T> m_f_, m_b_;
+    HalfCircleGaussian<T> turn_f_;
     T sin_a_ = T(0), cos_a_ = T(1);
     T p_f_ = T(0), p_b_ = T(0);
     bool valid_ = false;
