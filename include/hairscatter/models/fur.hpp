@@ -37,6 +37,7 @@
 #include "../lobes/azimuthal.hpp"
 #include "../lobes/deon_lobes.hpp"
 #include "../lobes/lobe_controls.hpp"
+#include "../lobes/microfacet.hpp"
 #include "../math/constants.hpp"
 #include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
@@ -398,11 +399,10 @@ struct RoughFacets {
     // slopes' standard deviation. Below the mean surface (c < 0) it is −1 − Λ(−v), the
     // convention of Heitz et al. 2016's walk.
     double lambda(const glm::dvec3& v) const {
-        if (ggx > 0) {  // GGX's Λ = (−1 + √(1 + α² tan²θ))/2 about the tilted normal (Walter et al. 2007)
-            const glm::dvec3 w = to_tilted(v);
-            if (!(std::fabs(w.z) > 1e-12)) return w.z > 0 ? 1e12 : -1e12;  // (grazing: all masked)
-            const double root = std::sqrt(1 + ggx * ggx * std::max(0.0, 1 - w.z * w.z) / (w.z * w.z));
-            return w.z > 0 ? 0.5 * (root - 1) : -0.5 * (root + 1);
+        if (ggx > 0) {  // GGX's (lobes/microfacet.hpp) about the tilted normal
+            const double c = to_tilted(v).z;
+            const Ggx<double> facets(ggx);
+            return c > 0 ? facets.lambda(c) : -1 - facets.lambda(-c);
         }
         const double c = mean_projection(v), s = spread(v);
         if (!(s > 1e-12 * std::fabs(c))) return c > 0 ? 0.0 : -1.0;  // (no spread along v)
@@ -418,17 +418,11 @@ struct RoughFacets {
     // (a + z)⁺ φ(z), a = c/s (visible_deviate), across it the standard normal Z2.
     glm::dvec3 sample(const glm::dvec3& d, FurRng& rng) const {
         if (ggx > 0) {
-            // GGX's visible normals for any d, including below the horizon (a ray the walk sends
-            // upward into the microsurface): stretched to α = 1, the normalised sum of d and a
-            // uniform point on the unit sphere, restricted to the cap that keeps the facet above,
-            // has density ∝ ⟨d·m⟩ D(m) (Dupuy & Benyoub 2023, "Sound and complete visible-normal
-            // sampling with spherical caps"; Heitz 2018's stretch).
-            const glm::dvec3 w = to_tilted(d);
-            const glm::dvec3 v = glm::normalize(glm::dvec3(ggx * w.x, ggx * w.y, w.z));
-            const double phi = 2 * kPi<double> * rng.uniform(), z = (1 - rng.uniform()) * (1 + v.z) - v.z;
-            const double r = std::sqrt(std::max(0.0, 1 - z * z));
-            const glm::dvec3 h = glm::dvec3(r * std::cos(phi), r * std::sin(phi), z) + v;
-            return from_tilted(glm::normalize(glm::dvec3(ggx * h.x, ggx * h.y, std::max(1e-300, h.z))));
+            // GGX's visible normals (Dupuy & Benyoub 2023's spherical cap, lobes/microfacet.hpp):
+            // the cap z ≥ −d.z (stretched) serves d below the horizon too, as a ray the walk
+            // sends upward into the microsurface sees it.
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            return from_tilted(Ggx<double>(ggx).sample_visible_local(to_tilted(d), u1, u2));
         }
         const double c = mean_projection(d), s = spread(d);
         const bool across = s > 1e-12 * std::fabs(c);  // (else ⟨d·m̃⟩ = c for every facet: no weighting)
