@@ -94,9 +94,10 @@ TEST(FurTables, LoadTakesTheGivenRoughness) {
     EXPECT_EQ(m.params().cortex.beta_n, 0.5);
 }
 
-// With the rough cortex the tables depend on its facets (α, β_m, β_n) as well: its file
-// loads back bit for bit for the same parameters, and is refused for another β_m or α, for
-// the smooth cortex, and a smooth cortex's file for the rough one, naming the parameter.
+// With the rough cortex the tables depend on its facets (α, β_m, β_n, facet α) as well: its
+// file loads back bit for bit for the same parameters, and is refused for another β_m, α or
+// facet α, for the smooth cortex, and a smooth cortex's file for the rough one, naming the
+// parameter.
 TEST(FurTables, RoughCortexTablesKeepTheirRoughness) {
     const std::string path = temp_path("hairscatter_fur_rough.hsft");
     hs::FurParams<double> rough = medulla_params<double>();
@@ -112,6 +113,9 @@ TEST(FurTables, RoughCortexTablesKeepTheirRoughness) {
     other = rough;
     other.cortex.alpha = 0.1;
     expect_refused(bytes, "alpha", other);
+    other = rough;
+    other.facet_alpha = 0.17;
+    expect_refused(bytes, "facet_alpha", other);
     expect_refused(bytes, "rough_cortex", medulla_params<double>());
     hs::FurMaterial<double>(medulla_params<double>()).save(path);
     expect_refused(read_bytes(path), "rough_cortex", rough);
@@ -130,7 +134,7 @@ TEST(FurTables, RejectsBadFilesNamingThem) {
         reseal(b);
         return b;
     };
-    expect_refused(with_u32(4, 1), "version 1, this library reads version 3");
+    expect_refused(with_u32(4, 1), "version 1, this library reads version 4");
     expect_refused(with_u32(8, 7), "tables of 7 x 32 bins");
     expect_refused(with_u32(12, 16), "tables of 6 x 16 bins");
     expect_refused(std::vector<unsigned char>(good.begin(), good.end() - 9), "truncated");
@@ -144,22 +148,22 @@ TEST(FurTables, RejectsBadFilesNamingThem) {
     std::vector<unsigned char> flipped = good;
     flipped[200] ^= 0x10;
     expect_refused(flipped, "checksum");
-    // The first density value (after magic, three sizes and fourteen parameters), negative.
+    // The first density value (after magic, three sizes and fifteen parameters), negative.
     std::vector<unsigned char> negative = good;
     const double minus_one = -1.0;
-    std::memcpy(negative.data() + 4 + 3 * 4 + 14 * 8, &minus_one, 8);
+    std::memcpy(negative.data() + 4 + 3 * 4 + 15 * 8, &minus_one, 8);
     reseal(negative);
     expect_refused(negative, "a density value = -1");
     // The first bin's longitudinal skew (after its 32 densities, 33 cdf values, 3 escape
     // fractions and the mix), past its range.
     std::vector<unsigned char> skew = good;
     const double two = 2.0;
-    std::memcpy(skew.data() + 4 + 3 * 4 + 14 * 8 + (32 + 33 + 3 + 1) * 8, &two, 8);
+    std::memcpy(skew.data() + 4 + 3 * 4 + 15 * 8 + (32 + 33 + 3 + 1) * 8, &two, 8);
     reseal(skew);
     expect_refused(skew, "a longitudinal skew = 2");
     // A cdf value an ulp above 1 before the last edge (a running sum's rounding, as a build
     // of the tables once wrote) loads, brought to 1; a thousandth above is refused.
-    const std::size_t cdf_31 = 4 + 3 * 4 + 14 * 8 + (32 + 31) * 8;
+    const std::size_t cdf_31 = 4 + 3 * 4 + 15 * 8 + (32 + 31) * 8;
     std::vector<unsigned char> ulp = good;
     const double above = std::nextafter(1.0, 2.0);
     std::memcpy(ulp.data() + cdf_31, &above, 8);

@@ -96,6 +96,7 @@ struct MedullaShape {
     double kappa = 0.0, sigma_s = 0.0, g = 0.0;
     double sigma_a[3] = {0.0, 0.0, 0.0};
     bool rough_cortex = false;  // --rough-cortex: FurParams::rough_cortex
+    double facet_alpha = 0.0;   // --facet-alpha: FurParams::facet_alpha
 };
 
 // The fur fiber's parameters for a Chiang parameter set: the set is the cortex.
@@ -108,6 +109,7 @@ hairscatter::FurParams<T> fur_params(const hairscatter::FiberParams<T>& p, const
     f.sigma_a_medulla = glm::vec<3, T>(T(m.sigma_a[0]), T(m.sigma_a[1]), T(m.sigma_a[2]));
     f.g = T(m.g);
     f.rough_cortex = m.rough_cortex;
+    f.facet_alpha = T(m.facet_alpha);
     return f;
 }
 

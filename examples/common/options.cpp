@@ -184,6 +184,9 @@ void add_fiber_options(CLI::App& app, FiberOptions& o, const std::string& defaul
     app.add_flag("--rough-cortex", o.rough_cortex,
                  "fur: a rough cortex, whose light inside walks over tilted microfacets (total internal reflection "
                  "feeds the orders past TRT; docs/models.md)");
+    app.add_option("--facet-alpha", o.facet_alpha,
+                   "fur, with --rough-cortex: the cortex's microsurface as GGX of this roughness, [0, 1] "
+                   "(default 0: Gaussian slopes from --beta-m and --beta-n; docs/models.md)");
 }
 
 namespace {
@@ -299,11 +302,16 @@ hs::FiberParams<double> fiber_params(const FiberOptions& o, const std::string& d
 MedullaShape medulla_shape(const FiberOptions& o) {
     const double none = HairColourOptions::kNotGiven;
     const bool given = o.kappa != none || o.medulla_sigma_s != none || o.medulla_g != none ||
-                       !o.medulla_sigma_a.empty() || o.rough_cortex;
-    require(!given || o.model == "fur", "--kappa, --medulla-sigma-s, --medulla-sigma-a, --medulla-g, --rough-cortex: "
-                                        "only --model fur has a medulla (not --model " + o.model + ")");
+                       !o.medulla_sigma_a.empty() || o.rough_cortex || o.facet_alpha != none;
+    require(!given || o.model == "fur",
+            "--kappa, --medulla-sigma-s, --medulla-sigma-a, --medulla-g, --rough-cortex, --facet-alpha: "
+            "only --model fur has a medulla (not --model " + o.model + ")");
     MedullaShape m;
     m.rough_cortex = o.rough_cortex;
+    require(o.facet_alpha == none || o.rough_cortex, "--facet-alpha: only with --rough-cortex (the smooth cortex has no facets)");
+    if (o.facet_alpha != none) m.facet_alpha = o.facet_alpha;
+    require(std::isfinite(m.facet_alpha) && m.facet_alpha >= 0 && m.facet_alpha <= 1,
+            "--facet-alpha: " + num(m.facet_alpha) + " is outside [0, 1]");
     if (o.kappa != none) m.kappa = o.kappa;
     if (o.medulla_sigma_s != none) m.sigma_s = o.medulla_sigma_s;
     if (o.medulla_g != none) m.g = o.medulla_g;

@@ -64,6 +64,7 @@ struct FiberOptions {
            medulla_g = HairColourOptions::kNotGiven;
     std::vector<double> medulla_sigma_a;  // one value (grey) or R,G,B
     bool rough_cortex = false;            // --rough-cortex (FurParams::rough_cortex)
+    double facet_alpha = HairColourOptions::kNotGiven;  // --facet-alpha (FurParams::facet_alpha)
 };
 
 // Adds --model, --lobes, --colour/--color, --eumelanin, --pheomelanin, --melanin,

@@ -42,6 +42,7 @@ std::vector<glm::dvec3> lobe_bins(const phys_fur::FurCase& fc, const glm::dvec3&
     p.cortex.sigma_a = sigma_a;
     p.cortex.alpha = fc.tilt_deg * phys_fiber::kPi / 180;
     p.rough_cortex = fc.roughness >= 0.1;
+    p.facet_alpha = p.rough_cortex ? fc.roughness : 0;  // the reference's GGX, as FurPhysical gives it
     hs::FurControls<double> c;
     for (int l = 0; l < 4; ++l) c.lobes.gain[l] = l == only ? 1.0 : 0.0;
     c.gain_s = only == 4 ? 1.0 : 0.0;

@@ -236,6 +236,10 @@ TEST(RenderCli, RefusesBadFurValuesNamingTheOption) {
     expect_refused("--integrator path --kappa 0.5", "only --model fur");
     expect_refused("--integrator single --model farfield --medulla-g 0.3", "only --model fur");
     expect_refused("--integrator single --rough-cortex", "only --model fur");
+    expect_refused("--integrator single --facet-alpha 0.2", "only --model fur");
+    expect_refused(fur + "--facet-alpha 0.2", "only with --rough-cortex");
+    expect_refused(fur + "--rough-cortex --facet-alpha 1.5", "--facet-alpha");
+    expect_refused(fur + "--rough-cortex --facet-alpha nan", "--facet-alpha");
     expect_refused("--integrator dual --model huang", "--integrator dual");
     expect_refused(fur + "--gain-r -1", "--gain-r");  // fur takes the lobe controls, checked as for chiang
     expect_refused(fur + "--strand-seed 3", "--model chiang");
@@ -274,6 +278,21 @@ TEST(RenderCli, FurRendersWithAMedulla) {
         EXPECT_NE(mean_hair_red(rough.output), b) << integrator;  // --rough-cortex reaches the fibre
         EXPECT_EQ(mean_hair_red(grey.output), mean_hair_red(rgb.output)) << integrator;
     }
+}
+
+// --facet-alpha reaches the rough cortex: its GGX facets change the hair pixels (the same seed
+// and rays as the Gaussian facets from β).
+TEST(RenderCli, FurFacetAlphaReachesTheRoughCortex) {
+    const std::string base = "--integrator single --scene fur --fur-hairs 400 --width 24 --height 18 --spp 2 --model fur "
+                             "--rough-cortex";
+    const Outcome gaussian = run(base + " -o " + out_base("fur_facets_gaussian"));
+    const Outcome ggx = run(base + " --facet-alpha 0.17 -o " + out_base("fur_facets_ggx"));
+    for (const Outcome* r : {&gaussian, &ggx}) {
+        EXPECT_EQ(r->status, 0) << r->output;
+        EXPECT_NE(r->output.find(" dropped=0 nonfinite_pixels=0 "), std::string::npos) << r->output;
+    }
+    EXPECT_GT(mean_hair_red(ggx.output), 0.0) << ggx.output;
+    EXPECT_NE(mean_hair_red(ggx.output), mean_hair_red(gaussian.output));
 }
 
 // --model fur takes the lobe controls (docs/controls.md) on R, TT, TRT and the residual: a

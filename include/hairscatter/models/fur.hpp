@@ -13,6 +13,7 @@
 // the double cylinder (docs/models.md, "Fur with a medulla").
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -36,6 +37,7 @@
 #include "../lobes/azimuthal.hpp"
 #include "../lobes/deon_lobes.hpp"
 #include "../lobes/lobe_controls.hpp"
+#include "../lobes/microfacet.hpp"
 #include "../math/constants.hpp"
 #include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
@@ -56,6 +58,10 @@ template <typename T> struct FurParams {
     // facets included, instead of the smooth F at every internal event. Off, the unscattered
     // lobes are Chiang's exactly.
     bool rough_cortex = false;
+    // The rough cortex's microsurface, where it is known: GGX (Trowbridge–Reitz) of this
+    // roughness about the cuticle-tilted normal, in [0, 1]; 0 (the default): Gaussian slopes
+    // whose spread follows from β_m and β_n (RoughFacets). Read only with rough_cortex.
+    T facet_alpha = T(0);
 };
 
 // Every field checked (the cortex by validate(FiberParams)); an empty string when valid,
@@ -73,6 +79,7 @@ template <typename T> std::string validate(const FurParams<T>& p) {
         if (!in_range(p.sigma_a_medulla[c], T(0), inf))
             bad.add(channel[c], double(p.sigma_a_medulla[c]), "[0, inf) (finite)");
     if (!(in_range(p.g, T(-1), T(1)) && p.g > T(-1) && p.g < T(1))) bad.add("g", double(p.g), "(-1, 1)");
+    if (!in_range(p.facet_alpha, T(0), T(1))) bad.add("facet_alpha", double(p.facet_alpha), "[0, 1]");
     return bad.str();
 }
 
@@ -260,34 +267,35 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 // angle stays trapped for many events. In a circle the state of that walk is the internal
 // direction alone (its angle to the local normal is the same at both ends of a chord, and
 // its component along the tangent is conserved, the angular momentum about the axis), so it
-// is simulated per material on directions only: light from wo enters at offset h through a
-// facet, then meets one facet per event (each seen in proportion to ⟨d·m⟩, the visible
-// normals of Heitz 2014, "Understanding the masking-shadowing function", eq. 2), and
-// reflects or leaves with that facet's Fresnel factor. The facets' slopes are Gaussian,
-// centred on the cuticle tilt α along the fibre, with the spread the model's own roughness
-// implies: a reflection doubles the tilt of the normal that makes it, so the longitudinal
-// slope's standard deviation is half the R lobe's, √v(β_m)/2 (d'Eon et al. 2011), and the
-// azimuthal one half the azimuthal logistic's, (π/√3) s(β_n)/2 (Chiang et al. 2016).
-// Nothing is fitted to a reference. Per node (θo, |h|) the table keeps, of the light that
-// entered, the shares that leave at the first internal event (TT), the second (TRT) and
-// later, and the ratio r of the later orders' geometric tail (r / (1 − r) is their mean
-// number of events past the third); and the entry's own reflectance F_r, the rough
-// boundary's R: the Fresnel factor of the facets that wo sees (visible normals), each
-// reflection kept where the facets leave its reflected direction unmasked (Smith's G1 for
-// the same Gaussian slopes), F_r = E[F(wo·m) G1(o_m)]. Light that a facet reflects back into
-// the surface meets another facet and mostly enters: the cortex takes it (1 − F_r). The
-// table holds F_r over the smooth F at the node, which the fibre multiplies by its exact
-// smooth F at h: F rises steeply toward h = 1, and a bilinear F_r between nodes 1/8 apart
-// overstated it there by a quarter at θo 0° (0.082 against 0.068). Toward grazing wo the
-// facets it sees lean toward it, and F_r falls below the smooth F (h-averaged at θo 75°
-// with β 0.3: 0.21 against 0.36). The fibre attenuates each chord as its first one.
+// is simulated per material on directions only: light from wo meets the boundary at offset
+// h, then the boundary once per chord. Each meeting is Heitz et al. 2016's random walk on
+// the microsurface (RoughFacets::walk): visible facets (Heitz 2014, "Understanding the
+// masking-shadowing function", eq. 2) reflect or refract with their Fresnel factor, and
+// light that a facet sends back into the microsurface (Smith's masking) meets another
+// facet, until it leaves it outside or inside. The facets are centred on the cuticle tilt α;
+// by default their slopes are Gaussian with the spread the model's own roughness implies: a
+// reflection doubles the tilt of the normal that makes it, so the longitudinal slope's
+// standard deviation is half the R lobe's, √v(β_m)/2 (d'Eon et al. 2011), and the azimuthal
+// one half the azimuthal logistic's, (π/√3) s(β_n)/2 (Chiang et al. 2016); or GGX of the
+// roughness FurParams::facet_alpha, the cortex's microsurface given as such. Nothing is
+// fitted to a reference. Per node (θo, |h|) the table keeps, of the light that entered, the
+// shares that leave at the first internal meeting (TT), the second (TRT) and later, and the
+// ratio r of the later orders' geometric tail (r / (1 − r) is their mean number of chords
+// past the third); and the entry's own reflectance F_r, the rough boundary's R: the light
+// the entry's walk leaves outside, its first facet's reflection counted by its expectation
+// F(wo·m) C1(h)^Λ(o_m) (the chance that it rises out of the microsurface from the height h
+// it met the facet at, Smith's G1 there). The table holds F_r over the smooth F at the node,
+// which the fibre multiplies by its exact smooth F at h: F rises steeply toward h = 1, and a
+// bilinear F_r between nodes 1/8 apart overstated it there by a quarter at θo 0° (0.082
+// against 0.068). Toward grazing wo the facets it sees lean toward it, and F_r falls below
+// the smooth F. The fibre attenuates each chord as its first one.
 // The same reflections give R's shape at the node: the d'Eon lobe (variance v_R, centre θc)
-// whose first two moments of sin θi are theirs, each reflection weighted by F G1 (vmf_lobe),
-// kept as v_R and δ_R = θo − 2α + θc, the turn from the smooth tilt's conditioning angle
-// θo − 2α to −θc. A facet of longitudinal slope a turns sin θi by 2a cos θo cos γ to first
-// order (γ the incidence angle in the section, sin γ = h): toward the rim, where F is
-// largest, the facets' spread and tilt nearly stop acting on R (v_R ≈ v cos²γ at θo 0°), a
-// narrowing Chiang's single v per lobe does not have.
+// whose quartiles of sin θi are theirs (deon_lobe_from_quartiles), kept as v_R and
+// δ_R = θo − 2α + θc, the turn from the smooth tilt's conditioning angle θo − 2α to −θc. A
+// facet of longitudinal slope a turns sin θi by 2a cos θo cos γ to first order (γ the
+// incidence angle in the section, sin γ = h): toward the rim, where F is largest, the
+// facets' spread and tilt nearly stop acting on R (v_R ≈ v cos²γ at θo 0°), a narrowing
+// Chiang's single v per lobe does not have.
 template <typename T> struct RoughCortexTables {
     static constexpr int kTheta = 13, kH = 9;  // θo nodes over ±kThetaMax, |h| nodes over [0, 1]
     static constexpr double kThetaMax = 1.5;   // (beyond, the nearest node: cos θo → 0 there)
@@ -361,89 +369,227 @@ inline glm::dvec3 fur_scatter(const glm::dvec3& d, double g, double u1, double u
     return glm::normalize(c * d + sn * (std::cos(phi) * t + std::sin(phi) * b));
 }
 
-// The rough cortex's microfacets (RoughCortexTables): Gaussian slopes centred on the cuticle
-// tilt along the axis, with the spread the model's β implies (the longitudinal slope's
-// standard deviation half the R lobe's, √v(β_m)/2; the azimuthal one half the azimuthal
-// logistic's, (π/√3) s(β_n)/2). Directions in the frame (axis, normal, tangent).
+// The rough cortex's microfacets (RoughCortexTables), about the normal tilted by the cuticle
+// angle α toward the tip. By default Gaussian slopes with the spread the model's β implies
+// (the longitudinal slope's standard deviation half the R lobe's, √v(β_m)/2; the azimuthal
+// one half the azimuthal logistic's, (π/√3) s(β_n)/2): a facet's unnormalised normal is
+// m̃ = (μ + σ_a X, 1, σ_b Y), μ = tan α, X and Y standard normal. With FurParams::facet_alpha
+// set, GGX of that roughness instead (Trowbridge & Reitz 1975; Walter et al. 2007, who found
+// it closer than Gaussian slopes to measured rough dielectrics): its slopes' heavy tail tilts
+// more facets past the critical angle. Directions in the frame (axis, normal, tangent).
 struct RoughFacets {
     double sigma_a = 0, sigma_b = 0, mean_a = 0;
+    double ggx = 0;  // GGX α; 0: the Gaussian slopes
+    static constexpr int kMaxEvents = 100;  // per boundary interaction (a walk this long is ~never seen)
 
-    static RoughFacets of(double alpha, double beta_m, double beta_n) {
+    static RoughFacets of(double alpha, double beta_m, double beta_n, double facet_alpha) {
         return {0.5 * std::sqrt(longitudinal_variance(beta_m)), 0.5 * 1.81379936423421785059 * logistic_scale(beta_n),
-                std::tan(alpha)};
+                std::tan(alpha), facet_alpha};
     }
-    // A facet seen from d (d·n > 0): slopes drawn (a pair of standard normal numbers by
-    // Box–Muller), then kept in proportion to ⟨d·m⟩ (by rejection against its bound |m|):
-    // the visible normals of Heitz 2014, "Understanding the masking-shadowing function", eq. 2.
-    glm::dvec3 sample(const glm::dvec3& d, FurRng& rng) const {
-        for (int tries = 0; tries < 1000; ++tries) {
-            const double r = std::sqrt(-2 * std::log(1 - rng.uniform())), phi = 2 * kPi<double> * rng.uniform();
-            const glm::dvec3 m(mean_a + sigma_a * r * std::cos(phi), 1, sigma_b * r * std::sin(phi));
-            const double len = glm::length(m), proj = glm::dot(d, m);
-            if (proj > 0 && rng.uniform() * len < proj) return m / len;
+    // v's projection on the mean surface (normal ∝ (μ, 1, 0), per unit area of the plane
+    // y = 0), c = v·(μ, 1, 0), and the spread s of v·m̃ about it: v·m̃ = c + s Z, Z standard normal.
+    double mean_projection(const glm::dvec3& v) const { return v.x * mean_a + v.y; }
+    double spread(const glm::dvec3& v) const { return std::sqrt(sqr(sigma_a * v.x) + sqr(sigma_b * v.z)); }
+
+    // Smith's Λ (Smith 1967; Heitz 2014, "Understanding the masking-shadowing function"): the
+    // facets' projected area toward v over the mean surface's, less 1. With v·m̃ = c + s Z,
+    // E[⟨v·m̃⟩] = c Φ(c/s) + s φ(c/s), so Λ(v) = Φ(c/s) − 1 + φ(c/s) s/c: Walter et al. 2007
+    // ("Microfacet models for refraction through rough surfaces", EGSR) eq. 27's Beckmann Λ,
+    // (erf(a) − 1)/2 + e^(−a²)/(2a√π) with a = c/(√2 s) — the Beckmann width is √2 times the
+    // slopes' standard deviation. Below the mean surface (c < 0) it is −1 − Λ(−v), the
+    // convention of Heitz et al. 2016's walk.
+    double lambda(const glm::dvec3& v) const {
+        if (ggx > 0) {  // GGX's (lobes/microfacet.hpp) about the tilted normal
+            const double c = to_tilted(v).z;
+            const Ggx<double> facets(ggx);
+            return c > 0 ? facets.lambda(c) : -1 - facets.lambda(-c);
         }
-        return glm::dvec3(0, 1, 0);
+        const double c = mean_projection(v), s = spread(v);
+        if (!(s > 1e-12 * std::fabs(c))) return c > 0 ? 0.0 : -1.0;  // (no spread along v)
+        const double a = c / s;
+        return -0.5 * std::erfc(a * 0.70710678118654752440) + kInvSqrtTwoPi<double> * std::exp(-0.5 * a * a) / a;
     }
-    // Smith's masking of a direction v by the facets (Smith 1967; for Gaussian slopes Walter,
-    // Marschner, Li & Torrance 2007, "Microfacet models for refraction through rough
-    // surfaces", eq. 27's Λ): G1 = 1 / (1 + Λ(a)), Λ(a) = (erf(a) − 1)/2 + e^(−a²)/(2a√π),
-    // a = cot θv / σ(φv) about the mean facet normal n0 (tilted by α along the axis), with
-    // σ(φv) the slopes' spread along v's azimuth; 0 below the mean plane.
-    double unmasked(const glm::dvec3& v) const {
-        const glm::dvec3 n0 = glm::normalize(glm::dvec3(mean_a, 1, 0)), along = glm::normalize(glm::dvec3(1, -mean_a, 0));
-        const double c = glm::dot(v, n0);
-        if (!(c > 0)) return 0.0;
-        const double spread = std::sqrt(sqr(sigma_a * glm::dot(v, along)) + sqr(sigma_b * v.z));
-        if (!(spread > 1e-12)) return 1.0;
-        const double a = c / spread;
-        const double lambda = 0.5 * (std::erf(a) - 1) + std::exp(-a * a) / (2 * a * std::sqrt(kPi<double>));
-        return 1 / (1 + lambda);
+    // Smith's masking G1 = 1 / (1 + Λ) of a direction v above the mean surface; 0 below.
+    double unmasked(const glm::dvec3& v) const { return mean_projection(v) > 0 ? 1 / (1 + lambda(v)) : 0.0; }
+
+    // A facet seen from d, with density ∝ ⟨d·m⟩ D(m): the visible normals of Heitz 2014
+    // ("Understanding the masking-shadowing function", eq. 2); over the slopes ∝ ⟨d·m̃⟩ times
+    // their Gaussian density. Along d's own slope direction the deviate Z1 then has density ∝
+    // (a + z)⁺ φ(z), a = c/s (visible_deviate), across it the standard normal Z2.
+    glm::dvec3 sample(const glm::dvec3& d, FurRng& rng) const {
+        if (ggx > 0) {
+            // GGX's visible normals (Dupuy & Benyoub 2023's spherical cap, lobes/microfacet.hpp):
+            // the cap z ≥ −d.z (stretched) serves d below the horizon too, as a ray the walk
+            // sends upward into the microsurface sees it.
+            const double u1 = rng.uniform(), u2 = rng.uniform();
+            return from_tilted(Ggx<double>(ggx).sample_visible_local(to_tilted(d), u1, u2));
+        }
+        const double c = mean_projection(d), s = spread(d);
+        const bool across = s > 1e-12 * std::fabs(c);  // (else ⟨d·m̃⟩ = c for every facet: no weighting)
+        const double z1 = across ? visible_deviate(c / s, rng) : standard_normal(rng), z2 = standard_normal(rng);
+        const double ex = across ? sigma_a * d.x / s : 1, ez = across ? sigma_b * d.z / s : 0;  // d's slope direction
+        return glm::normalize(glm::dvec3(mean_a + sigma_a * (ex * z1 - ez * z2), 1, sigma_b * (ez * z1 + ex * z2)));
+    }
+
+    // Heitz, Hanika, d'Eon & Dachsbacher 2016 ("Multiple-scattering microfacet BSDFs with the
+    // Smith model", ACM TOG 35(4)): light travelling along w meets the microsurface at random
+    // heights (uniform on [−1, 1]; the result does not depend on it), each time on a visible
+    // facet that reflects or refracts it with its Fresnel factor, until it leaves the
+    // microsurface above (outside the fibre) or below (inside). Masked and shadowed light thus
+    // scatters again instead of being lost or leaving through a facet's back. Below, the
+    // microsurface is seen mirrored: heights and directions negated. The height starts beyond
+    // the microsurface (a ray from afar).
+    struct Exit {
+        glm::dvec3 dir;
+        bool outside;
+        int events;  // facet events after the start
+    };
+    Exit walk(const glm::dvec3& w, bool outside, double eta, FurRng& rng) const {
+        return walk_from(w, outside, outside ? 2.0 : -2.0, eta, rng);
+    }
+    // The walk picked up at height h (a ray that has just left a facet there).
+    Exit walk_from(glm::dvec3 w, bool outside, double height, double eta, FurRng& rng) const {
+        int k = 0;
+        for (; k < kMaxEvents; ++k) {
+            const double side = outside ? 1 : -1;
+            const double next = next_height(side * w, side * height, rng.uniform());
+            if (!(next < 2)) break;  // leaves the microsurface on its side
+            height = side * next;
+            const Event e = event(w, outside, eta, rng);
+            w = e.dir;
+            outside = e.outside;
+        }
+        return {w, outside, k};
+    }
+    // One facet event of the walk: the facet the ray meets (facing it), Fresnel by choice.
+    struct Event {
+        glm::dvec3 dir, normal;
+        double fresnel;
+        bool outside;
+    };
+    Event event(const glm::dvec3& w, bool outside, double eta, FurRng& rng) const {
+        const double side = outside ? 1 : -1;
+        const glm::dvec3 m = side * sample(-side * w, rng);  // faces the ray
+        const double ci = -glm::dot(w, m), n = outside ? eta : 1 / eta;
+        const double f = fur_fresnel(ci, n);
+        if (rng.uniform() < f) return {w + 2 * ci * m, m, f, outside};
+        const double ct = std::sqrt(std::max(0.0, 1 - (1 - ci * ci) / (n * n)));
+        return {w / n + (ci / n - ct) * m, m, f, !outside};
+    }
+    // The height of the ray's next meeting with the microsurface from height h along w (the
+    // ray's side up), or 3 when it leaves it: Heitz et al. 2016, Algorithm 2, with the
+    // heights' C1(h) = (h + 1)/2. Rising, it leaves with probability C1(h)^Λ(w) (Smith's G1
+    // at height h).
+    double next_height(const glm::dvec3& w, double h, double u) const {
+        const double c = mean_projection(w), c1 = clamp(0.5 * (h + 1), 0.0, 1.0);
+        if (std::fabs(c) < 1e-9) return h;  // (along the mean surface: meets it at once)
+        const double lam = lambda(w);
+        if (c > 0) {
+            if (!(lam > 1e-12)) return 3;         // (nothing above it to meet)
+            if (1 - u < std::pow(c1, lam)) return 3;
+        }
+        return clamp(2 * c1 / std::pow(1 - u, 1 / lam) - 1, -1.0, 1.0);
+    }
+
+  private:
+    // To and from the frame of the tilted normal n0 = (μ, 1, 0)/|·|: (along the axis, tangent, n0).
+    glm::dvec3 to_tilted(const glm::dvec3& v) const {
+        const double k = 1 / std::sqrt(1 + mean_a * mean_a);
+        return {k * (v.x - mean_a * v.y), v.z, k * (mean_a * v.x + v.y)};
+    }
+    glm::dvec3 from_tilted(const glm::dvec3& l) const {
+        const double k = 1 / std::sqrt(1 + mean_a * mean_a);
+        return {k * (l.x + mean_a * l.z), k * (l.z - mean_a * l.x), l.y};
+    }
+    static double standard_normal(FurRng& rng) {
+        return std::sqrt(-2 * std::log(1 - rng.uniform())) * std::cos(2 * kPi<double> * rng.uniform());
+    }
+    // A deviate of density ∝ (a + z)⁺ φ(z), by rejection. For a ≥ −1 from the mix of a⁺ φ(z)
+    // (a normal) and z⁺ φ(z) (a Rayleigh half), which bounds it, kept with (a + z)⁺ / (a⁺ + z⁺).
+    // For a < −1, t = z + a ≥ 0 has density ∝ t e^(at) e^(−t²/2): from Gamma(2, −a), kept
+    // with e^(−t²/2).
+    static double visible_deviate(double a, FurRng& rng) {
+        for (int tries = 0; tries < 10000; ++tries) {
+            if (a < -1) {
+                const double t = (std::log(1 - rng.uniform()) + std::log(1 - rng.uniform())) / a;
+                if (rng.uniform() < std::exp(-0.5 * t * t)) return t - a;
+                continue;
+            }
+            const double wa = std::max(a, 0.0);
+            const double z = rng.uniform() * (wa + kInvSqrtTwoPi<double>) < wa
+                                 ? standard_normal(rng)
+                                 : std::sqrt(-2 * std::log(1 - rng.uniform()));
+            if (rng.uniform() * (wa + std::max(z, 0.0)) < a + z) return z;
+        }
+        return std::max(-a, 0.0);  // (never reached in practice)
     }
 };
 
-// The d'Eon lobe whose moments of sin θi are m1 and m2. d'Eon et al. 2011's M_p of variance v
-// is the θ-marginal of a von Mises–Fisher lobe of concentration κ = 1/v about a direction c of
-// inclination θc, whose moments are (Mardia & Jupp 2000, "Directional statistics", §9.3.2)
-//   E[x] = A sin θc,  E[x²] = A/κ + (1 − 3A/κ) sin²θc,  A(κ) = coth κ − 1/κ,
-// x = sin θi. v is found by bisection (in log v) between the narrowest lobe and the widest
-// whose sin θc = m1/A stays within [−1, 1]; E[x²] grows with v there.
-struct VmfLobe {
+// The d'Eon lobe whose quartiles of x = sin θi are x1 < x2 < x3. d'Eon et al. 2011's M_p of
+// variance v is the θ-marginal of a von Mises–Fisher lobe of concentration 1/v about a
+// direction c of inclination θc: a direction at cos t from c (t drawn by inverting its cdf,
+// t = 1 + v ln(u + (1 − u) e^(−2/v)), the lobe's own sampling) and at a uniform angle ψ about
+// it has x = t sin θc + √(1 − t²) cos θc cos ψ, so the cdf of x is the mean over u of
+// 1 − acos(clamp((x − t sin θc) / (√(1 − t²) cos θc)))/π (midpoint rule, 32 points). The
+// median fixes θc for a given v (bisection: the cdf at x2 falls as θc rises), then v is the
+// one whose central half spans [x1, x3] (bisection in log v). Quartiles, not moments: the
+// GGX facets' reflections have a heavy tail that moments would spread over the lobe's core.
+struct DeonLobeFit {
     double v, theta_c;
 };
-inline VmfLobe vmf_lobe(double m1, double m2) {
-    const auto mean_length = [](double kappa) {  // A(κ), its series below κ = 1e-3
-        return kappa < 1e-3 ? kappa / 3 : (kappa > 20 ? 1.0 : 1 / std::tanh(kappa)) - 1 / kappa;
-    };
-    const auto second = [&](double v) {  // E[x²] of the lobe of variance v with E[x] = m1
-        const double a = mean_length(1 / v), s = clamp(m1 / a, -1.0, 1.0);
-        return a * v + (1 - 3 * a * v) * s * s;
-    };
-    double lo = std::log(longitudinal_variance(1e-3)), hi = std::log(100.0);
-    if (std::fabs(m1) > 1e-12)  // the widest lobe that keeps |sin θc| ≤ 1: A(1/v) ≥ |m1|
-        for (int k = 0; k < 60 && std::fabs(m1) < 1; ++k) {
-            const double mid = 0.5 * (lo + hi);
-            (mean_length(std::exp(-mid)) >= std::fabs(m1) ? lo : hi) = mid;
-        }
-    double v_lo = std::log(longitudinal_variance(1e-3)), v_hi = hi;
-    for (int k = 0; k < 60; ++k) {
-        const double mid = 0.5 * (v_lo + v_hi);
-        (second(std::exp(mid)) < m2 ? v_lo : v_hi) = mid;
+inline double deon_lobe_cdf(double x, double v, double sin_c, double cos_c) {
+    constexpr int kPoints = 32;
+    const double floor = std::exp(-2 / v);  // (0 for narrow lobes: t = 1 + v ln u)
+    double p = 0;
+    for (int k = 0; k < kPoints; ++k) {
+        const double u = (k + 0.5) / kPoints;
+        const double t = clamp(1 + v * std::log(u + (1 - u) * floor), -1.0, 1.0);
+        const double r = std::sqrt(std::max(0.0, 1 - t * t)) * cos_c, a = x - t * sin_c;
+        p += r > 1e-12 ? 1 - std::acos(clamp(a / r, -1.0, 1.0)) * kInvPi<double> : (a >= 0 ? 1.0 : 0.0);
     }
-    const double v = std::exp(0.5 * (v_lo + v_hi));
-    return {v, std::asin(clamp(m1 / mean_length(1 / v), -1.0, 1.0))};
+    return p / kPoints;
+}
+inline DeonLobeFit deon_lobe_from_quartiles(double x1, double x2, double x3) {
+    double lo = std::log(longitudinal_variance(1e-3)), hi = std::log(4.0), theta_c = 0;
+    for (int i = 0; i < 24; ++i) {
+        const double mid = 0.5 * (lo + hi), v = std::exp(mid);
+        double a = -kHalfPi<double>, b = kHalfPi<double>;
+        for (int j = 0; j < 24; ++j) {
+            const double c = 0.5 * (a + b);
+            (deon_lobe_cdf(x2, v, std::sin(c), std::cos(c)) > 0.5 ? a : b) = c;
+        }
+        theta_c = 0.5 * (a + b);
+        const double sc = std::sin(theta_c), cc = std::cos(theta_c);
+        (deon_lobe_cdf(x3, v, sc, cc) - deon_lobe_cdf(x1, v, sc, cc) > 0.5 ? lo : hi) = mid;
+    }
+    return {std::exp(0.5 * (lo + hi)), theta_c};
 }
 
-// The rough cortex's walk (RoughCortexTables) for index η, cuticle tilt α and roughness β_m,
-// β_n: 2,000 walks per node (each share within ~1 % at one standard deviation), at most 400
-// events per walk (the rest counts as later; a tail ratio of 0.95, the largest at β 0.3,
-// leaves 1e-9 of it there).
+// The weighted quartiles of x (pairs of value and weight; sorted here).
+inline std::array<double, 3> weighted_quartiles(std::vector<std::pair<double, double>>& xw) {
+    std::sort(xw.begin(), xw.end());
+    double total = 0, run = 0;
+    for (const auto& e : xw) total += e.second;
+    std::array<double, 3> q{0, 0, 0};
+    std::size_t k = 0;
+    for (const auto& e : xw) {
+        run += e.second;
+        while (k < 3 && run >= 0.25 * double(k + 1) * total) q[k++] = e.first;
+    }
+    return q;
+}
+
+// The rough cortex's walk (RoughCortexTables) for index η, cuticle tilt α, roughness β_m,
+// β_n and the facets' GGX α (0: Gaussian slopes from β): 2,000 walks per node (each share
+// within ~1 % at one standard deviation), at most 400 chords per walk (the rest counts as
+// later; a tail ratio of 0.95, the largest at β 0.3, leaves 1e-9 of it there).
 template <typename T>
-RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m, double beta_n) {
+RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m, double beta_n, double facet_alpha) {
     constexpr int kWalks = 2000, kMaxEvents = 400;
-    const RoughFacets facets = RoughFacets::of(alpha, beta_m, beta_n);
+    const RoughFacets facets = RoughFacets::of(alpha, beta_m, beta_n, facet_alpha);
+    std::vector<std::pair<double, double>> reflections;  // R's sin θi and weight, per node
     RoughCortexTables<T> tab;
     FurRng rng(0x0C0A7E5Eull);
-    auto facet = [&](const glm::dvec3& d) { return facets.sample(d, rng); };
     constexpr int kTheta = RoughCortexTables<T>::kTheta, kH = RoughCortexTables<T>::kH;
     for (int i = 0; i < kTheta; ++i) {
         const double theta = (2.0 * i / (kTheta - 1) - 1) * RoughCortexTables<T>::kThetaMax;
@@ -453,27 +599,34 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             // (cos γ, sin γ) in the section, sin γ = h, with wo's section part along (1, 0).
             const glm::dvec3 out(std::sin(theta), std::cos(theta) * std::sqrt(1 - h * h), -std::cos(theta) * h);
             double entered = 0, first = 0, second = 0, later = 0, tail_events = 0, reflected = 0;
-            double r_x = 0, r_x2 = 0;  // R's sin θi and its square, F G1-weighted sums
+            reflections.clear();
             for (int w = 0; w < kWalks; ++w) {
-                const glm::dvec3 m = facet(out);
-                const double ci = glm::dot(out, m);
-                const glm::dvec3 r = 2 * ci * m - out;
-                const double kept = fur_fresnel(ci, eta) * facets.unmasked(r);  // its expectation: no coin's noise
+                // The entry is the walk of Heitz et al. 2016 from afar (RoughFacets::walk). Its
+                // first facet's reflections that leave at once are counted by their expectation,
+                // F times the chance C1(h)^Λ(r) that r rises out of the height h it was met at
+                // (no coin's noise); every other way out above (a reflection masked and sent
+                // out by a later facet, or light that refracted in and out again) by the walk.
+                const double h1 = facets.next_height(-out, 2, rng.uniform());
+                const RoughFacets::Event e = facets.event(-out, true, eta, rng);
+                const glm::dvec3 r = 2 * glm::dot(out, e.normal) * e.normal - out;  // the first facet's reflection
+                const double rises = facets.mean_projection(r) > 0 ? std::pow(clamp(0.5 * (h1 + 1), 0.0, 1.0), facets.lambda(r)) : 0;
+                const double kept = e.fresnel * rises;
                 reflected += kept;
-                r_x += kept * r.x;
-                r_x2 += kept * r.x * r.x;
-                if (rng.uniform() < fur_fresnel(ci, eta)) continue;  // reflected at entry: R
+                reflections.emplace_back(r.x, kept);
+                const RoughFacets::Exit entry = facets.walk_from(e.dir, e.outside, h1, eta, rng);
+                if (entry.outside) {
+                    if (e.outside && entry.events == 0) continue;  // the first facet's reflection: counted above
+                    reflected += 1;
+                    reflections.emplace_back(entry.dir.x, 1.0);
+                    continue;
+                }
                 entered += 1;
-                const double ct = std::sqrt(std::max(0.0, 1 - (1 - ci * ci) / (eta * eta)));
-                const glm::dvec3 t = -out / eta + (ci / eta - ct) * m;  // refracted, inward
-                glm::dvec3 d(t.x, -t.y, t.z);                           // at the chord's far end
+                glm::dvec3 d(entry.dir.x, std::fabs(entry.dir.y), entry.dir.z);  // at the chord's far end
                 int order = 1;
                 for (; order < kMaxEvents; ++order) {
-                    const glm::dvec3 f = facet(d);
-                    const double c = glm::dot(d, f);
-                    if (rng.uniform() >= fur_fresnel(c, 1 / eta)) break;  // leaves at this order
-                    const glm::dvec3 r = d - 2 * c * f;
-                    d = glm::dvec3(r.x, std::fabs(r.y), r.z);  // the next chord's far end
+                    const RoughFacets::Exit x = facets.walk(d, false, eta, rng);
+                    if (x.outside) break;  // leaves at this order
+                    d = glm::dvec3(x.dir.x, std::fabs(x.dir.y), x.dir.z);  // the next chord's far end
                 }
                 if (order == 1) first += 1;
                 else if (order == 2) second += 1;
@@ -485,7 +638,8 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             tab.share[i][j][2] = T(later * inv);
             tab.share[i][j][3] = T(mean_tail / (1 + mean_tail));
             tab.share[i][j][4] = T(reflected / kWalks / fur_fresnel(out.y, eta));  // F_r over the smooth F
-            const VmfLobe lobe = reflected > 0 ? vmf_lobe(r_x / reflected, r_x2 / reflected) : VmfLobe{0, -theta + 2 * alpha};
+            const std::array<double, 3> q = weighted_quartiles(reflections);
+            const DeonLobeFit lobe = reflected > 0 ? deon_lobe_from_quartiles(q[0], q[1], q[2]) : DeonLobeFit{0, -theta + 2 * alpha};
             tab.share[i][j][5] = T(lobe.v);
             tab.share[i][j][6] = T(theta - 2 * alpha + lobe.theta_c);  // δ_R: θo' = θo − 2α turned to −θc
         }
@@ -591,7 +745,8 @@ inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int
             for (int c = 0; c < 3; ++c) w[c] *= std::exp(-p.cortex.sigma_a[c] * s_exit / tl);
             pos = glm::normalize(pos + s_exit * t2);
             // The boundary's normal, or with the rough cortex one of its facets as seen from
-            // inside (RoughFacets, the walk's), in the frame (axis, normal, tangent) there.
+            // inside (RoughFacets), in the frame (axis, normal, tangent) there; one facet event
+            // per meeting (the whole walk would triple the densest medulla's build time).
             const glm::dvec3 n0(0, pos.x, pos.y);
             glm::dvec3 n = n0;
             if (facets) {
@@ -606,11 +761,11 @@ inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int
                 if (outward > 0) dir -= 2 * outward * n0;  // mirrored in, as the walk does)
                 continue;
             }
-            // Leaves: refracted out; its azimuth and the moments of sin θi are kept.
             const double ct_out = std::sqrt(std::max(0.0, 1 - eta * eta * (1 - cos_i * cos_i)));
             glm::dvec3 out = glm::normalize(eta * dir + (ct_out - eta * cos_i) * n);
             const double inward = glm::dot(out, n0);  // (likewise a refraction that points in)
             if (inward < 0) out -= 2 * inward * n0;
+            // Left: its azimuth and the moments of sin θi are kept.
             const double phi = std::fabs(wrap_pi(std::atan2(out.z, out.y) - kHalfPi<double>));
             // Weighted by the exit's energy, the mean over the channels (w0 when lossless):
             // absorption favours the light that leaves early, and the shape follows it.
@@ -671,7 +826,7 @@ template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& 
     p.g = double(params.g);
     MedullaTables<double> d;
     const RoughFacets facets = RoughFacets::of(double(params.cortex.alpha), double(params.cortex.beta_m),
-                                               double(params.cortex.beta_n));
+                                               double(params.cortex.beta_n), double(params.facet_alpha));
     constexpr int kTheta = MedullaTables<T>::kThetaBins, kPhi = MedullaTables<T>::kPhiBins;
     for (int t = 0; t < kTheta; ++t) {
         if (p.kappa > 0 && p.sigma_s > 0) {
@@ -732,11 +887,11 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
 
     // The medulla tables in a small versioned binary file, to skip their simulation next
     // time: "HSFT", the version, the tables' sizes, the parameters they depend on (η and
-    // σa^c of the cortex, κ, σs^m, σa^m, g, whether the cortex is rough, and its α, β_m and
-    // β_n), the tables as doubles and an FNV-1a checksum of everything before it. A float
-    // material's tables come back bit for bit. (Version 3: version 2 had neither the rough
-    // flag nor α and β, on which the rough cortex's tables now depend.)
-    static constexpr std::uint32_t kFileVersion = 3;
+    // σa^c of the cortex, κ, σs^m, σa^m, g, whether the cortex is rough, and its α, β_m, β_n
+    // and facet α), the tables as doubles and an FNV-1a checksum of everything before it. A
+    // float material's tables come back bit for bit. (Version 4: version 3 had no facet α;
+    // version 2 neither the rough flag nor α and β, on which the rough cortex's tables depend.)
+    static constexpr std::uint32_t kFileVersion = 4;
     void save(const std::string& path) const {
         std::vector<unsigned char> buf;
         detail::put_bytes(buf, "HSFT", 4);
@@ -758,7 +913,7 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
     // naming the file for a wrong magic, version, table size, file size or checksum, a
     // value outside what the simulation produces, or tables built for other parameters
     // (those the tables depend on must agree to 1e-6 relative; with the smooth cortex β_m,
-    // β_n and α may differ).
+    // β_n, α and the facet α may differ).
     static FurMaterial load(const FurParams<T>& params, const std::string& path,
                             const FurControls<T>& controls = FurControls<T>()) {
         require_valid(params);
@@ -769,7 +924,7 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
         std::ifstream f(path, std::ios::binary);
         if (!f) HAIRSCATTER_THROW(std::runtime_error("hairscatter: cannot open fur medulla tables '" + path + "'"));
         constexpr int kTheta = MedullaTables<T>::kThetaBins, kPhi = MedullaTables<T>::kPhiBins;
-        constexpr std::size_t kParams = 14, kValues = std::size_t(kTheta) * (2 * kPhi + 1 + 3 + 2);
+        constexpr std::size_t kParams = 15, kValues = std::size_t(kTheta) * (2 * kPhi + 1 + 3 + 2);
         constexpr std::size_t kExpected = 4 + 3 * 4 + (kParams + kValues) * 8 + 8;
         // One byte more than a valid file holds: a longer file (or pipe) is seen as such.
         std::vector<unsigned char> buf(kExpected + 1);
@@ -794,7 +949,7 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
             HAIRSCATTER_THROW(fail("checksum mismatch (corrupt file)"));
         static const char* kName[kParams] = {"eta", "sigma_a.r", "sigma_a.g", "sigma_a.b", "kappa",
                                              "sigma_s", "sigma_a_medulla.r", "sigma_a_medulla.g", "sigma_a_medulla.b", "g",
-                                             "rough_cortex", "alpha", "beta_m", "beta_n"};
+                                             "rough_cortex", "alpha", "beta_m", "beta_n", "facet_alpha"};
         const auto given = table_parameters(params);
         for (std::size_t k = 0; k < kParams; ++k) {
             const double in_file = detail::get_bytes<double>(buf, at), want = given[k];
@@ -831,16 +986,17 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
           tables_(tables) {
         if (params.rough_cortex)
             rough_ = detail::build_rough_cortex<T>(double(params.cortex.eta), double(params.cortex.alpha),
-                                                   double(params.cortex.beta_m), double(params.cortex.beta_n));
+                                                   double(params.cortex.beta_m), double(params.cortex.beta_n),
+                                                   double(params.facet_alpha));
     }
 
     // What the tables depend on, in the file's order: with the rough cortex also its facets'
-    // α, β_m and β_n (RoughFacets), which load() compares only then.
-    static std::array<double, 14> table_parameters(const FurParams<T>& p) {
+    // α, β_m, β_n and facet α (RoughFacets), which load() compares only then.
+    static std::array<double, 15> table_parameters(const FurParams<T>& p) {
         return {double(p.cortex.eta), double(p.cortex.sigma_a[0]), double(p.cortex.sigma_a[1]),
                 double(p.cortex.sigma_a[2]), double(p.kappa), double(p.sigma_s), double(p.sigma_a_medulla[0]),
                 double(p.sigma_a_medulla[1]), double(p.sigma_a_medulla[2]), double(p.g), p.rough_cortex ? 1.0 : 0.0,
-                double(p.cortex.alpha), double(p.cortex.beta_m), double(p.cortex.beta_n)};
+                double(p.cortex.alpha), double(p.cortex.beta_m), double(p.cortex.beta_n), double(p.facet_alpha)};
     }
     // f(value, lo, hi, name) over every value of the tables in the file's order, with the
     // range the simulation keeps it in (a density is at most 1/width when all its mass is
