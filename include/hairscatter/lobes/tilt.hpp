@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "../config.hpp"
+#include "../math/elementary.hpp"
 #include "../math/functions.hpp"
 
 namespace hairscatter {
@@ -36,11 +37,13 @@ template <typename T> class CuticleTilt {
             s[k] = T(2) * c[k - 1] * s[k - 1];
             c[k] = sqr(c[k - 1]) - sqr(s[k - 1]);
         }
-        // R rotates by -2α, TT by +α, TRT by +4α.
-        sin_[0] = -s[1], cos_[0] = c[1];
-        sin_[1] = s[0], cos_[1] = c[0];
-        sin_[2] = s[2], cos_[2] = c[2];
-        angle_[0] = T(-2) * alpha, angle_[1] = alpha, angle_[2] = T(4) * alpha;
+        // R rotates by -2α, TT by +α, TRT by +4α. Each array written whole (elem::store4:
+        // one vector store in float): the fibers read sin_ and cos_ as vectors, and a vector
+        // load of four scalar stores waits for them to retire (a material built per hit,
+        // ChiangMaterial::per_hit, is read at once).
+        elem::store4(sin_, -s[1], s[0], s[2], T(0));
+        elem::store4(cos_, c[1], c[0], c[2], T(1));
+        elem::store4(angle_, T(-2) * alpha, alpha, T(4) * alpha, T(0));
     }
 
     // Explicit rotations of θo for R, TT and TRT (the residual is not rotated), for models
