@@ -42,7 +42,7 @@ template <typename T> class DeonLobes {
             inv_v_[p] = inv_v0 * inv_scale[p];  // (exact)
         }
         for (int p = 0; p < kExps; ++p) e[p] = m[p] = T(-2) * inv_v_[p];
-        elem::exp_each(e);    // underflows to 0 for v < 0.02 in float: harmless
+        elem::exp_each_nonpositive(e);  // (-2/v < 0) underflows to 0 for v < 0.02 in float: harmless
         elem::expm1_each_given_exp(m, e);
         for (int p = 0; p <= kLobes; ++p) {
             const int q = p < kExps ? p : kLobes - 1;  // (the residual: TRT's, v_3 = v_2)
