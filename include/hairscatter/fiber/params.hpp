@@ -2,18 +2,15 @@
 #pragma once
 
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
-#include <type_traits>
 
 #include <glm/glm.hpp>
 
 #include "../config.hpp"
 #include "../math/constants.hpp"
-#include "../math/elementary.hpp"
 #include "../math/functions.hpp"
 
 namespace hairscatter {
@@ -141,24 +138,6 @@ template <typename T> class FiberParamBounds {
     HAIRSCATTER_HD const FiberParams<T>& hi() const { return hi_; }
 
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE FiberParams<T> clamp(const FiberParams<T>& p) const {
-#if HAIRSCATTER_HAS_VECTOR_EXT && !defined(__CUDA_ARCH__)
-        // Float on the host: the seven fields as two vectors of four, each clamped in a few
-        // vector operations, bit for bit the scalar clamp_field's (a material built per hit
-        // clamps its parameters every time: ChiangMaterial::per_hit; the scalar form was a
-        // sixth of that build's instructions, with a branch per field).
-        if constexpr (std::is_same<T, float>::value) {
-            using F = elem::detail::F32x4;
-            const F a = clamp_lanes(F{p.eta, p.beta_m, p.beta_n, p.alpha}, F{lo_.eta, lo_.beta_m, lo_.beta_n, lo_.alpha},
-                                    F{hi_.eta, hi_.beta_m, hi_.beta_n, hi_.alpha});
-            const F b = clamp_lanes(F{p.sigma_a[0], p.sigma_a[1], p.sigma_a[2], T(0)},
-                                    F{lo_.sigma_a[0], lo_.sigma_a[1], lo_.sigma_a[2], T(0)},
-                                    F{hi_.sigma_a[0], hi_.sigma_a[1], hi_.sigma_a[2], T(0)});
-            FiberParams<T> r;
-            r.eta = a[0], r.beta_m = a[1], r.beta_n = a[2], r.alpha = a[3];
-            r.sigma_a = glm::vec<3, T>(b[0], b[1], b[2]);
-            return r;
-        }
-#endif
         FiberParams<T> r;
         r.eta = clamp_field(p.eta, lo_.eta, hi_.eta);
         r.beta_m = clamp_field(p.beta_m, lo_.beta_m, hi_.beta_m);
@@ -173,18 +152,6 @@ template <typename T> class FiberParamBounds {
         if (!is_finite(x)) return lo;
         return x < lo ? lo : (x > hi ? hi : x);
     }
-#if HAIRSCATTER_HAS_VECTOR_EXT && !defined(__CUDA_ARCH__)
-    // clamp_field of four floats at once: finiteness read from the bits (fast-math safe).
-    static HAIRSCATTER_FORCE_INLINE elem::detail::F32x4 clamp_lanes(elem::detail::F32x4 x, elem::detail::F32x4 lo,
-                                                                    elem::detail::F32x4 hi) {
-        using F = elem::detail::F32x4;
-        using I = elem::detail::I32x4;
-        const I exponent = reinterpret_cast<I>(x) & elem::detail::splat<I>(std::int32_t(0x7f800000));
-        const I finite = exponent != elem::detail::splat<I>(std::int32_t(0x7f800000));
-        const F inside = elem::detail::select_lanes<F, I>(x < lo, lo, elem::detail::select_lanes<F, I>(x > hi, hi, x));
-        return elem::detail::select_lanes<F, I>(finite, inside, lo);
-    }
-#endif
     FiberParams<T> lo_, hi_;
 };
 
