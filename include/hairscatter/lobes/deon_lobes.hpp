@@ -41,8 +41,10 @@ template <typename T> class DeonLobes {
             v_[p] = scale[p] * v0;
             inv_v_[p] = inv_v0 * inv_scale[p];  // (exact)
         }
-        for (int p = 0; p < kExps; ++p) e[p] = m[p] = T(-2) * inv_v_[p];
-        elem::exp_each(e);    // underflows to 0 for v < 0.02 in float: harmless
+        // -2/v_p straight from 1/v0, the same value (every factor a power of two: exact), one
+        // product sooner on the chain from β_m to norm_, which a material built per hit waits on.
+        for (int p = 0; p < kExps; ++p) e[p] = m[p] = inv_v0 * (T(-2) * inv_scale[p]);
+        elem::exp_each_nonpositive(e);  // (-2/v < 0) underflows to 0 for v < 0.02 in float: harmless
         elem::expm1_each_given_exp(m, e);
         for (int p = 0; p <= kLobes; ++p) {
             const int q = p < kExps ? p : kLobes - 1;  // (the residual: TRT's, v_3 = v_2)

@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "../config.hpp"
+#include "../math/elementary.hpp"
 #include "../math/functions.hpp"
 
 namespace hairscatter {
@@ -12,9 +13,9 @@ namespace hairscatter {
 // pbrt-v4's convention (docs/theory.md §3.3): lobe p is evaluated with the outgoing
 // inclination rotated, θo' = θo - 2α (R), θo + α (TT), θo + 4α (TRT), θo (residual).
 // Rotating the conditioning angle keeps ∫ M_p cosθi dθi = 1, so the tilt costs no
-// energy. sin/cos of 2α and 4α come from double-angle identities once, here, and are
-// stored per lobe with the sign folded in, so that rotate() is the same branch-free
-// formula for every lobe (the residual's rotation by 0 is exact).
+// energy. The sines and cosines of the rotations are computed once, here, and stored per
+// lobe with the sign folded in, so that rotate() is the same branch-free formula for every
+// lobe (the residual's rotation by 0 is exact).
 template <typename T> class CuticleTilt {
   public:
     static constexpr int kLobes = 4;  // R, TT, TRT, residual (and every higher order)
@@ -22,25 +23,42 @@ template <typename T> class CuticleTilt {
     CuticleTilt() = default;
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE explicit CuticleTilt(T alpha) {
         using std::sin;
+        // R rotates by -2α, TT by +α, TRT by +4α; the residual by 0. Each array is written
+        // whole (elem::store4: one vector store in float): the fibers read sin_ and cos_ as
+        // vectors, and a vector load of four scalar stores waits for them to retire (a
+        // material built per hit, ChiangMaterial::per_hit, is read at once).
+        elem::store4(angle_, T(-2) * alpha, alpha, T(4) * alpha, T(0));
+        if (std::is_same<T, float>::value && abs_value(alpha) <= T(0.39269908169872415481)) {
+            // Float, |α| ≤ π/8 (every validated tilt), so every angle x within [-π/2, π/2]:
+            // sin x and cos x of the four angles side by side (a loop the compilers
+            // vectorise), by their Taylor series to x¹³ and x¹⁴ (truncation below 7e-10 and
+            // 7e-11 there, far below float's rounding; Estrin's scheme, a short chain). Not
+            // sin α and then cos α by a square root and 2α, 4α by two doublings: that chain
+            // is what the first θi terms of a material built per hit wait for.
+            T sn[kLobes], cs[kLobes];
+            for (int k = 0; k < kLobes; ++k) {
+                const T x = angle_[k], z = x * x;
+                sn[k] = x + x * z *
+                                detail::estrin(z, T(-1.0 / 6), T(1.0 / 120), T(-1.0 / 5040), T(1.0 / 362880),
+                                               T(-1.0 / 39916800), T(1.0 / 6227020800.0));
+                cs[k] = T(1) + z * detail::estrin(z, T(-0.5), T(1.0 / 24), T(-1.0 / 720), T(1.0 / 40320),
+                                                  T(-1.0 / 3628800), T(1.0 / 479001600), T(-1.0 / 87178291200.0));
+            }
+            elem::store4(sin_, sn[0], sn[1], sn[2], sn[3]);
+            elem::store4(cos_, cs[0], cs[1], cs[2], cs[3]);
+            return;
+        }
+        // Double, or beyond π/8: std::sin of α, cos α from it, and sin/cos of 2α and 4α by
+        // the double-angle identities.
         T s[3], c[3];  // sin, cos of α, 2α, 4α
-        // Float, |α| ≤ π/8 (every validated tilt): sin's Taylor series to α⁹, truncation
-        // below 4e-13 relative there (far below float's rounding), several times cheaper
-        // than std::sin, which matters where a material is built per hit
-        // (ChiangMaterial::per_hit). Double, or beyond: std::sin.
-        const T a2 = alpha * alpha;
-        s[0] = std::is_same<T, float>::value && abs_value(alpha) <= T(0.39269908169872415481)
-                   ? alpha + alpha * a2 * (T(-1.0 / 6) + a2 * (T(1.0 / 120) + a2 * (T(-1.0 / 5040) + a2 * T(1.0 / 362880))))
-                   : sin(alpha);
+        s[0] = sin(alpha);
         c[0] = safe_sqrt(T(1) - s[0] * s[0]);
         for (int k = 1; k < 3; ++k) {
             s[k] = T(2) * c[k - 1] * s[k - 1];
             c[k] = sqr(c[k - 1]) - sqr(s[k - 1]);
         }
-        // R rotates by -2α, TT by +α, TRT by +4α.
-        sin_[0] = -s[1], cos_[0] = c[1];
-        sin_[1] = s[0], cos_[1] = c[0];
-        sin_[2] = s[2], cos_[2] = c[2];
-        angle_[0] = T(-2) * alpha, angle_[1] = alpha, angle_[2] = T(4) * alpha;
+        elem::store4(sin_, -s[1], s[0], s[2], T(0));
+        elem::store4(cos_, c[1], c[0], c[2], T(1));
     }
 
     // Explicit rotations of θo for R, TT and TRT (the residual is not rotated), for models

@@ -84,8 +84,9 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
         : DeonLobes<T>(params.beta_m, controls.cuticle_tilt(params.alpha)), params_(params), controls_(controls),
           n_(logistic_scale(params.beta_n)), weights_(controls) {
         HAIRSCATTER_DCHECK(detail::params_in_range(params) && detail::controls_in_range(controls));
-        for (int c = 0; c < kChannelLanes; ++c) sigma_a_lanes_[c] = T(0);  // the padding: 0
-        for (int c = 0; c < 3; ++c) sigma_a_lanes_[c] = params.sigma_a[c];
+        // Written whole (elem::store4), as the fiber reads it; the padding 0.
+        static_assert(kChannelLanes == 4, "σa's lanes: RGB and one padding lane");
+        elem::store4(sigma_a_lanes_, params.sigma_a[0], params.sigma_a[1], params.sigma_a[2], T(0));
     }
 
     FiberParams<T> params_;
