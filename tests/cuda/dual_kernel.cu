@@ -45,9 +45,15 @@ __global__ void two_stream(hairscatter::DualTablesView<T> tables, Source source,
     if (i >= n) return;
     const T fibers = hairscatter::poisson_fiber_count(source.fibers_crossed(x[i], a[i], hairscatter::kUnbounded<T>), u[i].x, true);
     const T beyond = hairscatter::poisson_fiber_count(source.fibers_crossed(x[i], -a[i], hairscatter::kUnbounded<T>), u[i].y, false);
-    const hairscatter::DualSourceKernel<T> k(a[i], hairscatter::dual_streams(tables, a[i].x, fibers, beyond));
+    // The stacks' turn limits from the source around the point (the fiber's axis is x here).
+    const glm::vec<3, T> axis(T(1), T(0), T(0));
+    const T limit_n = hairscatter::dual_turn_limit(source, x[i], axis, a[i], hairscatter::kUnbounded<T>);
+    const T limit_m = hairscatter::dual_turn_limit(source, x[i], axis, -a[i], hairscatter::kUnbounded<T>);
+    const hairscatter::DualScatteringEntry<T> entry = tables.lookup(a[i].x);
+    const hairscatter::DualSourceKernel<T> k(a[i], hairscatter::dual_streams(entry, fibers, beyond, limit_n, limit_m));
     const auto s = k.sample(u[i]);
-    f[i] = k.eval(s.s);
+    const hairscatter::DualSourceStack<T> st = hairscatter::dual_source_stack(entry, fibers);
+    f[i] = k.eval(s.s) * st.t + hairscatter::dual_source_hair(entry, st);
     pdf[i] = s.pdf + k.pdf(a[i]);
 }
 
