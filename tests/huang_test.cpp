@@ -526,6 +526,21 @@ TEST(HuangQuadrature, FastSettingFollowsRoughness) {
     EXPECT_EQ(hs::huang_fast_quadrature(0.1f).tt_points, 96);
 }
 
+// huang_cycles_class_quadrature: an eighth of the automatic paths (at least 4), as many R
+// nodes, one internal normal each (docs/performance.md times it against Cycles' scheme).
+TEST(HuangQuadrature, CyclesClassSettingFollowsRoughness) {
+    const hs::HuangQuadrature q3 = hs::huang_cycles_class_quadrature(0.3f), q1 = hs::huang_cycles_class_quadrature(0.1);
+    EXPECT_TRUE(q3.offset_nodes == 8 && q3.tt_points == 8 && q3.trt_per_tt == 1);
+    EXPECT_TRUE(q1.offset_nodes == 24 && q1.tt_points == 24 && q1.trt_per_tt == 1);
+    EXPECT_EQ(hs::huang_cycles_class_quadrature(0.3f, 1000).tt_points, 4);
+    for (double beta : {0.02, 0.3, 1.0}) {
+        hs::HuangParams<double> p;
+        p.roughness = beta;
+        const hs::HuangMaterial<double> m(p, hs::huang_cycles_class_quadrature(beta));
+        EXPECT_NEAR(hs::HuangFiber<double>(m).albedo(glm::dvec3(0.6, 0.0, 0.8)).x, 1.0, 1e-12) << beta;
+    }
+}
+
 // at(wo) keeps the walk's path ends (up to kBoundEnds) and replays them per call: eval, pdf,
 // eval_pdf, sample and albedo bit for bit the stateless calls', at the automatic quadrature
 // (β 0.3 and 0.1: kept), where the ends do not fit (the fine rule at β 0.1: walks per call)
