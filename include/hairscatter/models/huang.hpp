@@ -384,8 +384,8 @@ template <typename T> class HuangMaterial {
     // lobe takes a row's roughness rather than one in between). Row 0 is β's own.
     HAIRSCATTER_HD int exit_row(T alpha) const {
         using std::log;
-        const T x = log(alpha / ggx_.alpha()) * T(kInvLogWidthStep) + T(0.5);
-        return x < T(1) ? 0 : x >= T(kWidths - 1) ? kWidths - 1 : int(x);
+        // Rounded to the nearest row; table_cell keeps the index in range (NaN too).
+        return table_cell(log(alpha / ggx_.alpha()) * T(kInvLogWidthStep) + T(0.5), kWidths - 1);
     }
     HAIRSCATTER_HD T exit_row_roughness(int j) const { return wide_alpha_[j]; }
     HAIRSCATTER_HD T exit_gain(T c, int j) const { return j == 0 ? exit_gain(c) : lookup<kWideSize>(gain_wide_[j], c); }
