@@ -95,10 +95,11 @@ std::vector<glm::dvec3> reference_values(const Case& c, const glm::dvec3& wo, co
 // and 128 × 2 at β = 0.15) and at 128 × 4. The reference's own noise, the L1 between two
 // independent runs over the 24 directions, is 0.4–1.5 %. This measures the lattices'
 // error only (the reference follows the model's definition; the physical fiber is
-// huang_physical_test's). Measured: default 7.4 % round, 16.3 % at b/a = 0.5 (lossless:
-// TRT carries much of f, and its internal reflections focus), 3.0 % grazing; 128 × 4:
-// 5.4 %, 9.8 %, 2.7 % (the test's directions come from the default's sampler; before the
-// paths into the fiber were uniform in h: 13.8 / 15.1 / 3.8 % and 3.6 / 8.6 / 3.4 %). With shadowing in the definition an internal reflection whose
+// huang_physical_test's). Measured: default 6.6 % round, 16.3 % at b/a = 0.5 (lossless:
+// TRT carries much of f, and its internal reflections focus), 2.9 % grazing; 128 × 4:
+// 4.9 %, 9.1 %, 3.1 % (the test's directions come from the default's sampler; before the
+// exit kernel: 7.4 / 16.3 / 3.0 % and 5.4 / 9.8 / 2.7 %; before the paths into the fiber
+// were uniform in h: 13.8 / 15.1 / 3.8 % and 3.6 / 8.6 / 3.4 %). With shadowing in the definition an internal reflection whose
 // lattice normal sends it out of the fiber carries nothing (its path's other normal takes
 // the share), which raised the default's error from 4.8 / 11.4 / 2.7 % (and 128 × 4's from
 // 2.0 / 5.9 / 1.7 %). Tolerances 17 % and 10 %: a wrong TT factor, chord or scale moves the
@@ -524,6 +525,21 @@ TEST(HuangQuadrature, FastSettingFollowsRoughness) {
         }
     EXPECT_EQ(hs::huang_fast_quadrature(0.3f).tt_points, 32);
     EXPECT_EQ(hs::huang_fast_quadrature(0.1f).tt_points, 96);
+}
+
+// huang_cycles_class_quadrature: an eighth of the automatic paths (at least 4), as many R
+// nodes, one internal normal each (docs/performance.md times it against Cycles' scheme).
+TEST(HuangQuadrature, CyclesClassSettingFollowsRoughness) {
+    const hs::HuangQuadrature q3 = hs::huang_cycles_class_quadrature(0.3f), q1 = hs::huang_cycles_class_quadrature(0.1);
+    EXPECT_TRUE(q3.offset_nodes == 8 && q3.tt_points == 8 && q3.trt_per_tt == 1);
+    EXPECT_TRUE(q1.offset_nodes == 24 && q1.tt_points == 24 && q1.trt_per_tt == 1);
+    EXPECT_EQ(hs::huang_cycles_class_quadrature(0.3f, 1000).tt_points, 4);
+    for (double beta : {0.02, 0.3, 1.0}) {
+        hs::HuangParams<double> p;
+        p.roughness = beta;
+        const hs::HuangMaterial<double> m(p, hs::huang_cycles_class_quadrature(beta));
+        EXPECT_NEAR(hs::HuangFiber<double>(m).albedo(glm::dvec3(0.6, 0.0, 0.8)).x, 1.0, 1e-12) << beta;
+    }
 }
 
 // at(wo) keeps the walk's path ends (up to kBoundEnds) and replays them per call: eval, pdf,

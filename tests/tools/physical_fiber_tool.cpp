@@ -8,6 +8,9 @@
 //                                                       reference's orders ≥ TRRT
 //   physical_fiber_tool breakdown --rays N --threads T  each lobe's share of each case's
 //                                                       error, and the lattices' part in it
+//   physical_fiber_tool lattice --threads T             TT's and TRT's lattice error alone,
+//                                                       model against model (no trace)
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -44,7 +47,9 @@ Row report_row(const CachedCase& c, const std::string& quadrature) {
         const hs::HuangQuadrature q = quadrature == "fine" ? hs::huang_scaled_quadrature(p.roughness) : hs::HuangQuadrature();
         const hs::HuangMaterial<double> mat(p, q);
         const hs::HuangFiber<double> fiber(mat);
-        const auto eval = [&](const glm::dvec3& wo, const glm::dvec3& wi) { return fiber.eval(wo, wi); };
+        // Each case binds its wo once (at(wo): the same values as eval, a fraction of the time).
+        const auto bound = fiber.at(c.c.wo());
+        const auto eval = [&](const glm::dvec3&, const glm::dvec3& wi) { return bound.eval(wi); };
         const std::vector<glm::dvec3> bins = phys_fiber::model_bins(c, eval);
         for (int ch = 0; ch < (blond ? 3 : 1); ++ch)
             row.err[blond] += phys_fiber::compare(c, bins, ch, blond ? ch + 1 : 0).l1 / (blond ? 3 : 1);
@@ -352,6 +357,50 @@ int generate(long long rays, int threads, const std::string& out, int n_u, int n
     return 0;
 }
 
+// The lattices' error alone, model against model (no trace): per case, lossless, TT and TRT
+// at the default quadrature against 128 offset nodes and 1024 paths × 2 internal normals
+// (the lattice's limit), Σ_bins |f_p − f_p,fine| dω (the lossless albedo is 1).
+int lattice(int threads) {
+    const std::vector<phys_fiber::Case> all = phys_fiber::physical_cases();
+    std::vector<std::array<double, 2>> err(all.size());
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t)
+        pool.emplace_back([&, t] {
+            for (std::size_t k = std::size_t(t); k < all.size(); k += std::size_t(threads)) {
+                const CachedCase cc = grid_of(all[k], 24, 48);
+                const hs::HuangParams<double> p = phys_fiber::huang_params(all[k], false);
+                const double dw = (2.0 / cc.n_u) * (2 * phys_fiber::kPi / cc.n_phi);
+                for (int l = 1; l < 3; ++l) {
+                    hs::LobeControls<double> only;
+                    for (int j = 0; j < 4; ++j) only.gain[j] = j == l ? 1 : 0;
+                    std::vector<glm::dvec3> bins[2];
+                    for (int q = 0; q < 2; ++q) {
+                        const hs::HuangMaterial<double> mat(p, q ? hs::HuangQuadrature{128, 1024, 2} : hs::HuangQuadrature(), only);
+                        const hs::HuangFiber<double, 4096> fiber(mat);
+                        const auto bound = fiber.at(all[k].wo());
+                        bins[q] = phys_fiber::model_bins(cc, [&](const glm::dvec3&, const glm::dvec3& wi) { return bound.eval(wi); });
+                    }
+                    double d = 0;
+                    for (std::size_t b = 0; b < bins[0].size(); ++b) d += std::fabs(bins[0][b].x - bins[1][b].x) * dw;
+                    err[k][std::size_t(l - 1)] = d;
+                }
+            }
+        });
+    for (auto& th : pool) th.join();
+    std::printf("| case | TT | TRT |\n|---|---|---|\n");
+    double mean[2] = {}, worst[2] = {};
+    for (std::size_t k = 0; k < all.size(); ++k) {
+        std::printf("| %s | %.1f %% | %.1f %% |\n", all[k].name().c_str(), 100 * err[k][0], 100 * err[k][1]);
+        for (int l = 0; l < 2; ++l) {
+            mean[l] += err[k][std::size_t(l)] / double(all.size());
+            worst[l] = std::max(worst[l], err[k][std::size_t(l)]);
+        }
+    }
+    std::printf("| mean | %.1f %% | %.1f %% |\n| worst | %.1f %% | %.1f %% |\n", 100 * mean[0], 100 * mean[1], 100 * worst[0],
+                100 * worst[1]);
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -378,6 +427,7 @@ int main(int argc, char** argv) {
         if (mode == "diagnose") return diagnose(rays, threads, quadrature == "blond");
         if (mode == "residual") return residual_shapes(rays, threads);
         if (mode == "breakdown") return breakdown(rays, threads);
+        if (mode == "lattice") return lattice(threads);
         throw std::invalid_argument("unknown mode " + mode);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "physical_fiber_tool: %s\n", e.what());

@@ -96,7 +96,7 @@ struct HuangQuadrature {
 
 // Everything that depends only on the parameters, the quadrature and the lobe controls,
 // built once on the host (the constructor throws std::invalid_argument naming a bad
-// parameter, count or control). Trivially copyable, ~49 KB in float: copy it to device
+// parameter, count or control). Trivially copyable, ~52 KB in float: copy it to device
 // memory once and pass the fiber a pointer.
 //
 // The offset integral: a far-field ray hits the section at h ∈ (-1, 1) uniformly
@@ -144,6 +144,10 @@ template <typename T> class HuangMaterial {
     static constexpr int kMaxTrtPerTT = 8;
     static constexpr int kMaxTRTPoints = 2048;  // N_TT × trt_per_tt
     static constexpr int kTableSize = 129;
+    static constexpr int kWidths = 9;
+    static constexpr int kWideSize = 65;
+    static constexpr double kWidthStep = 1.3;
+    static constexpr double kInvLogWidthStep = 3.8113883008419;  // 1 / ln 1.3
 
     // Offset nodes that resolve the R lobe: R's exit azimuth turns by 2 per unit γ, and the
     // rule's widest gap (at the centre) is π²/(2n) in γ: n = ⌈π²/(1.6 α)⌉ keeps neighbouring
@@ -220,6 +224,10 @@ template <typename T> class HuangMaterial {
                 reflect_[i * per_tt_ + l] = normal_point(lattice(n, k, b[0]), lattice(n, k, b[1]));
             }
 
+        // TT's kernel: each path stands for its cell of the lattice, 1/N_TT of the unit cube
+        // over (h, u1, u2); its projection onto the entry normal's (u1, u2) spans N_TT^(-2/3)
+        // (the cube's side N_TT^(-1/3) squared).
+        entry_cell_ = T(std::pow(double(tt_n_), -2.0 / 3.0));
         build_interface_tables();
     }
     // The lobe controls with the default quadrature.
@@ -350,6 +358,8 @@ template <typename T> class HuangMaterial {
     HAIRSCATTER_HD int trt_per_tt() const { return per_tt_; }
     HAIRSCATTER_HD int trt_points() const { return tt_n_ * per_tt_; }
     HAIRSCATTER_HD const EntryPoint& tt_point(int i) const { return tt_[i]; }
+    // The share of D_v's unit square that one TT path's entry normal stands for.
+    HAIRSCATTER_HD T entry_cell() const { return entry_cell_; }
     // The l-th internal normal of TT path i (TRT point i + l N_TT).
     HAIRSCATTER_HD const NormalPoint& reflect_point(int i, int l) const { return reflect_[i * per_tt_ + l]; }
 
@@ -366,6 +376,19 @@ template <typename T> class HuangMaterial {
     // leaving the fiber its total transmittance (1 − total_in) / transmit_single.
     HAIRSCATTER_HD T reflection_gain_outside(T c) const { return lookup(gain_r_out_, c); }
     HAIRSCATTER_HD T exit_gain(T c) const { return lookup(gain_t_in_, c); }
+    // Exit lobes wider than β (TT's kernel, HuangFiber): the roughness α_j = min(1, β
+    // kWidthStep^j) of the row j nearest to `alpha` in log α (j < kWidths), and row j's gain
+    // (1 − total_in(c)) / transmit_single(c, α_j), tabulated at kWideSize cosines, so that a
+    // lobe of roughness α_j carries exactly the light the interface lets out (to the tables'
+    // interpolation in c; the gain is far from linear in α past the critical angle, so a
+    // lobe takes a row's roughness rather than one in between). Row 0 is β's own.
+    HAIRSCATTER_HD int exit_row(T alpha) const {
+        using std::log;
+        // Rounded to the nearest row; table_cell keeps the index in range (NaN too).
+        return table_cell(log(alpha / ggx_.alpha()) * T(kInvLogWidthStep) + T(0.5), kWidths - 1);
+    }
+    HAIRSCATTER_HD T exit_row_roughness(int j) const { return wide_alpha_[j]; }
+    HAIRSCATTER_HD T exit_gain(T c, int j) const { return j == 0 ? exit_gain(c) : lookup<kWideSize>(gain_wide_[j], c); }
     // The same for the light entering: (1 − total_out) / transmit_single, so that each
     // offset passes its own total into the fiber (s_TT only corrects the rules' error).
     HAIRSCATTER_HD T entry_gain(T c) const { return lookup(gain_t_out_, c); }
@@ -466,9 +489,9 @@ template <typename T> class HuangMaterial {
         }
     }
 
-    HAIRSCATTER_HD static T lookup(const T* table, T c) {
-        const T x = clamp(c, T(0), T(1)) * T(kTableSize - 1);
-        const int i = table_cell(x, kTableSize - 2);
+    template <int kSize = kTableSize> HAIRSCATTER_HD static T lookup(const T* table, T c) {
+        const T x = clamp(c, T(0), T(1)) * T(kSize - 1);
+        const int i = table_cell(x, kSize - 2);
         const T f = x - T(i);
         return table[i] + f * (table[i + 1] - table[i]);
     }
@@ -481,6 +504,7 @@ template <typename T> class HuangMaterial {
     DeonLongitudinal<T> residual_;
     T sin_tilt_ = T(0), cos_tilt_ = T(1);
     int nodes_ = 0, tt_n_ = 0, per_tt_ = 0;
+    T entry_cell_ = T(0);
     T h_[kMaxNodes] = {}, cos_gamma_[kMaxNodes] = {}, weight_[kMaxNodes] = {};
     EntryPoint tt_[kMaxTTPoints] = {};
     NormalPoint reflect_[kMaxTRTPoints] = {};
@@ -531,11 +555,35 @@ template <typename T> class HuangMaterial {
             if (o.transmit_single > 1e-4) last_gain_in = (1 - o.reflect_total) / o.transmit_single;
             gain_t_out_[i] = T(last_gain_in);
         }
+        // The widened exits: the same total over a rougher interface's single transmission
+        // (its G1 and its D_v), by the tables' rule; row 0 is gain_t_in_.
+        wide_alpha_[0] = params_.roughness;
+        for (int j = 1; j < kWidths; ++j) {
+            const double a = std::min(1.0, rough * std::pow(kWidthStep, double(j)));
+            wide_alpha_[j] = T(a);
+            const Ggx<double> wide(a);
+            double last = 1;
+            for (int i = kWideSize - 1; i >= 0; --i) {
+                const double c = double(i) / (kWideSize - 1);
+                double single = 0;
+                visible_normal_rule(a, c, 1 / eta, table_rule, [&](const glm::dvec3& v, const glm::dvec3& h, double w) {
+                    const double f = fresnel_any(glm::dot(v, h), 1 / eta);
+                    if (!(f < 1)) return;
+                    const Refracted<double> t = refract_through(v, h, eta);
+                    if (t.ok) single += w * (1 - f) * wide.g1(-t.o.z);
+                });
+                if (single > 1e-4) last = (1 - double(lookup(total_in_, T(c)))) / single;
+                gain_wide_[j][i] = T(last);
+            }
+        }
     }
 
     T outside_[kTableSize] = {}, inside_[kTableSize] = {};
     T total_out_[kTableSize] = {}, total_in_[kTableSize] = {};
     T gain_r_out_[kTableSize] = {}, gain_t_in_[kTableSize] = {}, gain_t_out_[kTableSize] = {};
+    // exit_gain(c, j) at kWideSize cosines (row 0 unused: gain_t_in_) and the rows' α_j.
+    T gain_wide_[kWidths][kWideSize] = {};
+    T wide_alpha_[kWidths] = {};
 };
 
 // A quadrature finer than the automatic one that scales with roughness as it does: the
@@ -570,6 +618,23 @@ template <typename T> HuangQuadrature huang_fast_quadrature(T roughness, int div
     return q;
 }
 
+// A quadrature as accurate as Blender Cycles' scheme for this model (one random normal per
+// Simpson node, bench/reference/cycles_huang.hpp) at a fraction of its eval time: an
+// eighth (`divisor`) of the automatic paths into the fiber (at least 4), as many offset
+// nodes for R, one internal reflection each; 8 / 8 × 1 at β ≥ 0.3, 24 / 24 × 1 at β = 0.1.
+// Against the physical fiber it is far coarser than the default (docs/models.md gives both,
+// with Cycles' one-seed error; docs/performance.md the times), but it keeps what Cycles'
+// scheme does not: no noise, the exact pdf and an albedo of 1 when lossless.
+template <typename T> HuangQuadrature huang_cycles_class_quadrature(T roughness, int divisor = 8) {
+    using M = HuangMaterial<T>;
+    HuangQuadrature q;
+    const int n = M::auto_tt_points(roughness) / (divisor < 1 ? 1 : divisor);
+    q.tt_points = n < 4 ? 4 : n;
+    q.offset_nodes = q.tt_points;
+    q.trt_per_tt = 1;
+    return q;
+}
+
 // The fiber. Same frame and convention as every model (contract.hpp): unit vectors in the
 // fiber frame, wo toward the viewer, wi toward the light, eval with the cosine inside
 // (∫ eval dωi = 1 for σa = 0). The light is traced from wo (reciprocity of the far field):
@@ -583,7 +648,9 @@ template <typename T> HuangQuadrature huang_fast_quadrature(T roughness, int div
 //           R lobe, with the visible normals of Heitz 2014);
 //   TT, TRT = (1 - F(v·h)) D_v(h) |wi·h| / |η v + wi|², the refraction out of the fiber at
 //           the exit's mesonormal, v the internal ray reversed (their TT and TRT, with the
-//           generalised half vector and Jacobian of Walter et al. 2007 eqs. 16–17);
+//           generalised half vector and Jacobian of Walter et al. 2007 eqs. 16–17), with
+//           D_v of path i's own roughness α_i ≥ β: the exit kernel of its entry cell
+//           (entry_kernel), the gain keeping the exit's energy (HuangMaterial::exit_gain);
 //   y_i   = max(0, v·m)|A⁻¹c| / cos γ (1 - F) at path i's offset and entry normal, A_1, A_2 the
 //           chords' transmittances;
 //   s_TT  = Σ_k ŵ_k (1 - E_out) / Σ_i y_i: the paths carry exactly the light the surface
@@ -607,13 +674,13 @@ template <typename T> HuangQuadrature huang_fast_quadrature(T roughness, int div
 // Each stateless call walks every path (n + N_TT + N_TT m ends), so the cost is linear in
 // the offset nodes and the TT points, and in m (docs/tradeoff.md). Almost all of that walk
 // depends on wo alone: at(wo) walks once and keeps the ends (up to kBoundEnds of them, each
-// 64 bytes in float, 128 in double), and its eval, pdf and sample then evaluate only the
+// 68 bytes in float, 136 in double), and its eval, pdf and sample then evaluate only the
 // ends' lobes at wi, with the stateless calls' results: bit for bit without FMA
 // contraction (tests/huang_test.cpp); with it (-march=native) the compiler fuses
 // multiply-adds differently in the two and they differ by rounding (docs/performance.md
 // gives the measured bound). A material with more ends than kBoundEnds, or kBoundEnds = 0, binds only the
 // outgoing terms and walks per call. The default, HAIRSCATTER_HUANG_BOUND_ENDS, is 768
-// (48 KB in float: every automatic quadrature down to β = 0.1) on the host and 0 under
+// (52 KB in float: every automatic quadrature down to β = 0.1) on the host and 0 under
 // nvcc, whose threads' stacks are too small for it; HuangFiber<T, K> with different K are
 // different types, so translation units compiled by both compilers stay consistent.
 #ifndef HAIRSCATTER_HUANG_BOUND_ENDS
@@ -721,7 +788,8 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
             for (int k = 0; k < kWindowSamples; ++k) {
                 const T u1 = T((k + 0.5) / kWindowSamples);
                 const T u2 = T(std::fmod(k * 0.6180339887498949 + 0.5 / kWindowSamples, 1.0));
-                const V3 h = frame.to_world(mat_->ggx().sample_visible_local(v_local, u1, u2));
+                const Ggx<T> ggx(end.alpha);
+                const V3 h = frame.to_world(ggx.sample_visible_local(v_local, u1, u2));
                 V3 dir;
                 double w;
                 if (end.p == 0) {
@@ -732,7 +800,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                     const Refracted<T> r = refract_through(end.v, h, eta);
                     if (!r.ok) continue;
                     dir = glm::normalize(r.o);
-                    w = double((T(1) - fresnel_any(glm::dot(end.v, h), T(1) / eta)) * mat_->ggx().g1(-glm::dot(dir, end.m)));
+                    w = double((T(1) - fresnel_any(glm::dot(end.v, h), T(1) / eta)) * ggx.g1(-glm::dot(dir, end.m)));
                 }
                 if (!(w > 0)) continue;
                 const V3 wi = mat_->section().from_section(dir);
@@ -792,6 +860,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         T cos_v;
         T gain;  // the lobe's scale: its total energy over its unshadowed single scattering
         T g1_v;  // G1(v) (reflection's shadowing of the scattered direction depends on it)
+        T alpha;  // the lobe's GGX roughness
     };
 
     // What a walk adds up besides its ends: the paths' weights y_i, what goes to the
@@ -941,14 +1010,31 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
             const T e_out = mat_->total_reflectance_outside(g.cos_v);
             s.transmitted += w * (T(1) - e_out);
             visit(End{0, V3(w), V3(w * e_out), o.v, g.m, g.cos_v, mat_->reflection_gain_outside(g.cos_v),
-                      mat_->ggx().g1(g.cos_v)});
+                      mat_->ggx().g1(g.cos_v), mat_->ggx().alpha()});
         }
+    }
+
+    // TT's kernel (docs/theory.md §3.6): a path stands for the entry normals of its lattice
+    // cell, whose spread the one normal h leaves out and which would spread the light leaving
+    // the fiber as much as the exit's own roughness does (a slope change δ at either
+    // interface turns the light leaving by about (η − 1) δ). The cell covers entry_cell of
+    // D_v's unit square, a solid angle A = entry_cell / D_v(h) of normals about h: a disc's,
+    // whose per-axis variance is A / 4π. Slope variances add (β²/2 per axis for a Beckmann
+    // surface, which GGX's core follows), so the exit lobe's roughness becomes
+    // sqrt(β² + A / 2π): a kernel that shrinks as the lattice grows and is widest where the
+    // lattice is sparsest (D_v's tail), at most 1.
+    HAIRSCATTER_HD int entry_kernel(const Hit& g, const V3& v, const V3& h) const {
+        using std::sqrt;
+        const T a = mat_->ggx().alpha();
+        const T d = mat_->ggx().visible(g.cos_v, glm::dot(v, h), glm::dot(h, g.m));
+        const T a2 = d > T(0) ? a * a + mat_->entry_cell() / (d * kTwoPi<T>) : T(1);
+        return mat_->exit_row(a2 < T(1) ? sqrt(a2) : T(1));
     }
 
     // A lattice point's entry: the hit, the direction t the light refracts into through the
     // point's visible normal, and its weight y = beam (1 - F), the beam per unit h (the
     // points are uniform in h; hit's is per unit γ = asin h). False where nothing enters.
-    HAIRSCATTER_HD bool enter(const Outgoing& o, const typename Material::EntryPoint& p, Hit& g, V3& t, T& y) const {
+    HAIRSCATTER_HD bool enter(const Outgoing& o, const typename Material::EntryPoint& p, Hit& g, V3& t, T& y, int& row) const {
         g = hit(o, p.h, p.cos_gamma);
         if (!(g.beam > T(0) && g.cos_v > T(0))) return false;
         const T eta = mat_->params().eta;
@@ -961,6 +1047,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         // that still gets in follows the same directions.
         y = g.beam / p.cos_gamma * (T(1) - fresnel_any(glm::dot(o.v, h), eta)) * mat_->ggx().g1(-glm::dot(t, g.m)) *
             mat_->entry_gain(g.cos_v);
+        row = entry_kernel(g, o.v, h);
         return y > T(0);
     }
 
@@ -975,7 +1062,9 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
             Hit g;
             V3 t;
             T y;
-            if (!enter(o, mat_->tt_point(i), g, t, y)) continue;
+            int row;
+            if (!enter(o, mat_->tt_point(i), g, t, y, row)) continue;
+            const T alpha = mat_->exit_row_roughness(row);
             s.norm += y;
             const auto chord = mat_->section().chord(g.c, V2(t.y, t.z));
             if (!chord.ok) {
@@ -993,7 +1082,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
             }
             const T e_in = mat_->total_reflectance_inside(cos2);
             const T g1_2 = mat_->ggx().g1(cos2);
-            visit(End{1, at_exit, at_exit * (T(1) - e_in), v2, m_in, cos2, mat_->exit_gain(cos2), g1_2});
+            visit(End{1, at_exit, at_exit * (T(1) - e_in), v2, m_in, cos2, mat_->exit_gain(cos2, row), g1_2, alpha});
 
             // The internal reflection at m normals of the path, each carrying F / (m E) of
             // the interface's total e_in, E the mean reflectance of one event: a share
@@ -1044,7 +1133,8 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                     continue;
                 }
                 const T e3 = mat_->total_reflectance_inside(cos3);
-                visit(End{2, at_exit2, at_exit2 * (T(1) - e3), -r, m3, cos3, mat_->exit_gain(cos3), mat_->ggx().g1(cos3)});
+                visit(End{2, at_exit2, at_exit2 * (T(1) - e3), -r, m3, cos3, mat_->exit_gain(cos3, row), mat_->ggx().g1(cos3),
+                          alpha});
                 // Orders past TRT: A_3 Σ (A_3 R̄)^n (1 - R̄), every later interface reflecting
                 // R̄ = the total internal reflectance at this one's angle; its limit 1 where
                 // A_3 R̄ → 1.
@@ -1084,7 +1174,8 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     };
     template <bool kF, bool kPdf> HAIRSCATTER_HD LobeValue lobe(const End& e, const V3& wi) const {
         const T eta = mat_->params().eta;
-        const InterfaceLobes<T> l{&mat_->ggx(), e.v, e.m, e.cos_v};
+        const Ggx<T> ggx(e.alpha);
+        const InterfaceLobes<T> l{&ggx, e.v, e.m, e.cos_v};
         LobeValue r{T(0), T(0)};
         if (e.p == 0) {
             const auto x = l.reflection(wi);
@@ -1096,7 +1187,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         }
         const auto x = l.refraction(wi, eta);
         if (kF && x.q > T(0))
-            r.f = (T(1) - fresnel_any(x.v_dot_h, T(1) / eta)) * x.q * e.gain * mat_->ggx().g1(-glm::dot(wi, e.m));
+            r.f = (T(1) - fresnel_any(x.v_dot_h, T(1) / eta)) * x.q * e.gain * ggx.g1(-glm::dot(wi, e.m));
         if (kPdf) r.q = x.q + l.total_reflection(wi, eta);
         return r;
     }
@@ -1200,7 +1291,8 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         if (p == 1 || p == 2) walk.paths(unused, pick);
 
         const T eta = mat_->params().eta;
-        const InterfaceLobes<T> l{&mat_->ggx(), chosen.v, chosen.m, chosen.cos_v};
+        const Ggx<T> ggx(chosen.p < kLobes ? chosen.alpha : mat_->ggx().alpha());
+        const InterfaceLobes<T> l{&ggx, chosen.v, chosen.m, chosen.cos_v};
         V3 wi;
         if (chosen.p == 0) {
             wi = mat_->section().from_section(l.sample_reflection(u.y, u.z));
