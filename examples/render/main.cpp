@@ -118,10 +118,11 @@ int main(int argc, char** argv) {
     int field_side = 12;
     float field_spacing = 1.0f;
     std::string dual_depth = "shape";
-    int dual_glow = 16;
+    int dual_glow = 4;
     app.add_option("--dual-depth", dual_depth,
-                   "dual two-stream with grid or field counts: how many fibers turning light crosses per fiber of "
-                   "a stack, from the hair's shape around the point (shape) or a slab's (slab)")
+                   "dual two-stream: how many fibers turning light crosses per fiber of a stack, from the hair's "
+                   "shape around the point (shape: the count field or the density grid, built for it with exact "
+                   "counts) or a slab's (slab)")
         ->check(CLI::IsMember({"shape", "slab"}))
         ->capture_default_str();
     app.add_option("--dual-glow", dual_glow,

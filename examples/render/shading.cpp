@@ -49,7 +49,9 @@ glm::ivec3 grid_resolution(const Hair& hair, float cell) {
 }
 
 float check_grid(const Hair& hair, const ShadingOptions& o) {
-    if (!o.dual_scattering || (o.two_stream && o.counts == DualCounts::kExact) || hair.segment_count() == 0) return 0.0f;
+    if (!o.dual_scattering || (o.two_stream && o.counts == DualCounts::kExact && !o.shape_depth) ||
+        hair.segment_count() == 0)
+        return 0.0f;
     if (!(o.grid_cell >= 0) || !std::isfinite(o.grid_cell))
         throw std::invalid_argument("--grid-cell: " + std::to_string(o.grid_cell) + " is not a size >= 0");
     // A cell above the automatic one's largest (the hair's extent, or 4 radii) holds all

@@ -50,12 +50,13 @@ struct ShadingOptions {
     // built only where something reads it (grid and field counts), the field for field counts.
     DualCounts counts = DualCounts::kField;
     DualSource source = DualSource::kBeyondExit;
-    // Two-stream with grid or field counts: the stacks' diffusivity from the hair's shape
-    // (hs::dual_turn_limit) rather than a slab's 2/π, and the glow volume (the hair's mean
-    // radiance, this many hair points per grid cell; 0: none), through which hair along a
-    // source direction is read as lit hair (docs/theory.md §5.7).
+    // Two-stream: the stacks' diffusivity from the hair's shape (hs::dual_turn_limit on the
+    // field or the grid; exact counts build the grid for it) rather than a slab's 2/π; with
+    // grid or field counts, the glow volume (the hair's mean radiance, from this many random
+    // rays per grid cell; 0: none), through which hair along a source direction is read as
+    // lit hair (docs/theory.md §5.7).
     bool shape_depth = true;
-    int glow_points = 16;
+    int glow_points = 4;
     // Field counts: the octahedral map's side (side² directions, docs/dual.md) and the
     // lattice spacing in grid cells.
     int field_side = 12;
@@ -96,7 +97,10 @@ class ShadingSetup {
     const hairscatter::DensityGrid<float>* grid() const { return grid_.get(); }
     // The directional count field, or null unless the two-stream estimator reads field counts.
     const hairscatter::DirectionalCountField<float>* field() const { return field_.get(); }
-    bool needs_grid() const { return o_.dual_scattering && !(o_.two_stream && o_.counts == DualCounts::kExact); }
+    // Exact counts read the grid only for the stacks' turn limits (shape_depth).
+    bool needs_grid() const {
+        return o_.dual_scattering && !(o_.two_stream && o_.counts == DualCounts::kExact && !o_.shape_depth);
+    }
     bool needs_field() const { return o_.dual_scattering && o_.two_stream && o_.counts == DualCounts::kField; }
     const ShadingStats& stats() const { return stats_; }
 

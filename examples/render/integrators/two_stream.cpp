@@ -218,14 +218,35 @@ class TwoStreamIntegrator final : public PixelIntegrator {
                 }
             }
         });
-        std::vector<vec3> mean(cells, vec3(0));
+        std::vector<vec3> sum(cells, vec3(0));
         std::vector<std::uint32_t> n(cells, 0);
         for (const auto& part : parts)
-            for (const auto& [k, L] : part) mean[k] += L, ++n[k];
-        for (std::size_t k = 0; k < cells; ++k)
-            if (n[k] > 0) mean[k] /= float(n[k]);
+            for (const auto& [k, L] : part) sum[k] += L, ++n[k];
+        // Each cell's mean over its 3 × 3 × 3 neighbourhood's points: the light around hair
+        // varies over several cells, and a few points per cell would leave their noise in
+        // the image as a fixed pattern.
+        std::vector<vec3> mean(cells, vec3(0));
+        std::vector<std::uint32_t> points(cells, 0);
+        for (int z = 0; z < glow_res_.z; ++z)
+            for (int y = 0; y < glow_res_.y; ++y)
+                for (int x = 0; x < glow_res_.x; ++x) {
+                    const std::size_t k = glow_index(glm::ivec3(x, y, z));
+                    if (n[k] == 0) continue;  // no hair here: nothing to read
+                    vec3 total(0);
+                    std::uint32_t count = 0;
+                    for (int dz = -1; dz <= 1; ++dz)
+                        for (int dy = -1; dy <= 1; ++dy)
+                            for (int dx = -1; dx <= 1; ++dx) {
+                                const glm::ivec3 j(x + dx, y + dy, z + dz);
+                                if (glm::any(glm::lessThan(j, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(j, glow_res_)))
+                                    continue;
+                                total += sum[glow_index(j)], count += n[glow_index(j)];
+                            }
+                    mean[k] = total / float(count);
+                    points[k] = count;
+                }
         glow_ = std::move(mean);
-        glow_n_ = std::move(n);
+        glow_n_ = std::move(points);
     }
 
     // The light arriving at sp along a, with nothing to weigh it against (a uniform direction).
@@ -335,11 +356,14 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         // limit, or what the hair's shape around the point gives (hs::dual_turn_limit).
         const ShadingOptions& opt = c_.shading.options();
         float limit_n = hs::kSlabTurnLimit<float>, limit_m = hs::kSlabTurnLimit<float>;
-        if (opt.shape_depth && !exact) {
+        if (opt.shape_depth) {
             const vec3 axis = sp.to_world(vec3(1, 0, 0));
             const auto shape_limit = [&](const vec3& d) {
                 if (opt.counts == DualCounts::kField)
                     return hs::dual_turn_limit(field_, sp.p, axis, d, hs::kUnbounded<float>);
+                // Grid counts, and exact counts too: the limit is the hair's expected shape
+                // (one ray's integer count along a turned direction sees the gaps between
+                // fibers, and made the back-lit blond slab ten deep +100 %).
                 const hs::DensityGridView<float> grid = c_.shading.grid()->view();
                 return hs::dual_turn_limit(grid, sp.p, axis, d, box_distance(grid, sp.p, d));
             };

@@ -361,9 +361,14 @@ TEST(RenderCli, OversizedDensityGridIsRefusedWithTheReason) {
     EXPECT_EQ(r.output.find("render: building"), std::string::npos) << r.output;
     // Field counts (the default) read the grid too.
     EXPECT_EQ(run("--grid-cell 0.0075" + kTiny + " -o " + out_base("grid_field")).status, 1);
-    // Single scattering, the path tracer and exact counts build no grid: the same cell is no obstacle.
+    // Exact counts read it for the stacks' turn limits (--dual-depth shape, the default).
+    EXPECT_EQ(run("--dual-counts exact --grid-cell 0.0075" + kTiny + " -o " + out_base("grid_exact_shape")).status, 1);
+    // Single scattering, and exact counts with a slab's limits, build no grid: the same cell
+    // is no obstacle.
     EXPECT_EQ(run("--integrator single --grid-cell 0.0075" + kTiny + " -o " + out_base("grid_single")).status, 0);
-    EXPECT_EQ(run("--dual-counts exact --grid-cell 0.0075" + kTiny + " -o " + out_base("grid_exact")).status, 0);
+    EXPECT_EQ(
+        run("--dual-counts exact --dual-depth slab --grid-cell 0.0075" + kTiny + " -o " + out_base("grid_exact")).status,
+        0);
 }
 
 TEST(RenderCli, OversizedCountFieldIsRefusedWithTheReason) {
