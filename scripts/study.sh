@@ -14,7 +14,9 @@
 #      relative RMSE over the hair pixels against a converged path-traced reference, on the
 #      blond 1,500-hair block and on blond fur;
 #   6. scale: render time and peak memory against strand count;
-#   7. a gallery of the origin study's scenes: the four hair blocks, the Cornell box, fur.
+#   7. a gallery of the origin study's scenes: the four hair blocks, the Cornell box, fur;
+#   8. arrivals by direction: the light arriving at hair points along each direction, by the
+#      dual integrator and by the path tracer, binned by the fibers along it.
 # Tables (CSV), plots (PNG, gnuplot) and docs/results/README.md with the commands, the
 # machine and the date; the page holds measured tables only. The full run owns
 # docs/results: it empties the folder first. About 40 minutes on 2 cores.
@@ -50,7 +52,7 @@ fi
 mkdir -p "$out"
 out="$(cd "$out" && pwd)"
 # Every file under the results folder is this run's: nothing stale survives a rerun.
-find "$out" -maxdepth 1 -type f \( -name '*.csv' -o -name '*.png' -o -name '*.exr' -o -name 'README.md' \) -delete
+find "$out" -maxdepth 1 -type f \( -name '*.csv' -o -name '*.png' -o -name '*.exr' -o -name '*.txt' -o -name 'README.md' \) -delete
 
 if [[ $install_deps == 1 ]]; then
     bash "$ROOT/scripts/install-deps.sh" example
@@ -181,6 +183,31 @@ run "$RENDER" --scene cornell "${gallery_size[@]}" --quiet -o "$out/scene_cornel
 gallery+=("scene_cornell")
 run "$RENDER" --scene fur "${gallery_size[@]}" --quiet -o "$out/scene_fur" >/dev/null
 gallery+=("scene_fur")
+
+# ---- 8: arrivals by direction -----------------------------------------------------------
+# The light arriving at the camera's hair points along the fiber's sampled directions, by the
+# two-stream estimator (at the camera's hit, and after one traced vertex) and by the path
+# tracer, binned by the fibers along the direction and where it points.
+if [[ $tiny == 1 ]]; then
+    arrivals=(--points 300 --dual-samples 2 --path-samples 4 --width 48 --height 36)
+else
+    arrivals=(--points 20000 --dual-samples 8 --path-samples 32 --width 80 --height 60)
+fi
+arrival_runs=()
+arrival_run() {  # name, study arguments...
+    local name="$1"; shift
+    run "$STUDY" arrivals "$@" "${arrivals[@]}" >"$out/arrivals_$name.txt"
+    arrival_runs+=("$name")
+}
+for colour in blond brown; do
+    for f in two-stream-field two-stream-field-v1; do
+        arrival_run "block_area_${colour}_1500_${f//-/_}" --scene block --hairs 1500 --lighting area --no-ground \
+            --colour "$colour" --formulation "$f"
+    done
+done
+shell="${fur_shell_counts[-1]}"
+arrival_run "fur_shell_both_white_${shell}_two_stream_field" --scene fur-shell --hairs "$shell" --lighting both \
+    --no-ground --colour white --formulation two-stream-field
 
 # ---- checks (always; they are what --tiny is for) -------------------------------------
 fail=0
@@ -395,5 +422,25 @@ floor_of() {  # csv integrator column [noise column]: the error at the largest s
     line=""
     for g in "${gallery[@]}"; do line+="![$g]($g.png) "; done
     echo "$line"
+    echo
+    echo "## 8. Arrivals by direction"
+    echo
+    echo "\`study arrivals\` (render::arrival_profile): at hair points the camera sees, one direction a"
+    echo "from the fiber's sampler each; the light arriving along a by the dual integrator"
+    echo "(--dual-samples estimates) and by the path tracer (--path-samples paths), binned by the"
+    echo "fibers along a (exact counts) and by where a points: away from or toward the camera, and"
+    echo "toward the area light (cos > 0.3), across, or off it. w·dual and w·path: the bin's part of"
+    echo "the pixel's light (each sample weighted by the fiber's f cos / pdf); excess: (w·dual −"
+    echo "w·path) over the total. Means within a few per cent can hide bins that are far off."
+    echo "Formulations with -v1 trace one vertex before the estimator (--dual-vertices 1 --dual-glow 0)."
+    echo
+    for name in "${arrival_runs[@]}"; do
+        echo "### $name"
+        echo
+        echo '```'
+        cat "$out/arrivals_$name.txt"
+        echo '```'
+        echo
+    done
 } >"$out/README.md"
 echo "study.sh: wrote $out ($elapsed s)"

@@ -131,6 +131,12 @@ int main(int argc, char** argv) {
                    "hair); 0: none")
         ->check(CLI::Range(0, 1024))
         ->capture_default_str();
+    int dual_vertices = 0;
+    app.add_option("--dual-vertices", dual_vertices,
+                   "dual two-stream: a path's first vertices traced as the path tracer traces them before the "
+                   "estimator shades (0: the camera's hit; more: less bias, more noise and cost)")
+        ->check(CLI::Range(0, 8))
+        ->capture_default_str();
     app.add_option("--field-side", field_side,
                    "dual two-stream, field counts: the octahedral map's side, [2, 64] (side² directions)")
         ->check(CLI::Range(2, 64))
@@ -253,6 +259,7 @@ int main(int argc, char** argv) {
         so.source = dual_source == "point" ? render::DualSource::kPoint : render::DualSource::kBeyondExit;
         so.shape_depth = dual_depth == "shape";
         so.glow_points = dual_glow;
+        so.traced_vertices = dual_vertices;
         so.field_side = field_side;
         so.field_spacing = field_spacing;
         so.dual = dual_formulation == "zinke" ? hs::DualScatteringSettings<float>::zinke2008()

@@ -80,6 +80,18 @@ std::size_t peak_rss_bytes();
 std::size_t current_rss_bytes();
 
 // A one-line, space-separated key=value summary of a render (for scripts).
+// One hair point seen by the camera and one arrival direction a from its fiber's sampler:
+// the light arriving along a by the dual estimator and by the path tracer (channel means,
+// each averaged over its samples), the sample's weight f cos / pdf (channel mean), cos of a
+// with the camera ray (> 0: a points away from the camera), and the fibers along ±a
+// (exact counts). A diagnostic of the dual estimator, direction by direction.
+struct ArrivalRecord {
+    float dual = 0, path = 0, weight = 0, cos_view = 0, count = 0, behind = 0;
+    float cos_light = 0;  // cos of a with the direction to the area light's centre (0: none)
+};
+std::vector<ArrivalRecord> arrival_profile(const Scene& scene, const ShadingSetup& shading, const RenderOptions& o,
+                                           int points, int dual_samples, int path_samples);
+
 std::string summary_line(const Scene& scene, const ShadingSetup& shading, const RenderOptions& options,
                          const RenderResult& result);
 

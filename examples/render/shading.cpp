@@ -49,6 +49,8 @@ glm::ivec3 grid_resolution(const Hair& hair, float cell) {
 }
 
 float check_grid(const Hair& hair, const ShadingOptions& o) {
+    if (o.traced_vertices < 0 || o.traced_vertices > 8)
+        throw std::invalid_argument("--dual-vertices: " + std::to_string(o.traced_vertices) + " is outside [0, 8]");
     if (!o.dual_scattering || (o.two_stream && o.counts == DualCounts::kExact && !o.shape_depth) ||
         hair.segment_count() == 0)
         return 0.0f;

@@ -57,6 +57,11 @@ struct ShadingOptions {
     // lit hair (docs/theory.md §5.7).
     bool shape_depth = true;
     int glow_points = 4;
+    // Two-stream: a path's first vertices traced as the path tracer traces them (next-event
+    // estimation and the fiber's own sample to the next hit) before the estimator takes over:
+    // 0 (the default) shades the camera's hit with it. More vertices: smaller bias, more
+    // variance and cost (docs/dual.md, "Traced vertices").
+    int traced_vertices = 0;
     // Field counts: the octahedral map's side (side² directions, docs/dual.md) and the
     // lattice spacing in grid cells.
     int field_side = 12;

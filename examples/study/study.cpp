@@ -102,9 +102,18 @@ render::SceneDescription block_scene(int hairs, const std::string& light, bool g
 // The hair's shading: the Chiang fiber of the colour, with dual scattering as `formulation`
 // says: two-stream (the default: exact counts), two-stream-grid (counts from the density
 // grid), improved or zinke (the dual-scattering BCSDF).
-render::ShadingOptions shading_options(const std::string& colour, const std::string& formulation = "two-stream") {
+render::ShadingOptions shading_options(const std::string& colour, const std::string& formulation_in = "two-stream") {
     render::ShadingOptions o;
     o.fiber.sigma_a = melanin_sigma_a(colour);
+    // A "-vN" suffix traces a path's first N vertices before the two-stream estimator
+    // (--dual-vertices N), without the glow volume (--dual-glow 0: measured the better pairing).
+    std::string formulation = formulation_in;
+    const std::size_t v = formulation.rfind("-v");
+    if (v != std::string::npos && v + 3 == formulation.size() && formulation[v + 2] >= '0' && formulation[v + 2] <= '8') {
+        o.traced_vertices = formulation[v + 2] - '0';
+        o.glow_points = 0;
+        formulation = formulation.substr(0, v);
+    }
     // A "-point" suffix reads the stacks' sources at the shading point (DualSource::kPoint).
     const std::string point = "-point";
     const bool at_point = formulation.size() > point.size() &&
@@ -115,6 +124,8 @@ render::ShadingOptions shading_options(const std::string& colour, const std::str
                : base == "two-stream-field" ? render::DualCounts::kField
                                             : render::DualCounts::kExact;
     o.source = at_point ? render::DualSource::kPoint : render::DualSource::kBeyondExit;
+    if (o.traced_vertices > 0 && !o.two_stream)
+        throw std::invalid_argument("study: '-vN' applies to two-stream formulations only");
     if (at_point && !o.two_stream) throw std::invalid_argument("study: '-point' applies to two-stream formulations only");
     if (formulation == "zinke") o.dual = hairscatter::DualScatteringSettings<float>::zinke2008();
     else if (formulation == "improved") o.dual = hairscatter::DualScatteringSettings<float>::improved();
@@ -452,6 +463,64 @@ int time_to_error(const Common& c, const std::string& kind, int reference_spp, i
     return 0;
 }
 
+
+// The dual estimator's arrivals against the path tracer's, direction by direction
+// (render::arrival_profile), binned by the fibers along the arrival direction a and whether
+// a points away from the camera: per bin the share of the samples, the mean light of each
+// (weighted by the fiber's sampling weight: the bin's part of the pixel's light) and their
+// ratio. Which directions make the dual image too bright or too dark.
+int arrivals(const Common& c, const std::string& kind, int hairs, const std::string& formulation, int points,
+             int dual_samples, int path_samples) {
+    const render::Scene scene(block_scene(hairs, c.lighting, c.ground, kind));
+    const render::ShadingSetup shading(scene, shading_options(c.colour, formulation));
+    render::RenderOptions o;
+    o.width = c.width, o.height = c.height;
+    const std::vector<render::ArrivalRecord> recs = render::arrival_profile(scene, shading, o, points, dual_samples, path_samples);
+    const float edges[] = {0, 1, 2, 4, 8, 16, 32, 1e30f};
+    constexpr int kEdges = 8;
+    std::printf("%s %s %d %s %s: %d points, %d dual and %d path samples each\n", kind.c_str(), c.colour.c_str(), hairs,
+                c.lighting.c_str(), formulation.c_str(), points, dual_samples, path_samples);
+    std::printf("%-9s %-7s %7s %11s %11s %7s %9s\n", "count", "a", "share", "w·dual", "w·path", "ratio", "excess");
+    double all_d = 0, all_p = 0;
+    for (const auto& r : recs) all_d += r.weight * r.dual, all_p += r.weight * r.path;
+    for (int away = 1; away >= 0; --away)
+        for (int b = 0; b + 1 < kEdges; ++b) {
+            double n = 0, wd = 0, wp = 0;
+            for (const auto& r : recs) {
+                if (!(r.weight > 0) || (r.cos_view > 0) != bool(away)) continue;
+                if (b == 0 ? r.count != 0 : !(r.count >= edges[b] && r.count < edges[b + 1])) continue;
+                n += 1, wd += r.weight * r.dual, wp += r.weight * r.path;
+            }
+            if (n == 0) continue;
+            char label[32];
+            if (b == 0) std::snprintf(label, sizeof label, "0");
+            else std::snprintf(label, sizeof label, "%g-%g", double(edges[b]), double(edges[b + 1] > 1e29f ? 999 : edges[b + 1]));
+            std::printf("%-9s %-7s %7.3f %11.4g %11.4g %7.3f %+9.4f\n", label, away ? "away" : "toward", n / double(recs.size()),
+                        wd / double(recs.size()), wp / double(recs.size()), wp > 0 ? wd / wp : 0.0,
+                        all_p > 0 ? (wd - wp) / all_p : 0.0);
+        }
+    // The same by the direction to the area light: a toward it (> 0.3), across, away (< −0.3).
+    for (int side = 0; side < 3; ++side)
+        for (int b = 0; b + 1 < kEdges; ++b) {
+            double n = 0, wd = 0, wp = 0;
+            for (const auto& r : recs) {
+                const int rs = r.cos_light > 0.3f ? 0 : r.cos_light < -0.3f ? 2 : 1;
+                if (!(r.weight > 0) || rs != side) continue;
+                if (b == 0 ? r.count != 0 : !(r.count >= edges[b] && r.count < edges[b + 1])) continue;
+                n += 1, wd += r.weight * r.dual, wp += r.weight * r.path;
+            }
+            if (n == 0 || b == 0) continue;
+            char label[32];
+            std::snprintf(label, sizeof label, "%g-%g", double(edges[b]), double(edges[b + 1] > 1e29f ? 999 : edges[b + 1]));
+            const char* names[] = {"to-light", "across", "off-light"};
+            std::printf("%-9s %-9s %5.3f %11.4g %11.4g %7.3f %+9.4f\n", label, names[side], n / double(recs.size()),
+                        wd / double(recs.size()), wp / double(recs.size()), wp > 0 ? wd / wp : 0.0,
+                        all_p > 0 ? (wd - wp) / all_p : 0.0);
+        }
+    std::printf("all: dual %.4g path %.4g ratio %.3f\n", all_d / double(recs.size()), all_p / double(recs.size()),
+                all_p > 0 ? all_d / all_p : 0.0);
+    return 0;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -525,12 +594,29 @@ int main(int argc, char** argv) {
     std::string tte_kind = "block";
     tte->add_option("--scene", tte_kind, "block | scalp | fur | fur-shell | slab")->capture_default_str();
 
+    CLI::App* arr = app.add_subcommand("arrivals", "the dual estimator's arrivals against the path tracer's, binned");
+    common(arr);
+    std::string arr_kind = "slab", arr_formulation = "two-stream-field";
+    int arr_points = 2000, arr_dual = 16, arr_path = 64;
+    bool arr_no_ground = false;
+    arr->add_option("--scene", arr_kind, "block | scalp | fur | fur-shell | slab")->capture_default_str();
+    arr->add_option("--colour", c.colour, io::colour_preset_names())->capture_default_str();
+    arr->add_option("--formulation", arr_formulation, "two-stream, two-stream-grid or two-stream-field")->capture_default_str();
+    arr->add_option("--points", arr_points, "hair points seen by the camera")->capture_default_str();
+    arr->add_option("--dual-samples", arr_dual, "dual estimates per point")->capture_default_str();
+    arr->add_option("--path-samples", arr_path, "paths per point")->capture_default_str();
+    arr->add_flag("--no-ground", arr_no_ground, "remove the ground plane");
+
     CLI11_PARSE(app, argc, argv);
     try {
         if (conv->parsed()) return convergence(c, max_spp, reference_spp, reference_sampling, threshold);
         c.ground = !no_ground;
         if (dvp->parsed()) return dual_vs_path(c, kind, hair_counts, colours, formulations, dual_spp, path_spp);
         if (furn->parsed()) return furnace(c, furnace_scenes, furnace_formulations, furnace_dual_spp, furnace_path_spp);
+        if (arr->parsed()) {
+            c.ground = !arr_no_ground;
+            return arrivals(c, arr_kind, c.hairs, arr_formulation, arr_points, arr_dual, arr_path);
+        }
         if (tte->parsed()) {
             c.ground = !tte_no_ground;
             return time_to_error(c, tte_kind, tte_ref, tte_dual, tte_path);

@@ -3,6 +3,7 @@
 // and of the camera ray's first hit (single and dual scattering).
 #pragma once
 
+#include <limits>
 #include <memory>
 
 #include <glm/glm.hpp>
@@ -30,6 +31,13 @@ class PixelIntegrator {
   public:
     virtual ~PixelIntegrator() = default;
     virtual glm::vec3 radiance(const glm::vec3& o, const glm::vec3& d, Sampler& rng) const = 0;
+    // The light arriving at a hair hit along a (world), seen from wo (the direction back
+    // toward where the hit was seen from): for integrators that can say (the path tracer and
+    // the two-stream estimator), else NaN. For diagnostics (render::arrival_profile).
+    virtual glm::vec3 arrival(const Hit& hit, const glm::vec3& wo, const glm::vec3& a, Sampler& rng) const {
+        (void)hit, (void)wo, (void)a, (void)rng;
+        return glm::vec3(std::numeric_limits<float>::quiet_NaN());
+    }
 };
 
 std::unique_ptr<PixelIntegrator> make_single_integrator(const RenderContext& c);  // single.cpp

@@ -19,12 +19,21 @@ template <class MakeFiber> class PathIntegrator final : public PixelIntegrator {
         : c_(c), make_(make), amplifies_(c.shading.options().fiber_extras.amplifies()) {}
 
     vec3 radiance(const vec3& camera, const vec3& dir, Sampler& rng) const override {
+        return trace(camera, dir, kNoStrand, rng);
+    }
+    vec3 arrival(const Hit& hit, const vec3&, const vec3& a, Sampler& rng) const override {
+        return trace(hit.p, a, hit.strand, rng);
+    }
+
+  private:
+    // The radiance arriving at o from direction d (along −d), the strand `ignore` unseen
+    // near o (the fiber o lies on).
+    vec3 trace(const vec3& from, const vec3& dir, std::uint32_t ignore, Sampler& rng) const {
         const Scene& scene = c_.scene;
         const Lights& lights = c_.lights;
         const RenderOptions& opt = c_.options;
         const bool mis = opt.sampling == Sampling::kMis;
-        vec3 o = camera, d = dir, L(0), beta(1);
-        std::uint32_t ignore = kNoStrand;
+        vec3 o = from, d = dir, L(0), beta(1);
         float prev_pdf = 0;  // pdf of the direction that led here (0: camera, no MIS)
         for (int depth = 0; depth < opt.max_depth; ++depth) {
             const Hit hit = scene.intersect(o, d, kInf, ignore);
@@ -98,7 +107,6 @@ template <class MakeFiber> class PathIntegrator final : public PixelIntegrator {
         return L;
     }
 
-  private:
     // Uniform directions on the sphere (the baseline of --sampling uniform).
     template <class Bound> static hs::HairSample<float> uniform(const Bound& fiber, const glm::vec4& u) {
         hs::HairSample<float> s;

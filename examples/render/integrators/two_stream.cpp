@@ -11,6 +11,8 @@
 // and the hair their bounces reach is shaded by this estimator again: light that the
 // ground or a head reflects reaches the hair, and the hair's light reaches them. Every
 // vertex continues one path at most, so the cost per sample is bounded by kMaxDepth.
+// With traced vertices (ShadingOptions::traced_vertices, --dual-vertices N), a path's first
+// N vertices are traced as the path tracer traces them and the estimator shades from there.
 #include "integrator.hpp"
 
 #include <algorithm>
@@ -39,6 +41,14 @@ class TwoStreamIntegrator final : public PixelIntegrator {
 
     vec3 radiance(const vec3& o, const vec3& d, Sampler& rng) const override {
         return at_hit(c_.scene.intersect(o, d, kInf), d, 0, 0.0f, rng);
+    }
+    // The light arriving at a hair hit along a as this integrator estimates it at a path's
+    // first vertex: traced to the next hit when vertices are traced, else the two-stream
+    // arrival (render::arrival_profile compares it with the path tracer's).
+    vec3 arrival(const Hit& hit, const vec3& wo, const vec3& a, Sampler& rng) const override {
+        if (c_.shading.options().traced_vertices > 0)
+            return at_hit(c_.scene.intersect(hit.p, a, kInf, hit.strand), a, 1, 0.0f, rng);
+        return arrival_uniform(ShadingPoint(hit, wo), a, rng);
     }
 
   private:
@@ -318,6 +328,10 @@ class TwoStreamIntegrator final : public PixelIntegrator {
         const hs::HairSample<float> s = bound.sample(rng.u4());
         if (!(s.pdf > 0)) return L;
         const vec3 a = sp.to_world(s.wi);
+        // The path's first vertices traced as the path tracer traces them (the light sample
+        // above is their next-event estimate): the two-stream estimate starts past them.
+        if (depth < c_.shading.options().traced_vertices)
+            return L + s.weight * at_hit(scene.intersect(sp.p, a, kInf, sp.strand), a, depth + 1, s.pdf, rng);
         const Hit source = scene.intersect_opaque(sp.p, a, kInf);
         const float t_source = source.kind == Hit::kMiss ? kInf : source.t;
         if (!scene.hair_occluded(sp.p, a, t_source, sp.strand))
