@@ -964,30 +964,48 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         return V3(mat_->sin_tilt(), mat_->cos_tilt() * n.x, mat_->cos_tilt() * n.y);
     }
 
-    // The three channels' exps as one batch (one vector in float), the same values as three
-    // scalar exps: a sixth of the walk's instructions went to them. The lanes are written as
-    // one store (elem::store4): four scalar stores read back as one vector stall the load.
+    // Whether the exps of several lanes are one vector operation (float on the host, through
+    // GCC's and Clang's vector extensions), where a padding lane costs nothing; elsewhere
+    // every lane is a call of its own.
+    static constexpr bool kVectorExp = HAIRSCATTER_HAS_VECTOR_EXT && std::is_same<T, float>::value;
+
+    // The three channels' transmittances e^(−σ ℓ) (a sixth of the walk's instructions went to
+    // these exps): one vector in float, its lanes written as one store (elem::store4: four
+    // scalar stores read back as one vector stall the load); three exps in double.
     HAIRSCATTER_HD V3 transmittance(T length) const {
         const V3& s = mat_->params().sigma_a;
-        T x[4];
-        elem::store4(x, -s.x * length, -s.y * length, -s.z * length, T(0));
-        elem::exp_each_nonpositive(x);
-        return V3(x[0], x[1], x[2]);
+        if constexpr (kVectorExp) {
+            T x[4];
+            elem::store4(x, -s.x * length, -s.y * length, -s.z * length, T(0));
+            elem::exp_each_nonpositive(x);
+            return V3(x[0], x[1], x[2]);
+        } else {
+            T x[3] = {-s.x * length, -s.y * length, -s.z * length};
+            elem::exp_each_nonpositive(x);
+            return V3(x[0], x[1], x[2]);
+        }
     }
-    // A TRT path's second chord of length `second` after a first of `first`: its
-    // transmittance A_2 and the residual's mean chord A_3 = sqrt(A_1 A_2), written as
-    // e^(−σ (ℓ_1 + ℓ_2) / 2), six exps in one batch (one 8-lane vector with AVX) instead of
-    // three exps and three square roots.
+    // A TRT path's second chord, of length `second` after a first of `first` (transmittance
+    // a1): its transmittance A_2 and the residual's mean chord A_3 = sqrt(A_1 A_2). With
+    // vector exps A_3 is e^(−σ (ℓ_1 + ℓ_2) / 2), in the same 8-lane batch as A_2 (one vector
+    // with AVX) instead of three square roots; elsewhere the square roots are cheaper than
+    // three more exps.
     struct SecondChord {
         V3 a2, a3;
     };
-    HAIRSCATTER_HD SecondChord second_chord(T first, T second) const {
-        const V3& s = mat_->params().sigma_a;
-        const T mid = T(0.5) * (first + second);
-        T x[8];
-        elem::store8(x, -s.x * second, -s.y * second, -s.z * second, -s.x * mid, -s.y * mid, -s.z * mid, T(0), T(0));
-        elem::exp_each_nonpositive(x);
-        return {V3(x[0], x[1], x[2]), V3(x[3], x[4], x[5])};
+    HAIRSCATTER_HD SecondChord second_chord(const V3& a1, T first, T second) const {
+        if constexpr (kVectorExp) {
+            const V3& s = mat_->params().sigma_a;
+            const T mid = T(0.5) * (first + second);
+            T x[8];
+            elem::store8(x, -s.x * second, -s.y * second, -s.z * second, -s.x * mid, -s.y * mid, -s.z * mid, T(0), T(0));
+            elem::exp_each_nonpositive(x);
+            return {V3(x[0], x[1], x[2]), V3(x[3], x[4], x[5])};
+        } else {
+            (void)first;
+            const V3 a2 = transmittance(second);
+            return {a2, glm::sqrt(a1 * a2)};
+        }
     }
 
     // The far-field hit at offset (h, cos γ): its circle point, mesonormal, v·m and the beam
@@ -1160,7 +1178,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                     s.residual += in2;
                     continue;
                 }
-                const SecondChord a = second_chord(chord.length, chord2.length);
+                const SecondChord a = second_chord(a1, chord.length, chord2.length);
                 const V3 at_exit2 = in2 * a.a2;
                 const V3 m3 = -mesonormal(chord2.c);
                 const T cos3 = -glm::dot(r, m3);
