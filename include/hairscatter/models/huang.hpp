@@ -701,7 +701,9 @@ template <typename T> HuangQuadrature huang_cycles_class_quadrature(T roughness,
 // contraction (tests/huang_test.cpp); with it (-march=native) the compiler fuses
 // multiply-adds differently in the two and they differ by rounding (docs/performance.md
 // gives the measured bound). A material with more ends than kBoundEnds, or kBoundEnds = 0, binds only the
-// outgoing terms and walks per call. The default, HAIRSCATTER_HUANG_BOUND_ENDS, is 768
+// outgoing terms and walks per call. The stateless sample, which passes over the ends three
+// times, keeps one walk's ends the same way (on the stack: up to 52 KB in float, 104 KB in
+// double) and so walks once. The default, HAIRSCATTER_HUANG_BOUND_ENDS, is 768
 // (52 KB in float: every automatic quadrature down to β = 0.1) on the host and 0 under
 // nvcc, whose threads' stacks are too small for it; HuangFiber<T, K> with different K are
 // different types, so translation units compiled by both compilers stay consistent.
@@ -929,19 +931,39 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     // at(wo)'s state (the contract's bind): one walk, its ends kept.
     template <int K = kBoundEnds, typename std::enable_if<(K > 0), int>::type = 0>
     HAIRSCATTER_HD Bound bind(const V3& wo) const {
-        Bound b;
-        b.o = outgoing<true>(wo);
-        b.n_r = 0;
-        b.n = -1;
+        return bind_from(outgoing<true>(wo));
+    }
+    // Whether the material's path ends fit in a Bound.
+    HAIRSCATTER_HD bool ends_fit() const {
         const long long most = static_cast<long long>(mat_->nodes()) +
                                static_cast<long long>(mat_->tt_points()) * (1 + mat_->trt_per_tt());
-        if (most > kBoundEnds) return b;
+        return most <= kBoundEnds;
+    }
+    template <int K = kBoundEnds, typename std::enable_if<(K > 0), int>::type = 0>
+    HAIRSCATTER_HD Bound bind_from(const Outgoing& o) const {
+        Bound b;
+        b.o = o;
+        b.n_r = 0;
+        b.n = -1;
+        if (!ends_fit()) return b;
         b.n = 0;
         const auto keep = [&](const End& e) { b.ends[b.n++] = e; };
         walk_r(b.o, b.r, keep);
         b.n_r = b.n;
         walk_paths(b.o, b.paths, keep);
         return b;
+    }
+    // The stateless sample (the contract's sample_fresh): sample_walk passes over the path
+    // ends three times (the lobes' energies, the chosen end, f and pdf at the sampled wi),
+    // which live would be three walks; the ends of one walk are kept on the stack instead,
+    // as at(wo) keeps them, and replayed: the results of at(wo).sample. Where the ends do
+    // not fit it walks per pass, and with kBoundEnds = 0 (nvcc) the contract's sample_from
+    // does.
+    template <int K = kBoundEnds, typename std::enable_if<(K > 0), int>::type = 0>
+    HAIRSCATTER_HD HairSample<T> sample_fresh(const Outgoing& o, const V3& wo, const V4& u) const {
+        if (!ends_fit()) return sample_walk(live(o), wo, u);
+        const Bound b = bind_from(o);
+        return sample_walk(Replay{&b}, wo, u);
     }
     template <bool kF, bool kPdf> HAIRSCATTER_HD HairEvalPdf<T> query(const Bound& b, const V3& wo, const V3& wi) const {
         if (b.n < 0) return query<kF, kPdf>(b.o, wo, wi);
