@@ -991,9 +991,9 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     // every lane is a call of its own.
     static constexpr bool kVectorExp = HAIRSCATTER_HAS_VECTOR_EXT && std::is_same<T, float>::value;
 
-    // The three channels' transmittances e^(−σ ℓ) (a sixth of the walk's instructions went to
-    // these exps): one vector in float, its lanes written as one store (elem::store4: four
-    // scalar stores read back as one vector stall the load); three exps in double.
+    // The three channels' transmittances e^(−σ ℓ): one vector in float, its lanes written as
+    // one store (elem::store4: four scalar stores read back as one vector stall the load);
+    // three exps in double.
     HAIRSCATTER_HD V3 transmittance(T length) const {
         const V3& s = mat_->params().sigma_a;
         if constexpr (kVectorExp) {
