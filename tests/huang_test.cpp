@@ -199,6 +199,62 @@ TEST(HuangTables, MatchAFineRule) {
     }
 }
 
+// fresnel_any (one square root and two divisions) against the textbook form of the
+// reference, on both sides of the interface, past the critical angle included. Near the
+// critical angle F has a square-root kink, so every form loses digits there: double within
+// 1e-11 (measured 5e-12, at n = 1/1.0001), float within 1e-5 at hair's indices (measured
+// 4.5e-6 at n = 1/1.55, the textbook form in float 2.8e-6; at n = 1/1.0001 both are 3e-3
+// off, so that index is checked in double only).
+TEST(HuangFresnel, BothSidesMatchTheTextbookForm) {
+    double worst_d = 0, worst_f = 0;
+    for (double n : {1.55, 1 / 1.55, 3.0, 1 / 3.0, 1.0001, 1 / 1.0001})
+        for (int k = 0; k <= 4000; ++k) {
+            const double c = k / 4000.0;
+            worst_d = std::max(worst_d, std::abs(hs::fresnel_any(c, n) - ref_huang::fresnel(c, n)));
+            if (std::abs(n - 1) < 0.01) continue;
+            const float cf = float(c), nf = float(n);
+            worst_f = std::max(worst_f, std::abs(double(hs::fresnel_any(cf, nf)) - ref_huang::fresnel(double(cf), double(nf))));
+        }
+    std::printf("[ huang    ] fresnel_any against the textbook form: double %.2g, float %.2g\n", worst_d, worst_f);
+    EXPECT_LT(worst_d, 1e-11);
+    EXPECT_LT(worst_f, 1e-5);
+}
+
+// entry_row (a path's exit row found by comparisons) is exit_row's rounding of the kernel's
+// roughness α = sqrt(min(1, β² + entry_cell / (2π D_v))) to the nearest row in log α,
+// computed here in double, wherever α is not within 1e-5 rows of a boundary; D_v ≤ 0 takes
+// α = 1. (exit_row's 1/ln 1.3 was once mistyped, which moved every boundary by up to 2e-4
+// rows: this margin catches that.)
+template <typename T> void check_entry_rows() {
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> log_d(-9, 6);
+    for (double beta : {0.05, 0.1, 0.3, 0.7, 1.0}) {
+        const hs::HuangMaterial<T> mat(specs::huang_params<T>(beta, 2, glm::dvec3(0), 1, 0), hs::HuangQuadrature{4, 64, 1});
+        const auto expected = [&](double alpha) {
+            const double r = std::log(alpha / double(mat.ggx().alpha())) / std::log(1.3) + 0.5;
+            return std::make_pair(int(std::min(8.0, std::max(0.0, std::floor(r)))), std::abs(r - std::round(r)));
+        };
+        int checked = 0;
+        for (int k = 0; k < 20000; ++k) {
+            const T d = T(std::exp(log_d(rng)));
+            const double a2 = ref_huang::sq(double(mat.ggx().alpha())) + double(mat.entry_cell()) / (2 * kPi * double(d));
+            const double alpha = std::sqrt(std::min(1.0, a2));
+            const auto want = expected(alpha);
+            if (want.second < 1e-5) continue;
+            ++checked;
+            ASSERT_EQ(mat.entry_row(d), want.first) << "β " << beta << ", D_v " << d;
+            ASSERT_EQ(mat.exit_row(T(alpha)), want.first) << "β " << beta << ", α " << alpha;
+        }
+        EXPECT_GT(checked, 19000);
+        EXPECT_EQ(mat.entry_row(T(0)), expected(1.0).first);
+        EXPECT_EQ(mat.entry_row(T(-1)), expected(1.0).first);
+    }
+}
+TEST(HuangTables, EntryRowIsTheRoundedExitRoughness) {
+    check_entry_rows<float>();
+    check_entry_rows<double>();
+}
+
 // A round section has no orientation, and turning an ellipse by π is the same ellipse.
 TEST(HuangFiber, SectionSymmetries) {
     // Each section's material once (its reflectance tables are nearly all of the test's time).

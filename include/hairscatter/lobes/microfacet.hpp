@@ -22,12 +22,18 @@ namespace hairscatter {
 
 // Unpolarised Fresnel reflectance at cos_i for the relative index n = η_t / η_i, either side
 // of 1: total internal reflection (n < 1 past the critical angle) reflects everything.
+// Written with s = n cos_t = sqrt(n² − sin²θi): r_s = (cos_i − s) / (cos_i + s) and
+// r_p = (n² cos_i − s) / (n² cos_i + s), one square root and two divisions (the textbook
+// form's cos_t = sqrt(1 − sin²θi / n²) takes a third); the same values up to rounding.
 template <typename T> HAIRSCATTER_HD T fresnel_any(T cos_i, T n) {
+    using std::sqrt;
     cos_i = clamp(cos_i, T(0), T(1));
-    const T cos_t = detail::refracted_cos(cos_i, n);
-    if (cos_t < T(0)) return T(1);
-    // cos_i = 0 with n > 1: both terms are 1 (grazing reflects), no 0/0 since n cos_t > 0.
-    return T(0.5) * (detail::fresnel_parallel(cos_i, cos_t, n) + detail::fresnel_perpendicular(cos_i, cos_t, n));
+    const T n2 = n * n, sin2_i = (T(1) - cos_i) * (T(1) + cos_i);
+    // Total internal reflection, compared without dividing (n = 0 reflects, not NaN).
+    if (sin2_i >= n2) return T(1);
+    const T s = sqrt(n2 - sin2_i), n2c = n2 * cos_i;
+    // cos_i = 0 with n > 1: both ratios are −1 (grazing reflects), no 0/0 since s > 0.
+    return T(0.5) * (sqr((cos_i - s) / (cos_i + s)) + sqr((n2c - s) / (n2c + s)));
 }
 
 // An orthonormal basis (s, t, n) around a unit n with s along the part of `toward` that is

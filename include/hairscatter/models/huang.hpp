@@ -147,7 +147,7 @@ template <typename T> class HuangMaterial {
     static constexpr int kWidths = 9;
     static constexpr int kWideSize = 65;
     static constexpr double kWidthStep = 1.3;
-    static constexpr double kInvLogWidthStep = 3.8113883008419;  // 1 / ln 1.3
+    static constexpr double kInvLogWidthStep = 3.8114946867084014;  // 1 / ln 1.3
 
     // Offset nodes that resolve the R lobe: R's exit azimuth turns by 2 per unit γ, and the
     // rule's widest gap (at the centre) is π²/(2n) in γ: n = ⌈π²/(1.6 α)⌉ keeps neighbouring
@@ -228,6 +228,16 @@ template <typename T> class HuangMaterial {
         // over (h, u1, u2); its projection onto the entry normal's (u1, u2) spans N_TT^(-2/3)
         // (the cube's side N_TT^(-1/3) squared).
         entry_cell_ = T(std::pow(double(tt_n_), -2.0 / 3.0));
+        // entry_row's limits: row j ≥ k + 1 where α² ≥ β² kWidthStep^(2k + 1) (the rounding of
+        // exit_row), that is where entry_cell / (2π D_v) ≥ β² (kWidthStep^(2k + 1) − 1); only
+        // the limits at α ≤ 1 count, since α stops at 1.
+        const double beta2 = double(params.roughness) * double(params.roughness);
+        row_limits_ = 0;
+        for (int k = 0; k + 1 < kWidths; ++k) {
+            const double a2 = beta2 * std::pow(kWidthStep, 2.0 * k + 1);
+            if (a2 > 1) break;
+            row_limit_[row_limits_++] = T(6.28318530717958647692 * (a2 - beta2));
+        }
         build_interface_tables();
     }
     // The lobe controls with the default quadrature.
@@ -387,6 +397,16 @@ template <typename T> class HuangMaterial {
         // Rounded to the nearest row; table_cell keeps the index in range (NaN too).
         return table_cell(log(alpha / ggx_.alpha()) * T(kInvLogWidthStep) + T(0.5), kWidths - 1);
     }
+    // The row of exit_row(sqrt(min(1, β² + entry_cell / (2π d)))) for a path whose entry
+    // normal has D_v = d (α = 1 where d ≤ 0), found by comparing entry_cell with d times
+    // each row's limit: no square root, division or logarithm per path. The same row but
+    // where α lies within rounding of a boundary between rows (tests/huang_test.cpp).
+    HAIRSCATTER_HD int entry_row(T d) const {
+        if (!(d > T(0))) return row_limits_;
+        int j = 0;
+        for (int k = 0; k < row_limits_; ++k) j += entry_cell_ >= row_limit_[k] * d ? 1 : 0;
+        return j;
+    }
     HAIRSCATTER_HD T exit_row_roughness(int j) const { return wide_alpha_[j]; }
     HAIRSCATTER_HD T exit_gain(T c, int j) const { return j == 0 ? exit_gain(c) : lookup<kWideSize>(gain_wide_[j], c); }
     // The same for the light entering: (1 − total_out) / transmit_single, so that each
@@ -505,6 +525,8 @@ template <typename T> class HuangMaterial {
     T sin_tilt_ = T(0), cos_tilt_ = T(1);
     int nodes_ = 0, tt_n_ = 0, per_tt_ = 0;
     T entry_cell_ = T(0);
+    int row_limits_ = 0;
+    T row_limit_[kWidths - 1] = {};
     T h_[kMaxNodes] = {}, cos_gamma_[kMaxNodes] = {}, weight_[kMaxNodes] = {};
     EntryPoint tt_[kMaxTTPoints] = {};
     NormalPoint reflect_[kMaxTRTPoints] = {};
@@ -679,7 +701,9 @@ template <typename T> HuangQuadrature huang_cycles_class_quadrature(T roughness,
 // contraction (tests/huang_test.cpp); with it (-march=native) the compiler fuses
 // multiply-adds differently in the two and they differ by rounding (docs/performance.md
 // gives the measured bound). A material with more ends than kBoundEnds, or kBoundEnds = 0, binds only the
-// outgoing terms and walks per call. The default, HAIRSCATTER_HUANG_BOUND_ENDS, is 768
+// outgoing terms and walks per call. The stateless sample, which passes over the ends three
+// times, keeps one walk's ends the same way (on the stack: up to 52 KB in float, 104 KB in
+// double) and so walks once. The default, HAIRSCATTER_HUANG_BOUND_ENDS, is 768
 // (52 KB in float: every automatic quadrature down to β = 0.1) on the host and 0 under
 // nvcc, whose threads' stacks are too small for it; HuangFiber<T, K> with different K are
 // different types, so translation units compiled by both compilers stay consistent.
@@ -907,19 +931,39 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     // at(wo)'s state (the contract's bind): one walk, its ends kept.
     template <int K = kBoundEnds, typename std::enable_if<(K > 0), int>::type = 0>
     HAIRSCATTER_HD Bound bind(const V3& wo) const {
-        Bound b;
-        b.o = outgoing<true>(wo);
-        b.n_r = 0;
-        b.n = -1;
+        return bind_from(outgoing<true>(wo));
+    }
+    // Whether the material's path ends fit in a Bound.
+    HAIRSCATTER_HD bool ends_fit() const {
         const long long most = static_cast<long long>(mat_->nodes()) +
                                static_cast<long long>(mat_->tt_points()) * (1 + mat_->trt_per_tt());
-        if (most > kBoundEnds) return b;
+        return most <= kBoundEnds;
+    }
+    template <int K = kBoundEnds, typename std::enable_if<(K > 0), int>::type = 0>
+    HAIRSCATTER_HD Bound bind_from(const Outgoing& o) const {
+        Bound b;
+        b.o = o;
+        b.n_r = 0;
+        b.n = -1;
+        if (!ends_fit()) return b;
         b.n = 0;
         const auto keep = [&](const End& e) { b.ends[b.n++] = e; };
         walk_r(b.o, b.r, keep);
         b.n_r = b.n;
         walk_paths(b.o, b.paths, keep);
         return b;
+    }
+    // The stateless sample (the contract's sample_fresh): sample_walk passes over the path
+    // ends three times (the lobes' energies, the chosen end, f and pdf at the sampled wi),
+    // which live would be three walks; the ends of one walk are kept on the stack instead,
+    // as at(wo) keeps them, and replayed: the results of at(wo).sample. Where the ends do
+    // not fit it walks per pass, and with kBoundEnds = 0 (nvcc) the contract's sample_from
+    // does.
+    template <int K = kBoundEnds, typename std::enable_if<(K > 0), int>::type = 0>
+    HAIRSCATTER_HD HairSample<T> sample_fresh(const Outgoing& o, const V3& wo, const V4& u) const {
+        if (!ends_fit()) return sample_walk(live(o), wo, u);
+        const Bound b = bind_from(o);
+        return sample_walk(Replay{&b}, wo, u);
     }
     template <bool kF, bool kPdf> HAIRSCATTER_HD HairEvalPdf<T> query(const Bound& b, const V3& wo, const V3& wi) const {
         if (b.n < 0) return query<kF, kPdf>(b.o, wo, wi);
@@ -942,13 +986,48 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         return V3(mat_->sin_tilt(), mat_->cos_tilt() * n.x, mat_->cos_tilt() * n.y);
     }
 
-    // The three channels' exps as one batch (one vector in float), the same values as three
-    // scalar exps: a sixth of the walk's instructions went to them.
+    // Whether the exps of several lanes are one vector operation (float on the host, through
+    // GCC's and Clang's vector extensions), where a padding lane costs nothing; elsewhere
+    // every lane is a call of its own.
+    static constexpr bool kVectorExp = HAIRSCATTER_HAS_VECTOR_EXT && std::is_same<T, float>::value;
+
+    // The three channels' transmittances e^(−σ ℓ): one vector in float, its lanes written as
+    // one store (elem::store4: four scalar stores read back as one vector stall the load);
+    // three exps in double.
     HAIRSCATTER_HD V3 transmittance(T length) const {
         const V3& s = mat_->params().sigma_a;
-        T x[4] = {-s.x * length, -s.y * length, -s.z * length, T(0)};
-        elem::exp_each_nonpositive(x);
-        return V3(x[0], x[1], x[2]);
+        if constexpr (kVectorExp) {
+            T x[4];
+            elem::store4(x, -s.x * length, -s.y * length, -s.z * length, T(0));
+            elem::exp_each_nonpositive(x);
+            return V3(x[0], x[1], x[2]);
+        } else {
+            T x[3] = {-s.x * length, -s.y * length, -s.z * length};
+            elem::exp_each_nonpositive(x);
+            return V3(x[0], x[1], x[2]);
+        }
+    }
+    // A TRT path's second chord, of length `second` after a first of `first` (transmittance
+    // a1): its transmittance A_2 and the residual's mean chord A_3 = sqrt(A_1 A_2). With
+    // vector exps A_3 is e^(−σ (ℓ_1 + ℓ_2) / 2), in the same 8-lane batch as A_2 (one vector
+    // with AVX) instead of three square roots; elsewhere the square roots are cheaper than
+    // three more exps.
+    struct SecondChord {
+        V3 a2, a3;
+    };
+    HAIRSCATTER_HD SecondChord second_chord(const V3& a1, T first, T second) const {
+        if constexpr (kVectorExp) {
+            const V3& s = mat_->params().sigma_a;
+            const T mid = T(0.5) * (first + second);
+            T x[8];
+            elem::store8(x, -s.x * second, -s.y * second, -s.z * second, -s.x * mid, -s.y * mid, -s.z * mid, T(0), T(0));
+            elem::exp_each_nonpositive(x);
+            return {V3(x[0], x[1], x[2]), V3(x[3], x[4], x[5])};
+        } else {
+            (void)first;
+            const V3 a2 = transmittance(second);
+            return {a2, glm::sqrt(a1 * a2)};
+        }
     }
 
     // The far-field hit at offset (h, cos γ): its circle point, mesonormal, v·m and the beam
@@ -1023,12 +1102,9 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     // surface, which GGX's core follows), so the exit lobe's roughness becomes
     // sqrt(β² + A / 2π): a kernel that shrinks as the lattice grows and is widest where the
     // lattice is sparsest (D_v's tail), at most 1.
+    // (HuangMaterial::entry_row rounds it to a row without computing it.)
     HAIRSCATTER_HD int entry_kernel(const Hit& g, const V3& v, const V3& h) const {
-        using std::sqrt;
-        const T a = mat_->ggx().alpha();
-        const T d = mat_->ggx().visible(g.cos_v, glm::dot(v, h), glm::dot(h, g.m));
-        const T a2 = d > T(0) ? a * a + mat_->entry_cell() / (d * kTwoPi<T>) : T(1);
-        return mat_->exit_row(a2 < T(1) ? sqrt(a2) : T(1));
+        return mat_->entry_row(mat_->ggx().visible(g.cos_v, glm::dot(v, h), glm::dot(h, g.m)));
     }
 
     // A lattice point's entry: the hit, the direction t the light refracts into through the
@@ -1124,8 +1200,8 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                     s.residual += in2;
                     continue;
                 }
-                const V3 a2 = transmittance(chord2.length);
-                const V3 at_exit2 = in2 * a2;
+                const SecondChord a = second_chord(a1, chord.length, chord2.length);
+                const V3 at_exit2 = in2 * a.a2;
                 const V3 m3 = -mesonormal(chord2.c);
                 const T cos3 = -glm::dot(r, m3);
                 if (!(cos3 > T(0))) {
@@ -1141,10 +1217,8 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                 const T r_bar = e3;
                 V3 series;
                 for (int ch = 0; ch < 3; ++ch) {
-                    using std::sqrt;
-                    const T a3 = sqrt(a1[ch] * a2[ch]);
-                    const T den = T(1) - a3 * r_bar;
-                    series[ch] = den > T(1e-6) ? a3 * (T(1) - r_bar) / den : T(1);
+                    const T den = T(1) - a.a3[ch] * r_bar;
+                    series[ch] = den > T(1e-6) ? a.a3[ch] * (T(1) - r_bar) / den : T(1);
                 }
                 s.residual += at_exit2 * e3 * series;
             }
@@ -1173,6 +1247,13 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         T f, q;
     };
     template <bool kF, bool kPdf> HAIRSCATTER_HD LobeValue lobe(const End& e, const V3& wi) const {
+        // f alone: the shadowing below is 0 where wi is behind the reflecting side (R) or
+        // in front of the side light leaves by (TT, TRT), so those ends add exactly 0 (the
+        // sampler's density q, which pdf needs, does not vanish there).
+        if (kF && !kPdf) {
+            const T side = glm::dot(wi, e.m);
+            if (!(e.p == 0 ? side > T(0) : side < T(0))) return LobeValue{T(0), T(0)};
+        }
         const T eta = mat_->params().eta;
         const Ggx<T> ggx(e.alpha);
         const InterfaceLobes<T> l{&ggx, e.v, e.m, e.cos_v};
