@@ -223,6 +223,49 @@ TEST(FurFiber, RoughCortexRLobeFromItsFacets) {
     EXPECT_LT(t.share[kMid][kH - 1][5] / v, 0.1);  // the rim
 }
 
+// R's azimuth on the rough cortex (RoughCortexTables' ψ_R): the facets' reflections turn
+// toward wo where the mean surface meets the light at grazing incidence, so the median turn
+// is about 0 on the axis (by symmetry; within the walk's noise, 2°), rises toward the rim,
+// and at a given |h| rises toward grazing θo; and the fibre's R lobe is centred on
+// −2γ + sign(h) ψ_R: its azimuthal mean over φ moves toward 0 by ψ_R on both sides.
+TEST(FurFiber, RoughCortexTurnsRTowardTheLight) {
+    const hs::FurMaterial<double> rough(fur_params<double>(0, 0, 0, glm::dvec3(0), true));
+    const auto& t = rough.rough_cortex();
+    constexpr int kTheta = hs::detail::RoughCortexTables<double>::kTheta, kH = hs::detail::RoughCortexTables<double>::kH;
+    constexpr int kMid = kTheta / 2;
+    const double deg = 180 / kPi;
+    for (int i = kMid; i < kTheta - 1; ++i) {
+        std::printf("[ fur ] rough cortex, node θo %4.1f°: ψ_R over γ =", (2.0 * i / (kTheta - 1) - 1) * 1.5 * deg);
+        for (int j = 0; j < kH; ++j) std::printf(" %.1f°", t.share[i][j][7] * deg);
+        std::printf("\n");
+        EXPECT_LT(std::fabs(t.share[i][0][7]) * deg, 2.0) << "node " << i;
+        EXPECT_GT(t.share[i][kH - 1][7], t.share[i][kH / 2][7] + 5 / deg) << "node " << i;
+        if (i > kMid) {
+            EXPECT_GT(t.share[i][kH - 2][7], t.share[i - 1][kH - 2][7] - 1 / deg) << "node " << i;
+        }
+    }
+    EXPECT_GT(t.share[kTheta - 2][kH / 2][7] * deg, 10.0);  // θo 71.6°, γ 45°
+    // The fibre's R: its N_R about the turned centre, seen in eval with the other lobes off.
+    hs::FurControls<double> only_r;
+    for (int l = 1; l < 4; ++l) only_r.lobes.gain[l] = 0;
+    only_r.gain_s = 0;
+    const hs::FurMaterial<double> r_only(fur_params<double>(0, 0, 0, glm::dvec3(0), true), only_r);
+    for (double h : {-0.9, 0.9}) {
+        const hs::FurFiber<double> fiber(r_only, h);
+        const glm::dvec3 wo = direction(75);
+        double best = -1, best_phi = 0;
+        for (int k = 0; k < 3600; ++k) {  // the peak of f over φ in the plane of R's centre
+            const double phi = -kPi + (k + 0.5) * 2 * kPi / 3600;
+            const double f = fiber.eval(wo, direction(-75, phi)).x;
+            if (f > best) best = f, best_phi = phi;
+        }
+        const double gamma = std::asin(h), smooth = -2 * gamma;
+        std::printf("[ fur ] θo 75°, h %+.1f: R peaks at φ %.1f°, the smooth mirror's %.1f°\n", h, best_phi * deg, smooth * deg);
+        EXPECT_LT(std::fabs(best_phi), std::fabs(smooth) - 10 / deg) << h;
+        EXPECT_GT(best_phi * smooth, 0.0) << h;
+    }
+}
+
 // The default facets (FurParams::facet_alpha 0) are the GGX whose reflections give R the
 // longitudinal spread β_m gives it (facet_alpha_from_beta): for narrow lobes √3/2 Φ⁻¹(¾) √v
 // (R's upper quartile of θi, Φ⁻¹(¾) √v, is twice the facets' slope quartile along the fibre,
@@ -254,7 +297,9 @@ TEST(FurMaterial, DefaultFacetsSpreadRAsBetaDoes) {
         const hs::FurMaterial<double> rough(p);
         const double ratio = rough.rough_cortex().share[kMid][0][5] / hs::longitudinal_variance(beta);
         std::printf("[ fur ] β_m %.2f: v_R / v on the axis %.3f\n", beta, ratio);
-        EXPECT_NEAR(ratio, 1.0, 0.1) << beta;  // (2,000 walks: ~3 % noise)
+        // (the quartile fit over 8,000 reflections: ~3–5 % noise in v_R at β_m ≤ 0.3, more at
+        // 0.5, whose GGX 0.46 spreads the reflections' tails over the sphere)
+        EXPECT_NEAR(ratio, 1.0, beta < 0.4 ? 0.1 : 0.15) << beta;
     }
 }
 
@@ -639,19 +684,20 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     std::printf("[ physical ] rough cortex: f worst %.1f %%, mean %.1f %% lossless, %.1f %% blond; scattered worst %.1f %%,"
                 " mean %.1f %%\n", 100 * worst_all, 100 * mean_all[0], 100 * mean_all[1], 100 * worst[0], 100 * mean[0]);
     std::printf("[ physical ] smooth cortex: scattered worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst[1], 100 * mean[1]);
-    // Measured: 17.7 %, mean 8.6 % lossless and 9.9 % blond; scattered 22.5 %, 8.2 % (16.4 %,
-    // 8.4 %, 9.7 %; 22.0 %, 8.2 % given the reference's GGX 0.17; 23.2 %, 10.2 %, 12.9 %; 22.8 %
+    // Measured: 15.5 %, mean 8.7 % lossless and 9.4 % blond; scattered 22.2 %, 8.1 % (17.7 %,
+    // 8.6 %, 9.9 %; 22.5 %, 8.2 % before R's azimuth turned toward wo, ψ_R; 16.4 %, 8.4 %,
+    // 9.7 %; 22.0 %, 8.2 % given the reference's GGX 0.17; 23.2 %, 10.2 %, 12.9 %; 22.8 %
     // and 9.1 % with the walk on the microsurface over Gaussian facets from β; 20.7 %,
     // 9.9 %, 12.5 %; 23.9 %, 9.1 % with the facets' Gaussian slopes from β, one facet event
     // per meeting and R's shape from its moments; 26.1 %, 9.5 % and 15.7 % with Chiang's one R
     // lobe width at every h; 58.6 %, 12.8 % and 21.6 % with the smooth F at the rough cortex's
     // entry and a smooth boundary in the medulla tables; 19.0 % and 25.2 % mean with the smooth
     // cortex's orders); 6.3 %, 4.8 % (the reference's noise: 1–3 %).
-    EXPECT_LT(worst_all, 0.18);
+    EXPECT_LT(worst_all, 0.16);
     EXPECT_LT(mean_all[0], 0.09);
-    EXPECT_LT(mean_all[1], 0.105);
-    EXPECT_LT(worst[0], 0.24);
-    EXPECT_LT(mean[0], 0.09);
+    EXPECT_LT(mean_all[1], 0.10);
+    EXPECT_LT(worst[0], 0.23);
+    EXPECT_LT(mean[0], 0.085);
     EXPECT_LT(worst[1], 0.07);
     EXPECT_LT(mean[1], 0.052);
 }

@@ -285,7 +285,7 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 // F(wo·m) C1(h)^Λ(o_m) (the chance that it rises out of the microsurface from the height h
 // it met the facet at, Smith's G1 there). The table holds F_r over the smooth F at the node,
 // which the fibre multiplies by its exact smooth F at h: F rises steeply toward h = 1, and a
-// bilinear F_r between nodes 1/8 apart overstated it there by a quarter at θo 0° (0.082
+// bilinear F_r between nodes 1/8 apart in h overstated it there by a quarter at θo 0° (0.082
 // against 0.068). Toward grazing wo the facets it sees lean toward it, and F_r falls below
 // the smooth F. The fibre attenuates each chord as its first one.
 // The same reflections give R's shape at the node: the d'Eon lobe (variance v_R, centre θc)
@@ -294,17 +294,24 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 // facet of longitudinal slope a turns sin θi by 2a cos θo cos γ to first order (γ the
 // incidence angle in the section, sin γ = h): toward the rim, where F is largest, the
 // facets' spread and tilt nearly stop acting on R (v_R ≈ v cos²γ at θo 0°), a narrowing
-// Chiang's single v per lobe does not have.
+// Chiang's single v per lobe does not have. And R's azimuth: the facets wo sees lean toward
+// it (visible normals, Heitz 2014 eq. 2), and Smith's masking keeps more of the reflections
+// that rise steeply than of those that graze, so toward grazing incidence on the mean
+// surface (the rim, and θo toward ±90°) the reflections turn from the smooth mirror's
+// azimuth Φ(0, h) = −2γ toward wo's; the table keeps their weighted median turn ψ_R
+// (a median, as R's quartiles: GGX's tail would throw a mean), and the fibre centres N_R on
+// −2γ + sign(h) ψ_R. The nodes are uniform in γ = asin |h|, denser toward the rim, where
+// F_r, v_R and ψ_R change fastest (ψ_R at θo 30° is 2.5° at h 0.875 and 17° at 0.999).
 template <typename T> struct RoughCortexTables {
-    static constexpr int kTheta = 13, kH = 9;  // θo nodes over ±kThetaMax, |h| nodes over [0, 1]
+    static constexpr int kTheta = 13, kH = 9;  // θo nodes over ±kThetaMax, |γ| nodes over [0, π/2]
     static constexpr double kThetaMax = 1.5;   // (beyond, the nearest node: cos θo → 0 there)
-    static constexpr int kValues = 7;
-    T share[kTheta][kH][kValues];              // TT, TRT, later, r, F_r / F, v_R, δ_R
+    static constexpr int kValues = 8;
+    T share[kTheta][kH][kValues];              // TT, TRT, later, r, F_r / F, v_R, δ_R, ψ_R
 
-    // The values at (θo, h), bilinear between the nodes.
-    HAIRSCATTER_HD void at(T theta, T h, T (&out)[kValues]) const {
+    // The values at (θo, γ), h = sin γ, bilinear between the nodes.
+    HAIRSCATTER_HD void at(T theta, T gamma, T (&out)[kValues]) const {
         const T u = clamp((theta / T(kThetaMax) + T(1)) * T(0.5), T(0), T(1)) * T(kTheta - 1);
-        const T v = clamp(abs_value(h), T(0), T(1)) * T(kH - 1);
+        const T v = clamp(abs_value(gamma) * T(2) * kInvPi<T>, T(0), T(1)) * T(kH - 1);
         const int i = u < T(kTheta - 1) ? int(u) : kTheta - 2, j = v < T(kH - 1) ? int(v) : kH - 2;
         const T s = u - T(i), t = v - T(j);
         for (int k = 0; k < kValues; ++k) {
@@ -568,41 +575,58 @@ struct RoughFacets {
     }
 };
 
-// The weighted quartiles of x (pairs of value and weight; sorted here).
-inline std::array<double, 3> weighted_quartiles(std::vector<std::pair<double, double>>& xw) {
-    std::sort(xw.begin(), xw.end());
-    double total = 0, run = 0;
-    for (const auto& e : xw) total += e.second;
-    std::array<double, 3> q{0, 0, 0};
-    std::size_t k = 0;
-    for (const auto& e : xw) {
-        run += e.second;
-        while (k < 3 && run >= 0.25 * double(k + 1) * total) q[k++] = e.first;
+// The weighted quartiles of x (pairs of value and weight; reordered here): per quartile the
+// smallest x at which the running weight, in increasing x, reaches its share of the total.
+// By selection (nth_element halving the range that holds it: linear time), as a sort and a
+// scan would give it in n log n.
+inline double weighted_quantile(std::vector<std::pair<double, double>>& xw, double share) {
+    double need = 0;
+    for (const auto& e : xw) need += e.second;
+    need *= share;
+    std::size_t lo = 0, hi = xw.size();
+    if (hi == 0) return 0;
+    double before = 0;  // the weight below xw[lo, hi)
+    while (hi - lo > 1) {
+        const std::size_t mid = lo + (hi - lo) / 2;
+        const auto first = xw.begin() + std::ptrdiff_t(lo);
+        std::nth_element(first, xw.begin() + std::ptrdiff_t(mid), xw.begin() + std::ptrdiff_t(hi));
+        double left = 0;
+        for (std::size_t k = lo; k < mid; ++k) left += xw[k].second;
+        if (before + left >= need) hi = mid;
+        else before += left, lo = mid;
     }
-    return q;
+    return xw[lo].first;
+}
+inline std::array<double, 3> weighted_quartiles(std::vector<std::pair<double, double>>& xw) {
+    return {weighted_quantile(xw, 0.25), weighted_quantile(xw, 0.5), weighted_quantile(xw, 0.75)};
 }
 
 // The rough cortex's walk (RoughCortexTables) for index η, cuticle tilt α and the facets' GGX
 // α (0: the one β_m implies, facet_alpha_from_beta): 2,000 walks per node (each share
-// within ~1 % at one standard deviation), at most 400 chords per walk (the rest counts as
+// within ~1 % at one standard deviation; R's shape, from quartiles, from the reflections of
+// four entries per walk, the walk's own and three more), at most 400 chords per walk (the rest counts as
 // later; a tail ratio of 0.95, the largest at β 0.3, leaves 1e-9 of it there).
 template <typename T>
 RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m, double facet_alpha) {
-    constexpr int kWalks = 2000, kMaxEvents = 400;
+    constexpr int kWalks = 2000, kMaxEvents = 400, kShapeDraws = 4;
     const RoughFacets facets = RoughFacets::of(eta, alpha, beta_m, facet_alpha);
-    std::vector<std::pair<double, double>> reflections;  // R's sin θi and weight, per node
+    std::vector<std::pair<double, double>> reflections, turns;  // R's sin θi, its turn toward wo; weights
     RoughCortexTables<T> tab;
     FurRng rng(0x0C0A7E5Eull);
     constexpr int kTheta = RoughCortexTables<T>::kTheta, kH = RoughCortexTables<T>::kH;
     for (int i = 0; i < kTheta; ++i) {
         const double theta = (2.0 * i / (kTheta - 1) - 1) * RoughCortexTables<T>::kThetaMax;
         for (int j = 0; j < kH; ++j) {
-            const double h = std::min(double(j) / (kH - 1), 0.999);
+            const double h = std::min(std::sin(kHalfPi<double> * j / (kH - 1)), 0.999);
             // Toward the light (wo) in the entry point's frame: the normal at offset h is
             // (cos γ, sin γ) in the section, sin γ = h, with wo's section part along (1, 0).
             const glm::dvec3 out(std::sin(theta), std::cos(theta) * std::sqrt(1 - h * h), -std::cos(theta) * h);
             double entered = 0, first = 0, second = 0, later = 0, tail_events = 0, reflected = 0;
             reflections.clear();
+            turns.clear();
+            // A reflection's azimuth in the section, turned from the mirror's (+γ) toward wo's (−γ).
+            const double gamma = std::asin(h);
+            const auto turn = [&](const glm::dvec3& r) { return wrap_pi(gamma - std::atan2(r.z, r.y)); };
             for (int w = 0; w < kWalks; ++w) {
                 // The entry is the walk of Heitz et al. 2016 from afar (RoughFacets::walk). Its
                 // first facet's reflections that leave at once are counted by their expectation,
@@ -615,12 +639,29 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
                 const double rises = facets.mean_projection(r) > 0 ? std::pow(clamp(0.5 * (h1 + 1), 0.0, 1.0), facets.lambda(r)) : 0;
                 const double kept = e.fresnel * rises;
                 reflected += kept;
-                reflections.emplace_back(r.x, kept);
+                reflections.emplace_back(r.x, kept / kShapeDraws);
+                turns.emplace_back(turn(r), kept / kShapeDraws);
+                for (int k = 1; k < kShapeDraws; ++k) {  // more entries' reflections, for R's shape alone
+                    const double hk = facets.next_height(-out, 2, rng.uniform());
+                    const RoughFacets::Event ek = facets.event(-out, true, eta, rng);
+                    const glm::dvec3 rk = 2 * glm::dot(out, ek.normal) * ek.normal - out;
+                    if (facets.mean_projection(rk) > 0) {
+                        const double wk = ek.fresnel * std::pow(clamp(0.5 * (hk + 1), 0.0, 1.0), facets.lambda(rk)) / kShapeDraws;
+                        reflections.emplace_back(rk.x, wk);
+                        turns.emplace_back(turn(rk), wk);
+                    }
+                    const RoughFacets::Exit xk = facets.walk_from(ek.dir, ek.outside, hk, eta, rng);
+                    if (xk.outside && !(ek.outside && xk.events == 0)) {
+                        reflections.emplace_back(xk.dir.x, 1.0 / kShapeDraws);
+                        turns.emplace_back(turn(xk.dir), 1.0 / kShapeDraws);
+                    }
+                }
                 const RoughFacets::Exit entry = facets.walk_from(e.dir, e.outside, h1, eta, rng);
                 if (entry.outside) {
                     if (e.outside && entry.events == 0) continue;  // the first facet's reflection: counted above
                     reflected += 1;
-                    reflections.emplace_back(entry.dir.x, 1.0);
+                    reflections.emplace_back(entry.dir.x, 1.0 / kShapeDraws);
+                    turns.emplace_back(turn(entry.dir), 1.0 / kShapeDraws);
                     continue;
                 }
                 entered += 1;
@@ -645,6 +686,7 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             const DeonLobeFit lobe = reflected > 0 ? deon_lobe_from_quartiles(q[0], q[1], q[2]) : DeonLobeFit{0, -theta + 2 * alpha};
             tab.share[i][j][5] = T(lobe.v);
             tab.share[i][j][6] = T(theta - 2 * alpha + lobe.theta_c);  // δ_R: θo' = θo − 2α turned to −θc
+            tab.share[i][j][7] = T(reflected > 0 ? weighted_quantile(turns, 0.5) : 0.0);  // ψ_R: the median turn
         }
     }
     return tab;
@@ -828,11 +870,14 @@ template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& 
     p.sigma_a_medulla = glm::dvec3(params.sigma_a_medulla);
     p.g = double(params.g);
     MedullaTables<double> d;
-    const RoughFacets facets =
-        RoughFacets::of(p.cortex.eta, double(params.cortex.alpha), double(params.cortex.beta_m), double(params.facet_alpha));
+    const bool scatters = p.kappa > 0 && p.sigma_s > 0;
+    const RoughFacets facets = scatters && params.rough_cortex ? RoughFacets::of(p.cortex.eta, double(params.cortex.alpha),
+                                                                                 double(params.cortex.beta_m),
+                                                                                 double(params.facet_alpha))
+                                                               : RoughFacets{};
     constexpr int kTheta = MedullaTables<T>::kThetaBins, kPhi = MedullaTables<T>::kPhiBins;
     for (int t = 0; t < kTheta; ++t) {
-        if (p.kappa > 0 && p.sigma_s > 0) {
+        if (scatters) {
             simulate_medulla_bin(p, (t + 0.5) * kHalfPi<double> / kTheta, t, d, params.rough_cortex ? &facets : nullptr);
             continue;
         }
@@ -1132,7 +1177,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         // inside at the k-th chord. Smooth: Q_k = F^(k−1), the sum 1 / (1 − T F).
         T passes[3];
         T entry_reflect = fresnel;  // R's share at entry: the smooth F, or the rough boundary's F_r
-        T r_shape[2] = {T(0), T(0)};  // R's v_R and δ_R (the rough cortex's)
+        T r_shape[3] = {T(0), T(0), T(0)};  // R's v_R, δ_R and ψ_R (the rough cortex's)
         if (prm.rough_cortex) {
             // The rough cortex's walk (RoughCortexTables): the facets reflect F_r at entry; of
             // the light that entered (1 − F_r), e1 leaves after one chord, e2 after two, the
@@ -1142,8 +1187,8 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             //   Σ_k Q_k T^(k−1) = 1 + (1 − e1) T + e3 T² / (1 − r T).
             // Lossless (T = 1) every entered share leaves: Σ_p A_p = 1 as before.
             T e[detail::RoughCortexTables<T>::kValues];
-            mat_->rough_cortex().at(elem::asin(sin_o), h_, e);
-            r_shape[0] = e[5], r_shape[1] = e[6];
+            mat_->rough_cortex().at(elem::asin(sin_o), gamma_o_, e);
+            r_shape[0] = e[5], r_shape[1] = e[6], r_shape[2] = e[7];
             entry_reflect = clamp(e[4] * fresnel, T(0), T(1));
             for (int c = 0; c < 3; ++c) {
                 const T t = chord.transmittance[c], in = T(1) - entry_reflect, rt = T(1) - e[3] * t;
@@ -1179,6 +1224,8 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         for (int p = 0; p <= kLobes; ++p) o.phi_p[p] = p < kLobes ? exit_azimuth_wrapped(p, gamma_o_, gamma_t) : T(0);
         o.r_lobe = mat_->longitudinal(0);
         if (prm.rough_cortex) {
+            // R's azimuth turned by ψ_R toward wo's (Φ = −2γ toward 0; ψ_R is 0 at h = 0).
+            o.phi_p[0] = wrap_pi(o.phi_p[0] + (h_ < T(0) ? -r_shape[2] : r_shape[2]));
             // R's shape at h from the same facets (RoughCortexTables): the lobe of variance v_R
             // (floored at the narrowest lobe the parameters allow), its conditioning angle
             // turned by −δ_R from the tilt's (the controls' R tilt still acts on top).
