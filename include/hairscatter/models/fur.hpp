@@ -1225,7 +1225,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         o.r_lobe = mat_->longitudinal(0);
         if (prm.rough_cortex) {
             // R's azimuth turned by ψ_R toward wo's (Φ = −2γ toward 0; ψ_R is 0 at h = 0).
-            o.phi_p[0] = wrap_pi(o.phi_p[0] + (h_ < T(0) ? -r_shape[2] : r_shape[2]));
+            o.phi_p[0] = wrap_pi_once(o.phi_p[0] + (h_ < T(0) ? -r_shape[2] : r_shape[2]));
             // R's shape at h from the same facets (RoughCortexTables): the lobe of variance v_R
             // (floored at the narrowest lobe the parameters allow), its conditioning angle
             // turned by −δ_R from the tilt's (the controls' R tilt still acts on top).
