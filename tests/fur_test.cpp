@@ -684,7 +684,7 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     std::printf("[ physical ] rough cortex: f worst %.1f %%, mean %.1f %% lossless, %.1f %% blond; scattered worst %.1f %%,"
                 " mean %.1f %%\n", 100 * worst_all, 100 * mean_all[0], 100 * mean_all[1], 100 * worst[0], 100 * mean[0]);
     std::printf("[ physical ] smooth cortex: scattered worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst[1], 100 * mean[1]);
-    // Measured: 15.5 %, mean 8.7 % lossless and 9.4 % blond; scattered 22.2 %, 8.1 % (17.7 %,
+    // Measured: 15.3 %, mean 8.6 % lossless and 9.3 % blond; scattered 22.2 %, 8.1 % (17.7 %,
     // 8.6 %, 9.9 %; 22.5 %, 8.2 % before R's azimuth turned toward wo, ψ_R; 16.4 %, 8.4 %,
     // 9.7 %; 22.0 %, 8.2 % given the reference's GGX 0.17; 23.2 %, 10.2 %, 12.9 %; 22.8 %
     // and 9.1 % with the walk on the microsurface over Gaussian facets from β; 20.7 %,

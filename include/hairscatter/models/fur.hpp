@@ -604,11 +604,11 @@ inline std::array<double, 3> weighted_quartiles(std::vector<std::pair<double, do
 // The rough cortex's walk (RoughCortexTables) for index η, cuticle tilt α and the facets' GGX
 // α (0: the one β_m implies, facet_alpha_from_beta): 2,000 walks per node (each share
 // within ~1 % at one standard deviation; R's shape, from quartiles, from the reflections of
-// four entries per walk, the walk's own and three more), at most 400 chords per walk (the rest counts as
+// two entries per walk, the walk's own and one more), at most 400 chords per walk (the rest counts as
 // later; a tail ratio of 0.95, the largest at β 0.3, leaves 1e-9 of it there).
 template <typename T>
 RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m, double facet_alpha) {
-    constexpr int kWalks = 2000, kMaxEvents = 400, kShapeDraws = 4;
+    constexpr int kWalks = 2000, kMaxEvents = 400, kShapeDraws = 2;
     const RoughFacets facets = RoughFacets::of(eta, alpha, beta_m, facet_alpha);
     std::vector<std::pair<double, double>> reflections, turns;  // R's sin θi, its turn toward wo; weights
     RoughCortexTables<T> tab;
