@@ -60,7 +60,7 @@ template <typename T> struct FurParams {
     bool rough_cortex = false;
     // The rough cortex's microsurface: GGX (Trowbridge–Reitz) of this roughness about the
     // cuticle-tilted normal, in [0, 1]; 0 (the default): the GGX roughness whose reflections
-    // spread R as β_m does (facet_alpha_from_beta, 0.169 at β_m 0.3). Read only with
+    // spread R as β_m does (facet_alpha_from_beta, 0.182 at β_m 0.3). Read only with
     // rough_cortex.
     T facet_alpha = T(0);
 };
@@ -277,7 +277,7 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 // tilt α, of the roughness FurParams::facet_alpha where the cortex's microsurface is known,
 // else of the one whose reflections give R the longitudinal spread the model's own β_m
 // gives it (facet_alpha_from_beta: a reflection doubles the tilt of the normal that makes
-// it). Nothing is fitted to a reference. Per node (θo, |h|) the table keeps, of the light that entered, the
+// it). Nothing is fitted to a reference. Per node (θo, γ) the table keeps, of the light that entered, the
 // shares that leave at the first internal meeting (TT), the second (TRT) and later, and the
 // ratio r of the later orders' geometric tail (r / (1 − r) is their mean number of chords
 // past the third); and the entry's own reflectance F_r, the rough boundary's R: the light
@@ -431,8 +431,9 @@ inline DeonLobeFit deon_lobe_from_quartiles(double x1, double x2, double x3) {
 // 2023's cap (lobes/microfacet.hpp). For narrow lobes a facet of slope a along the fibre
 // alone turns the reflection by 2 atan a, and GGX's slope quartile α/√3 gives α ≈ 0.584 √v;
 // the slope across the fibre and the visible normals' weight narrow R (sin θi = 2a / (1 + a²
-// + b²) for slopes a along and b across), so α is 0.180 at β_m 0.3 (0.169 by slopes along
-// the fibre alone). β_n does not enter: R's azimuthal spread is mostly the cylinder's.
+// + b²) for slopes a along and b across), so α is 0.182 at β_m 0.3 (0.169 by slopes along
+// the fibre alone), 0.46 at 0.5, and 1 from β_m ≈ 0.62 on, where R's lobe is wider than any
+// GGX microsurface's reflections (the bisection's end). β_n does not enter: R's azimuthal spread is mostly the cylinder's.
 inline double facet_alpha_from_beta(double beta_m, double eta) {
     const double v = longitudinal_variance(beta_m);
     double lo = 0, hi = 1;
