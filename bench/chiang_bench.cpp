@@ -356,8 +356,8 @@ template <typename T> void BM_FurTables(benchmark::State& state) {
 // Building a FurMaterial over the grid the tests build (tests/fur_test.cpp,
 // FurMaterial.TablesBuiltForTheGridAreValid): κ 0.3 and 0.9, σs^m 1 and 10, g 0, the blond
 // cortex (σa^c 0.5447, 0.9061, 1.781), with the smooth and the rough cortex (whose walk is
-// built as well; rough 1 its Gaussian facets from β, rough 2 GGX facets of α 0.17, as the
-// physical-fur test gives them). The goal: ≤ 1 s per material; the CPU time is the
+// built as well; rough 1 its facets from β, GGX 0.182 at β_m 0.3, rough 2 GGX facets of α
+// 0.17, the physical-fur reference's). The goal: ≤ 1 s per material; the CPU time is the
 // figure (the build is single-threaded; on a shared machine the wall time also counts other
 // processes).
 template <typename T> void BM_FurTablesGrid(benchmark::State& state) {

@@ -186,7 +186,7 @@ void add_fiber_options(CLI::App& app, FiberOptions& o, const std::string& defaul
                  "feeds the orders past TRT; docs/models.md)");
     app.add_option("--facet-alpha", o.facet_alpha,
                    "fur, with --rough-cortex: the cortex's microsurface as GGX of this roughness, [0, 1] "
-                   "(default 0: Gaussian slopes from --beta-m and --beta-n; docs/models.md)");
+                   "(default 0: the roughness whose reflections spread R as --beta-m does; docs/models.md)");
 }
 
 namespace {

@@ -12,8 +12,10 @@
 // is printed next to them: lobes that overlap can cancel). Blond is the mean over RGB.
 // With --marginals, per case and lobe instead: the lossless model's and reference's f
 // integrated over φ per bin of sin θi, and over sin θi per bin of φ (the lobe's shape).
+// The model's facets are those its β implies (FurParams::facet_alpha 0), as in the test, or
+// with --facet-alpha A GGX of roughness A (the reference's own: 0.17).
 //
-//   fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals]
+//   fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals] [--facet-alpha A]
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -33,6 +35,8 @@ namespace {
 constexpr int kNu = 16, kNphi = 32;
 
 // The model's f of lobe `only` (0–3 Chiang's lobes, 4 the scattered one) per bin.
+double g_facet_alpha = 0;  // --facet-alpha
+
 std::vector<glm::dvec3> lobe_bins(const phys_fur::FurCase& fc, const glm::dvec3& sigma_a, int only,
                                   const phys_fiber::CachedCase& grid) {
     hs::FurParams<double> p;
@@ -42,7 +46,7 @@ std::vector<glm::dvec3> lobe_bins(const phys_fur::FurCase& fc, const glm::dvec3&
     p.cortex.sigma_a = sigma_a;
     p.cortex.alpha = fc.tilt_deg * phys_fiber::kPi / 180;
     p.rough_cortex = fc.roughness >= 0.1;
-    p.facet_alpha = p.rough_cortex ? fc.roughness : 0;  // the reference's GGX, as FurPhysical gives it
+    p.facet_alpha = p.rough_cortex ? g_facet_alpha : 0;
     hs::FurControls<double> c;
     for (int l = 0; l < 4; ++l) c.lobes.gain[l] = l == only ? 1.0 : 0.0;
     c.gain_s = only == 4 ? 1.0 : 0.0;
@@ -83,8 +87,10 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
         else if (!std::strcmp(argv[i], "--marginals")) marginals = true;
+        else if (!std::strcmp(argv[i], "--facet-alpha") && i + 1 < argc) g_facet_alpha = std::atof(argv[++i]);
         else {
-            std::fprintf(stderr, "usage: fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals]\n");
+            std::fprintf(stderr, "usage: fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals]"
+                                 " [--facet-alpha A]\n");
             return 2;
         }
     }
@@ -94,7 +100,8 @@ int main(int argc, char** argv) {
     }
     const glm::dvec3 blond(phys_fiber::kBlond[0], phys_fiber::kBlond[1], phys_fiber::kBlond[2]);
     const double dw = (2.0 / kNu) * (2 * phys_fiber::kPi / kNphi);
-    std::printf("# fur_breakdown_tool --rays %lld%s%s\n\n", rays, only.empty() ? "" : " --only ", only.c_str());
+    std::printf("# fur_breakdown_tool --rays %lld%s%s --facet-alpha %g\n\n", rays, only.empty() ? "" : " --only ", only.c_str(),
+                g_facet_alpha);
     std::printf("| case | pigment | f L1 | R: model / ref, share | TT | TRT | higher | S |\n|---|---|---|---|---|---|---|---|\n");
     for (const phys_fur::FurCase& fc : phys_fur::fur_cases()) {
         if (fc.roughness < 0.1 || (!only.empty() && fc.name().find(only) == std::string::npos)) continue;

@@ -281,18 +281,18 @@ TEST(RenderCli, FurRendersWithAMedulla) {
 }
 
 // --facet-alpha reaches the rough cortex: its GGX facets change the hair pixels (the same seed
-// and rays as the Gaussian facets from β).
+// and rays as the facets from β, GGX 0.182 at the default β_m 0.3).
 TEST(RenderCli, FurFacetAlphaReachesTheRoughCortex) {
     const std::string base = "--integrator single --scene fur --fur-hairs 400 --width 24 --height 18 --spp 2 --model fur "
                              "--rough-cortex";
-    const Outcome gaussian = run(base + " -o " + out_base("fur_facets_gaussian"));
-    const Outcome ggx = run(base + " --facet-alpha 0.17 -o " + out_base("fur_facets_ggx"));
-    for (const Outcome* r : {&gaussian, &ggx}) {
+    const Outcome from_beta = run(base + " -o " + out_base("fur_facets_from_beta"));
+    const Outcome ggx = run(base + " --facet-alpha 0.5 -o " + out_base("fur_facets_ggx"));
+    for (const Outcome* r : {&from_beta, &ggx}) {
         EXPECT_EQ(r->status, 0) << r->output;
         EXPECT_NE(r->output.find(" dropped=0 nonfinite_pixels=0 "), std::string::npos) << r->output;
     }
     EXPECT_GT(mean_hair_red(ggx.output), 0.0) << ggx.output;
-    EXPECT_NE(mean_hair_red(ggx.output), mean_hair_red(gaussian.output));
+    EXPECT_NE(mean_hair_red(ggx.output), mean_hair_red(from_beta.output));
 }
 
 // --model fur takes the lobe controls (docs/controls.md) on R, TT, TRT and the residual: a

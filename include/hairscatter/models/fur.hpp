@@ -58,9 +58,10 @@ template <typename T> struct FurParams {
     // facets included, instead of the smooth F at every internal event. Off, the unscattered
     // lobes are Chiang's exactly.
     bool rough_cortex = false;
-    // The rough cortex's microsurface, where it is known: GGX (Trowbridge–Reitz) of this
-    // roughness about the cuticle-tilted normal, in [0, 1]; 0 (the default): Gaussian slopes
-    // whose spread follows from β_m and β_n (RoughFacets). Read only with rough_cortex.
+    // The rough cortex's microsurface: GGX (Trowbridge–Reitz) of this roughness about the
+    // cuticle-tilted normal, in [0, 1]; 0 (the default): the GGX roughness whose reflections
+    // spread R as β_m does (facet_alpha_from_beta, 0.182 at β_m 0.3). Read only with
+    // rough_cortex.
     T facet_alpha = T(0);
 };
 
@@ -272,13 +273,11 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 // the microsurface (RoughFacets::walk): visible facets (Heitz 2014, "Understanding the
 // masking-shadowing function", eq. 2) reflect or refract with their Fresnel factor, and
 // light that a facet sends back into the microsurface (Smith's masking) meets another
-// facet, until it leaves it outside or inside. The facets are centred on the cuticle tilt α;
-// by default their slopes are Gaussian with the spread the model's own roughness implies: a
-// reflection doubles the tilt of the normal that makes it, so the longitudinal slope's
-// standard deviation is half the R lobe's, √v(β_m)/2 (d'Eon et al. 2011), and the azimuthal
-// one half the azimuthal logistic's, (π/√3) s(β_n)/2 (Chiang et al. 2016); or GGX of the
-// roughness FurParams::facet_alpha, the cortex's microsurface given as such. Nothing is
-// fitted to a reference. Per node (θo, |h|) the table keeps, of the light that entered, the
+// facet, until it leaves it outside or inside. The facets are GGX, centred on the cuticle
+// tilt α, of the roughness FurParams::facet_alpha where the cortex's microsurface is known,
+// else of the one whose reflections give R the longitudinal spread the model's own β_m
+// gives it (facet_alpha_from_beta: a reflection doubles the tilt of the normal that makes
+// it). Nothing is fitted to a reference. Per node (θo, γ) the table keeps, of the light that entered, the
 // shares that leave at the first internal meeting (TT), the second (TRT) and later, and the
 // ratio r of the later orders' geometric tail (r / (1 − r) is their mean number of chords
 // past the third); and the entry's own reflectance F_r, the rough boundary's R: the light
@@ -286,7 +285,7 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 // F(wo·m) C1(h)^Λ(o_m) (the chance that it rises out of the microsurface from the height h
 // it met the facet at, Smith's G1 there). The table holds F_r over the smooth F at the node,
 // which the fibre multiplies by its exact smooth F at h: F rises steeply toward h = 1, and a
-// bilinear F_r between nodes 1/8 apart overstated it there by a quarter at θo 0° (0.082
+// bilinear F_r between nodes 1/8 apart in h overstated it there by a quarter at θo 0° (0.082
 // against 0.068). Toward grazing wo the facets it sees lean toward it, and F_r falls below
 // the smooth F. The fibre attenuates each chord as its first one.
 // The same reflections give R's shape at the node: the d'Eon lobe (variance v_R, centre θc)
@@ -295,17 +294,24 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 // facet of longitudinal slope a turns sin θi by 2a cos θo cos γ to first order (γ the
 // incidence angle in the section, sin γ = h): toward the rim, where F is largest, the
 // facets' spread and tilt nearly stop acting on R (v_R ≈ v cos²γ at θo 0°), a narrowing
-// Chiang's single v per lobe does not have.
+// Chiang's single v per lobe does not have. And R's azimuth: the facets wo sees lean toward
+// it (visible normals, Heitz 2014 eq. 2), and Smith's masking keeps more of the reflections
+// that rise steeply than of those that graze, so toward grazing incidence on the mean
+// surface (the rim, and θo toward ±90°) the reflections turn from the smooth mirror's
+// azimuth Φ(0, h) = −2γ toward wo's; the table keeps their weighted median turn ψ_R
+// (a median, as R's quartiles: GGX's tail would throw a mean), and the fibre centres N_R on
+// −2γ + sign(h) ψ_R. The nodes are uniform in γ = asin |h|, denser toward the rim, where
+// F_r, v_R and ψ_R change fastest (ψ_R at θo 30° is 2.5° at h 0.875 and 17° at 0.999).
 template <typename T> struct RoughCortexTables {
-    static constexpr int kTheta = 13, kH = 9;  // θo nodes over ±kThetaMax, |h| nodes over [0, 1]
+    static constexpr int kTheta = 13, kH = 9;  // θo nodes over ±kThetaMax, |γ| nodes over [0, π/2]
     static constexpr double kThetaMax = 1.5;   // (beyond, the nearest node: cos θo → 0 there)
-    static constexpr int kValues = 7;
-    T share[kTheta][kH][kValues];              // TT, TRT, later, r, F_r / F, v_R, δ_R
+    static constexpr int kValues = 8;
+    T share[kTheta][kH][kValues];              // TT, TRT, later, r, F_r / F, v_R, δ_R, ψ_R
 
-    // The values at (θo, h), bilinear between the nodes.
-    HAIRSCATTER_HD void at(T theta, T h, T (&out)[kValues]) const {
+    // The values at (θo, γ), h = sin γ, bilinear between the nodes.
+    HAIRSCATTER_HD void at(T theta, T gamma, T (&out)[kValues]) const {
         const T u = clamp((theta / T(kThetaMax) + T(1)) * T(0.5), T(0), T(1)) * T(kTheta - 1);
-        const T v = clamp(abs_value(h), T(0), T(1)) * T(kH - 1);
+        const T v = clamp(abs_value(gamma) * T(2) * kInvPi<T>, T(0), T(1)) * T(kH - 1);
         const int i = u < T(kTheta - 1) ? int(u) : kTheta - 2, j = v < T(kH - 1) ? int(v) : kH - 2;
         const T s = u - T(i), t = v - T(j);
         for (int k = 0; k < kValues; ++k) {
@@ -369,66 +375,133 @@ inline glm::dvec3 fur_scatter(const glm::dvec3& d, double g, double u1, double u
     return glm::normalize(c * d + sn * (std::cos(phi) * t + std::sin(phi) * b));
 }
 
-// The rough cortex's microfacets (RoughCortexTables), about the normal tilted by the cuticle
-// angle α toward the tip. By default Gaussian slopes with the spread the model's β implies
-// (the longitudinal slope's standard deviation half the R lobe's, √v(β_m)/2; the azimuthal
-// one half the azimuthal logistic's, (π/√3) s(β_n)/2): a facet's unnormalised normal is
-// m̃ = (μ + σ_a X, 1, σ_b Y), μ = tan α, X and Y standard normal. With FurParams::facet_alpha
-// set, GGX of that roughness instead (Trowbridge & Reitz 1975; Walter et al. 2007, who found
-// it closer than Gaussian slopes to measured rough dielectrics): its slopes' heavy tail tilts
-// more facets past the critical angle. Directions in the frame (axis, normal, tangent).
+// The d'Eon lobe whose quartiles of x = sin θi are x1 < x2 < x3. d'Eon et al. 2011's M_p of
+// variance v is the θ-marginal of a von Mises–Fisher lobe of concentration 1/v about a
+// direction c of inclination θc: a direction at cos t from c (t drawn by inverting its cdf,
+// t = 1 + v ln(u + (1 − u) e^(−2/v)), the lobe's own sampling) and at a uniform angle ψ about
+// it has x = t sin θc + √(1 − t²) cos θc cos ψ, so the cdf of x is the mean over u of
+// 1 − acos(clamp((x − t sin θc) / (√(1 − t²) cos θc)))/π (midpoint rule, 32 points). The
+// median fixes θc for a given v (bisection: the cdf at x2 falls as θc rises), then v is the
+// one whose central half spans [x1, x3] (bisection in log v). Quartiles, not moments: the
+// GGX facets' reflections have a heavy tail that moments would spread over the lobe's core.
+struct DeonLobeFit {
+    double v, theta_c;
+};
+inline double deon_lobe_cdf(double x, double v, double sin_c, double cos_c) {
+    constexpr int kPoints = 32;
+    const double floor = std::exp(-2 / v);  // (0 for narrow lobes: t = 1 + v ln u)
+    double p = 0;
+    for (int k = 0; k < kPoints; ++k) {
+        const double u = (k + 0.5) / kPoints;
+        const double t = clamp(1 + v * std::log(u + (1 - u) * floor), -1.0, 1.0);
+        const double r = std::sqrt(std::max(0.0, 1 - t * t)) * cos_c, a = x - t * sin_c;
+        p += r > 1e-12 ? 1 - std::acos(clamp(a / r, -1.0, 1.0)) * kInvPi<double> : (a >= 0 ? 1.0 : 0.0);
+    }
+    return p / kPoints;
+}
+inline DeonLobeFit deon_lobe_from_quartiles(double x1, double x2, double x3) {
+    double lo = std::log(longitudinal_variance(1e-3)), hi = std::log(4.0), theta_c = 0;
+    for (int i = 0; i < 24; ++i) {
+        const double mid = 0.5 * (lo + hi), v = std::exp(mid);
+        double a = -kHalfPi<double>, b = kHalfPi<double>;
+        for (int j = 0; j < 24; ++j) {
+            const double c = 0.5 * (a + b);
+            (deon_lobe_cdf(x2, v, std::sin(c), std::cos(c)) > 0.5 ? a : b) = c;
+        }
+        theta_c = 0.5 * (a + b);
+        const double sc = std::sin(theta_c), cc = std::cos(theta_c);
+        (deon_lobe_cdf(x3, v, sc, cc) - deon_lobe_cdf(x1, v, sc, cc) > 0.5 ? lo : hi) = mid;
+    }
+    return {std::exp(0.5 * (lo + hi)), theta_c};
+}
+
+// The GGX roughness of the cortex's facets that the model's own β_m implies, when the
+// microsurface is not given (FurParams::facet_alpha 0): the α whose facets' reflections
+// spread R along the fibre as β_m does. R is the one lobe a single facet event forms, and
+// β_m sets its longitudinal spread, d'Eon et al. 2011's M_p of variance v(β_m) (Chiang et
+// al. 2016 eq. 7). Both are compared where the cylinder's shape does not enter, light
+// along the normal (θo 0, h 0), and by quartiles, as R's lobe is fitted to the facets'
+// reflections (deon_lobe_from_quartiles): GGX's slopes have no variance. R's lobe about
+// the normal puts a quarter of its light beyond sin θi = x_q (deon_lobe_cdf); a facet of
+// normal m, seen in proportion to ⟨wo·m⟩ D(m) (GGX's visible normals, Heitz 2014 eq. 2),
+// reflects wo = n to r = 2 m_z m − n, whose sin θi is r·axis = 2 m_z m_x, weighted by its
+// Fresnel factor F(m_z) and Smith's G1(r) (the walk's first facet event, RoughFacets), and α
+// is the roughness for which a quarter of that weight lies beyond x_q (it rises with α:
+// bisection). The visible normals are taken at 128 × 128 midpoints of Dupuy & Benyoub
+// 2023's cap (lobes/microfacet.hpp). For narrow lobes a facet of slope a along the fibre
+// alone turns the reflection by 2 atan a, and GGX's slope quartile α/√3 gives α ≈ 0.584 √v;
+// the slope across the fibre and the visible normals' weight narrow R (sin θi = 2a / (1 + a²
+// + b²) for slopes a along and b across), so α is 0.182 at β_m 0.3 (0.169 by slopes along
+// the fibre alone), 0.46 at 0.5, and 1 from β_m ≈ 0.62 on, where R's lobe is wider than any
+// GGX microsurface's reflections (the bisection's end). β_n does not enter: R's azimuthal spread is mostly the cylinder's.
+inline double facet_alpha_from_beta(double beta_m, double eta) {
+    const double v = longitudinal_variance(beta_m);
+    double lo = 0, hi = 1;
+    for (int i = 0; i < 50; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (deon_lobe_cdf(mid, v, 0, 1) < 0.75 ? lo : hi) = mid;
+    }
+    const double x_q = 0.5 * (lo + hi);
+    constexpr int kN = 128;
+    const auto beyond = [&](double alpha) {  // the share of the reflections' weight beyond x_q
+        const Ggx<double> facets(alpha);
+        double above = 0, total = 0;
+        for (int i = 0; i < kN; ++i) {
+            const double phi = kTwoPi<double> * (i + 0.5) / kN, c = std::cos(phi), s = std::sin(phi);
+            for (int j = 0; j < kN; ++j) {
+                const glm::dvec3 m = facets.sample_visible_local(glm::dvec3(0, 0, 1), c, s, (j + 0.5) / kN);
+                const double rz = 2 * m.z * m.z - 1, w = fur_fresnel(m.z, eta) * facets.g1(rz);
+                total += w;
+                if (2 * m.z * m.x > x_q) above += w;
+            }
+        }
+        return total > 0 ? above / total : 0.0;
+    };
+    lo = 1e-4, hi = 1;
+    if (!(beyond(hi) > 0.25)) return hi;  // (R wider than GGX 1's reflections: the roughest facets)
+    for (int i = 0; i < 24; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (beyond(mid) < 0.25 ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+// The rough cortex's microfacets (RoughCortexTables): GGX (Trowbridge & Reitz 1975; Walter,
+// Marschner, Li & Torrance 2007, "Microfacet models for refraction through rough surfaces",
+// EGSR, who found it closer than Gaussian slopes to measured rough dielectrics) about the
+// normal tilted by the cuticle angle α toward the tip, of roughness FurParams::facet_alpha,
+// or where that is 0 the roughness the model's β_m implies (facet_alpha_from_beta).
+// Directions in the frame (axis, normal, tangent).
 struct RoughFacets {
-    double sigma_a = 0, sigma_b = 0, mean_a = 0;
-    double ggx = 0;  // GGX α; 0: the Gaussian slopes
+    double mean_a = 0;  // μ = tan α: the tilted normal is ∝ (μ, 1, 0)
+    double ggx = 0;     // GGX α
     static constexpr int kMaxEvents = 100;  // per boundary interaction (a walk this long is ~never seen)
 
-    static RoughFacets of(double alpha, double beta_m, double beta_n, double facet_alpha) {
-        return {0.5 * std::sqrt(longitudinal_variance(beta_m)), 0.5 * 1.81379936423421785059 * logistic_scale(beta_n),
-                std::tan(alpha), facet_alpha};
+    static RoughFacets of(double eta, double alpha, double beta_m, double facet_alpha) {
+        return {std::tan(alpha), facet_alpha > 0 ? facet_alpha : facet_alpha_from_beta(beta_m, eta)};
     }
-    // v's projection on the mean surface (normal ∝ (μ, 1, 0), per unit area of the plane
-    // y = 0), c = v·(μ, 1, 0), and the spread s of v·m̃ about it: v·m̃ = c + s Z, Z standard normal.
+    // v's projection on the mean surface, c = v·(μ, 1, 0) (its sign: above or below).
     double mean_projection(const glm::dvec3& v) const { return v.x * mean_a + v.y; }
-    double spread(const glm::dvec3& v) const { return std::sqrt(sqr(sigma_a * v.x) + sqr(sigma_b * v.z)); }
 
     // Smith's Λ (Smith 1967; Heitz 2014, "Understanding the masking-shadowing function"): the
-    // facets' projected area toward v over the mean surface's, less 1. With v·m̃ = c + s Z,
-    // E[⟨v·m̃⟩] = c Φ(c/s) + s φ(c/s), so Λ(v) = Φ(c/s) − 1 + φ(c/s) s/c: Walter et al. 2007
-    // ("Microfacet models for refraction through rough surfaces", EGSR) eq. 27's Beckmann Λ,
-    // (erf(a) − 1)/2 + e^(−a²)/(2a√π) with a = c/(√2 s) — the Beckmann width is √2 times the
-    // slopes' standard deviation. Below the mean surface (c < 0) it is −1 − Λ(−v), the
-    // convention of Heitz et al. 2016's walk.
+    // facets' projected area toward v over the mean surface's, less 1; GGX's closed form
+    // (lobes/microfacet.hpp) about the tilted normal. Below the mean surface it is
+    // −1 − Λ(−v), the convention of Heitz et al. 2016's walk.
     double lambda(const glm::dvec3& v) const {
-        if (ggx > 0) {  // GGX's (lobes/microfacet.hpp) about the tilted normal
-            const double c = to_tilted(v).z;
-            const Ggx<double> facets(ggx);
-            return c > 0 ? facets.lambda(c) : -1 - facets.lambda(-c);
-        }
-        const double c = mean_projection(v), s = spread(v);
-        if (!(s > 1e-12 * std::fabs(c))) return c > 0 ? 0.0 : -1.0;  // (no spread along v)
-        const double a = c / s;
-        return -0.5 * std::erfc(a * 0.70710678118654752440) + kInvSqrtTwoPi<double> * std::exp(-0.5 * a * a) / a;
+        const double c = to_tilted(v).z;
+        const Ggx<double> facets(ggx);
+        return c > 0 ? facets.lambda(c) : -1 - facets.lambda(-c);
     }
     // Smith's masking G1 = 1 / (1 + Λ) of a direction v above the mean surface; 0 below.
     double unmasked(const glm::dvec3& v) const { return mean_projection(v) > 0 ? 1 / (1 + lambda(v)) : 0.0; }
 
     // A facet seen from d, with density ∝ ⟨d·m⟩ D(m): the visible normals of Heitz 2014
-    // ("Understanding the masking-shadowing function", eq. 2); over the slopes ∝ ⟨d·m̃⟩ times
-    // their Gaussian density. Along d's own slope direction the deviate Z1 then has density ∝
-    // (a + z)⁺ φ(z), a = c/s (visible_deviate), across it the standard normal Z2.
+    // (eq. 2), by Dupuy & Benyoub 2023's spherical cap ("Sampling visible GGX normals with
+    // spherical caps"; lobes/microfacet.hpp), whose cap z ≥ −d.z (stretched) serves d below
+    // the horizon too, as a ray the walk sends upward into the microsurface sees it.
     glm::dvec3 sample(const glm::dvec3& d, FurRng& rng) const {
-        if (ggx > 0) {
-            // GGX's visible normals (Dupuy & Benyoub 2023's spherical cap, lobes/microfacet.hpp):
-            // the cap z ≥ −d.z (stretched) serves d below the horizon too, as a ray the walk
-            // sends upward into the microsurface sees it.
-            const double u1 = rng.uniform(), u2 = rng.uniform();
-            return from_tilted(Ggx<double>(ggx).sample_visible_local(to_tilted(d), u1, u2));
-        }
-        const double c = mean_projection(d), s = spread(d);
-        const bool across = s > 1e-12 * std::fabs(c);  // (else ⟨d·m̃⟩ = c for every facet: no weighting)
-        const double z1 = across ? visible_deviate(c / s, rng) : standard_normal(rng), z2 = standard_normal(rng);
-        const double ex = across ? sigma_a * d.x / s : 1, ez = across ? sigma_b * d.z / s : 0;  // d's slope direction
-        return glm::normalize(glm::dvec3(mean_a + sigma_a * (ex * z1 - ez * z2), 1, sigma_b * (ez * z1 + ex * z2)));
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        return from_tilted(Ggx<double>(ggx).sample_visible_local(to_tilted(d), u1, u2));
     }
 
     // Heitz, Hanika, d'Eon & Dachsbacher 2016 ("Multiple-scattering microfacet BSDFs with the
@@ -501,105 +574,60 @@ struct RoughFacets {
         const double k = 1 / std::sqrt(1 + mean_a * mean_a);
         return {k * (l.x + mean_a * l.z), k * (l.z - mean_a * l.x), l.y};
     }
-    static double standard_normal(FurRng& rng) {
-        return std::sqrt(-2 * std::log(1 - rng.uniform())) * std::cos(2 * kPi<double> * rng.uniform());
-    }
-    // A deviate of density ∝ (a + z)⁺ φ(z), by rejection. For a ≥ −1 from the mix of a⁺ φ(z)
-    // (a normal) and z⁺ φ(z) (a Rayleigh half), which bounds it, kept with (a + z)⁺ / (a⁺ + z⁺).
-    // For a < −1, t = z + a ≥ 0 has density ∝ t e^(at) e^(−t²/2): from Gamma(2, −a), kept
-    // with e^(−t²/2).
-    static double visible_deviate(double a, FurRng& rng) {
-        for (int tries = 0; tries < 10000; ++tries) {
-            if (a < -1) {
-                const double t = (std::log(1 - rng.uniform()) + std::log(1 - rng.uniform())) / a;
-                if (rng.uniform() < std::exp(-0.5 * t * t)) return t - a;
-                continue;
-            }
-            const double wa = std::max(a, 0.0);
-            const double z = rng.uniform() * (wa + kInvSqrtTwoPi<double>) < wa
-                                 ? standard_normal(rng)
-                                 : std::sqrt(-2 * std::log(1 - rng.uniform()));
-            if (rng.uniform() * (wa + std::max(z, 0.0)) < a + z) return z;
-        }
-        return std::max(-a, 0.0);  // (never reached in practice)
-    }
 };
 
-// The d'Eon lobe whose quartiles of x = sin θi are x1 < x2 < x3. d'Eon et al. 2011's M_p of
-// variance v is the θ-marginal of a von Mises–Fisher lobe of concentration 1/v about a
-// direction c of inclination θc: a direction at cos t from c (t drawn by inverting its cdf,
-// t = 1 + v ln(u + (1 − u) e^(−2/v)), the lobe's own sampling) and at a uniform angle ψ about
-// it has x = t sin θc + √(1 − t²) cos θc cos ψ, so the cdf of x is the mean over u of
-// 1 − acos(clamp((x − t sin θc) / (√(1 − t²) cos θc)))/π (midpoint rule, 32 points). The
-// median fixes θc for a given v (bisection: the cdf at x2 falls as θc rises), then v is the
-// one whose central half spans [x1, x3] (bisection in log v). Quartiles, not moments: the
-// GGX facets' reflections have a heavy tail that moments would spread over the lobe's core.
-struct DeonLobeFit {
-    double v, theta_c;
-};
-inline double deon_lobe_cdf(double x, double v, double sin_c, double cos_c) {
-    constexpr int kPoints = 32;
-    const double floor = std::exp(-2 / v);  // (0 for narrow lobes: t = 1 + v ln u)
-    double p = 0;
-    for (int k = 0; k < kPoints; ++k) {
-        const double u = (k + 0.5) / kPoints;
-        const double t = clamp(1 + v * std::log(u + (1 - u) * floor), -1.0, 1.0);
-        const double r = std::sqrt(std::max(0.0, 1 - t * t)) * cos_c, a = x - t * sin_c;
-        p += r > 1e-12 ? 1 - std::acos(clamp(a / r, -1.0, 1.0)) * kInvPi<double> : (a >= 0 ? 1.0 : 0.0);
+// The weighted quartiles of x (pairs of value and weight; reordered here): per quartile the
+// smallest x at which the running weight, in increasing x, reaches its share of the total.
+// By selection (nth_element halving the range that holds it: linear time), as a sort and a
+// scan would give it in n log n.
+inline double weighted_quantile(std::vector<std::pair<double, double>>& xw, double share) {
+    double need = 0;
+    for (const auto& e : xw) need += e.second;
+    need *= share;
+    std::size_t lo = 0, hi = xw.size();
+    if (hi == 0) return 0;
+    double before = 0;  // the weight below xw[lo, hi)
+    while (hi - lo > 1) {
+        const std::size_t mid = lo + (hi - lo) / 2;
+        const auto first = xw.begin() + std::ptrdiff_t(lo);
+        std::nth_element(first, xw.begin() + std::ptrdiff_t(mid), xw.begin() + std::ptrdiff_t(hi));
+        double left = 0;
+        for (std::size_t k = lo; k < mid; ++k) left += xw[k].second;
+        if (before + left >= need) hi = mid;
+        else before += left, lo = mid;
     }
-    return p / kPoints;
+    return xw[lo].first;
 }
-inline DeonLobeFit deon_lobe_from_quartiles(double x1, double x2, double x3) {
-    double lo = std::log(longitudinal_variance(1e-3)), hi = std::log(4.0), theta_c = 0;
-    for (int i = 0; i < 24; ++i) {
-        const double mid = 0.5 * (lo + hi), v = std::exp(mid);
-        double a = -kHalfPi<double>, b = kHalfPi<double>;
-        for (int j = 0; j < 24; ++j) {
-            const double c = 0.5 * (a + b);
-            (deon_lobe_cdf(x2, v, std::sin(c), std::cos(c)) > 0.5 ? a : b) = c;
-        }
-        theta_c = 0.5 * (a + b);
-        const double sc = std::sin(theta_c), cc = std::cos(theta_c);
-        (deon_lobe_cdf(x3, v, sc, cc) - deon_lobe_cdf(x1, v, sc, cc) > 0.5 ? lo : hi) = mid;
-    }
-    return {std::exp(0.5 * (lo + hi)), theta_c};
-}
-
-// The weighted quartiles of x (pairs of value and weight; sorted here).
 inline std::array<double, 3> weighted_quartiles(std::vector<std::pair<double, double>>& xw) {
-    std::sort(xw.begin(), xw.end());
-    double total = 0, run = 0;
-    for (const auto& e : xw) total += e.second;
-    std::array<double, 3> q{0, 0, 0};
-    std::size_t k = 0;
-    for (const auto& e : xw) {
-        run += e.second;
-        while (k < 3 && run >= 0.25 * double(k + 1) * total) q[k++] = e.first;
-    }
-    return q;
+    return {weighted_quantile(xw, 0.25), weighted_quantile(xw, 0.5), weighted_quantile(xw, 0.75)};
 }
 
-// The rough cortex's walk (RoughCortexTables) for index η, cuticle tilt α, roughness β_m,
-// β_n and the facets' GGX α (0: Gaussian slopes from β): 2,000 walks per node (each share
-// within ~1 % at one standard deviation), at most 400 chords per walk (the rest counts as
+// The rough cortex's walk (RoughCortexTables) for index η, cuticle tilt α and the facets' GGX
+// α (0: the one β_m implies, facet_alpha_from_beta): 2,000 walks per node (each share
+// within ~1 % at one standard deviation; R's shape, from quartiles, from the reflections of
+// two entries per walk, the walk's own and one more), at most 400 chords per walk (the rest counts as
 // later; a tail ratio of 0.95, the largest at β 0.3, leaves 1e-9 of it there).
 template <typename T>
-RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m, double beta_n, double facet_alpha) {
-    constexpr int kWalks = 2000, kMaxEvents = 400;
-    const RoughFacets facets = RoughFacets::of(alpha, beta_m, beta_n, facet_alpha);
-    std::vector<std::pair<double, double>> reflections;  // R's sin θi and weight, per node
+RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m, double facet_alpha) {
+    constexpr int kWalks = 2000, kMaxEvents = 400, kShapeDraws = 2;
+    const RoughFacets facets = RoughFacets::of(eta, alpha, beta_m, facet_alpha);
+    std::vector<std::pair<double, double>> reflections, turns;  // R's sin θi, its turn toward wo; weights
     RoughCortexTables<T> tab;
     FurRng rng(0x0C0A7E5Eull);
     constexpr int kTheta = RoughCortexTables<T>::kTheta, kH = RoughCortexTables<T>::kH;
     for (int i = 0; i < kTheta; ++i) {
         const double theta = (2.0 * i / (kTheta - 1) - 1) * RoughCortexTables<T>::kThetaMax;
         for (int j = 0; j < kH; ++j) {
-            const double h = std::min(double(j) / (kH - 1), 0.999);
+            const double h = std::min(std::sin(kHalfPi<double> * j / (kH - 1)), 0.999);
             // Toward the light (wo) in the entry point's frame: the normal at offset h is
             // (cos γ, sin γ) in the section, sin γ = h, with wo's section part along (1, 0).
             const glm::dvec3 out(std::sin(theta), std::cos(theta) * std::sqrt(1 - h * h), -std::cos(theta) * h);
             double entered = 0, first = 0, second = 0, later = 0, tail_events = 0, reflected = 0;
             reflections.clear();
+            turns.clear();
+            // A reflection's azimuth in the section, turned from the mirror's (+γ) toward wo's (−γ).
+            const double gamma = std::asin(h);
+            const auto turn = [&](const glm::dvec3& r) { return wrap_pi(gamma - std::atan2(r.z, r.y)); };
             for (int w = 0; w < kWalks; ++w) {
                 // The entry is the walk of Heitz et al. 2016 from afar (RoughFacets::walk). Its
                 // first facet's reflections that leave at once are counted by their expectation,
@@ -612,12 +640,29 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
                 const double rises = facets.mean_projection(r) > 0 ? std::pow(clamp(0.5 * (h1 + 1), 0.0, 1.0), facets.lambda(r)) : 0;
                 const double kept = e.fresnel * rises;
                 reflected += kept;
-                reflections.emplace_back(r.x, kept);
+                reflections.emplace_back(r.x, kept / kShapeDraws);
+                turns.emplace_back(turn(r), kept / kShapeDraws);
+                for (int k = 1; k < kShapeDraws; ++k) {  // more entries' reflections, for R's shape alone
+                    const double hk = facets.next_height(-out, 2, rng.uniform());
+                    const RoughFacets::Event ek = facets.event(-out, true, eta, rng);
+                    const glm::dvec3 rk = 2 * glm::dot(out, ek.normal) * ek.normal - out;
+                    if (facets.mean_projection(rk) > 0) {
+                        const double wk = ek.fresnel * std::pow(clamp(0.5 * (hk + 1), 0.0, 1.0), facets.lambda(rk)) / kShapeDraws;
+                        reflections.emplace_back(rk.x, wk);
+                        turns.emplace_back(turn(rk), wk);
+                    }
+                    const RoughFacets::Exit xk = facets.walk_from(ek.dir, ek.outside, hk, eta, rng);
+                    if (xk.outside && !(ek.outside && xk.events == 0)) {
+                        reflections.emplace_back(xk.dir.x, 1.0 / kShapeDraws);
+                        turns.emplace_back(turn(xk.dir), 1.0 / kShapeDraws);
+                    }
+                }
                 const RoughFacets::Exit entry = facets.walk_from(e.dir, e.outside, h1, eta, rng);
                 if (entry.outside) {
                     if (e.outside && entry.events == 0) continue;  // the first facet's reflection: counted above
                     reflected += 1;
-                    reflections.emplace_back(entry.dir.x, 1.0);
+                    reflections.emplace_back(entry.dir.x, 1.0 / kShapeDraws);
+                    turns.emplace_back(turn(entry.dir), 1.0 / kShapeDraws);
                     continue;
                 }
                 entered += 1;
@@ -642,6 +687,7 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             const DeonLobeFit lobe = reflected > 0 ? deon_lobe_from_quartiles(q[0], q[1], q[2]) : DeonLobeFit{0, -theta + 2 * alpha};
             tab.share[i][j][5] = T(lobe.v);
             tab.share[i][j][6] = T(theta - 2 * alpha + lobe.theta_c);  // δ_R: θo' = θo − 2α turned to −θc
+            tab.share[i][j][7] = T(reflected > 0 ? weighted_quantile(turns, 0.5) : 0.0);  // ψ_R: the median turn
         }
     }
     return tab;
@@ -815,7 +861,7 @@ inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int
 }
 
 // The tables of a material (host): uniform and lossless where the medulla does not scatter.
-// With the rough cortex they depend on α, β_m and β_n too (its facets at the boundary).
+// With the rough cortex they depend on α and the facets too (β_m where facet_alpha is 0).
 template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& params) {
     FurParams<double> p;
     p.cortex.eta = double(params.cortex.eta);
@@ -825,11 +871,14 @@ template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& 
     p.sigma_a_medulla = glm::dvec3(params.sigma_a_medulla);
     p.g = double(params.g);
     MedullaTables<double> d;
-    const RoughFacets facets = RoughFacets::of(double(params.cortex.alpha), double(params.cortex.beta_m),
-                                               double(params.cortex.beta_n), double(params.facet_alpha));
+    const bool scatters = p.kappa > 0 && p.sigma_s > 0;
+    const RoughFacets facets = scatters && params.rough_cortex ? RoughFacets::of(p.cortex.eta, double(params.cortex.alpha),
+                                                                                 double(params.cortex.beta_m),
+                                                                                 double(params.facet_alpha))
+                                                               : RoughFacets{};
     constexpr int kTheta = MedullaTables<T>::kThetaBins, kPhi = MedullaTables<T>::kPhiBins;
     for (int t = 0; t < kTheta; ++t) {
-        if (p.kappa > 0 && p.sigma_s > 0) {
+        if (scatters) {
             simulate_medulla_bin(p, (t + 0.5) * kHalfPi<double> / kTheta, t, d, params.rough_cortex ? &facets : nullptr);
             continue;
         }
@@ -889,9 +938,10 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
     // time: "HSFT", the version, the tables' sizes, the parameters they depend on (η and
     // σa^c of the cortex, κ, σs^m, σa^m, g, whether the cortex is rough, and its α, β_m, β_n
     // and facet α), the tables as doubles and an FNV-1a checksum of everything before it. A
-    // float material's tables come back bit for bit. (Version 4: version 3 had no facet α;
-    // version 2 neither the rough flag nor α and β, on which the rough cortex's tables depend.)
-    static constexpr std::uint32_t kFileVersion = 4;
+    // float material's tables come back bit for bit. (Version 5: in version 4 a facet α of 0
+    // meant Gaussian facets; version 3 had no facet α; version 2 neither the rough flag nor α
+    // and β, on which the rough cortex's tables depend.)
+    static constexpr std::uint32_t kFileVersion = 5;
     void save(const std::string& path) const {
         std::vector<unsigned char> buf;
         detail::put_bytes(buf, "HSFT", 4);
@@ -986,12 +1036,12 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
           tables_(tables) {
         if (params.rough_cortex)
             rough_ = detail::build_rough_cortex<T>(double(params.cortex.eta), double(params.cortex.alpha),
-                                                   double(params.cortex.beta_m), double(params.cortex.beta_n),
-                                                   double(params.facet_alpha));
+                                                   double(params.cortex.beta_m), double(params.facet_alpha));
     }
 
-    // What the tables depend on, in the file's order: with the rough cortex also its facets'
-    // α, β_m, β_n and facet α (RoughFacets), which load() compares only then.
+    // What the tables depend on, in the file's order: with the rough cortex also the cuticle
+    // tilt α and its facets' β_m and facet α (RoughFacets), which load() compares only then;
+    // β_n, which the facets used to depend on, is recorded and compared with them.
     static std::array<double, 15> table_parameters(const FurParams<T>& p) {
         return {double(p.cortex.eta), double(p.cortex.sigma_a[0]), double(p.cortex.sigma_a[1]),
                 double(p.cortex.sigma_a[2]), double(p.kappa), double(p.sigma_s), double(p.sigma_a_medulla[0]),
@@ -1128,7 +1178,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         // inside at the k-th chord. Smooth: Q_k = F^(k−1), the sum 1 / (1 − T F).
         T passes[3];
         T entry_reflect = fresnel;  // R's share at entry: the smooth F, or the rough boundary's F_r
-        T r_shape[2] = {T(0), T(0)};  // R's v_R and δ_R (the rough cortex's)
+        T r_shape[3] = {T(0), T(0), T(0)};  // R's v_R, δ_R and ψ_R (the rough cortex's)
         if (prm.rough_cortex) {
             // The rough cortex's walk (RoughCortexTables): the facets reflect F_r at entry; of
             // the light that entered (1 − F_r), e1 leaves after one chord, e2 after two, the
@@ -1138,8 +1188,8 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             //   Σ_k Q_k T^(k−1) = 1 + (1 − e1) T + e3 T² / (1 − r T).
             // Lossless (T = 1) every entered share leaves: Σ_p A_p = 1 as before.
             T e[detail::RoughCortexTables<T>::kValues];
-            mat_->rough_cortex().at(elem::asin(sin_o), h_, e);
-            r_shape[0] = e[5], r_shape[1] = e[6];
+            mat_->rough_cortex().at(elem::asin(sin_o), gamma_o_, e);
+            r_shape[0] = e[5], r_shape[1] = e[6], r_shape[2] = e[7];
             entry_reflect = clamp(e[4] * fresnel, T(0), T(1));
             for (int c = 0; c < 3; ++c) {
                 const T t = chord.transmittance[c], in = T(1) - entry_reflect, rt = T(1) - e[3] * t;
@@ -1175,6 +1225,8 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         for (int p = 0; p <= kLobes; ++p) o.phi_p[p] = p < kLobes ? exit_azimuth_wrapped(p, gamma_o_, gamma_t) : T(0);
         o.r_lobe = mat_->longitudinal(0);
         if (prm.rough_cortex) {
+            // R's azimuth turned by ψ_R toward wo's (Φ = −2γ toward 0; ψ_R is 0 at h = 0).
+            o.phi_p[0] = wrap_pi_once(o.phi_p[0] + (h_ < T(0) ? -r_shape[2] : r_shape[2]));
             // R's shape at h from the same facets (RoughCortexTables): the lobe of variance v_R
             // (floored at the narrowest lobe the parameters allow), its conditioning angle
             // turned by −δ_R from the tilt's (the controls' R tilt still acts on top).
