@@ -432,6 +432,7 @@ floor_of() {  # csv integrator column [noise column]: the error at the largest s
     echo "toward the area light (cos > 0.3), across, or off it. w·dual and w·path: the bin's part of"
     echo "the pixel's light (each sample weighted by the fiber's f cos / pdf); excess: (w·dual −"
     echo "w·path) over the total. Means within a few per cent can hide bins that are far off."
+    echo "Count bins are half-open: 2-4 holds directions crossing 2 or 3 fibers."
     echo "Formulations with -v1 trace one vertex before the estimator (--dual-vertices 1 --dual-glow 0)."
     echo
     for name in "${arrival_runs[@]}"; do
