@@ -958,13 +958,18 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     // which live would be three walks; the ends of one walk are kept on the stack instead,
     // as at(wo) keeps them, and replayed: the results of at(wo).sample. Where the ends do
     // not fit it walks per pass, and with kBoundEnds = 0 (nvcc) the contract's sample_from
-    // does.
+    // does. Under -ffast-math it is left out: the compiler may then reassociate the replay
+    // and the walk differently (5e-4 relative between a sample's pdf and eval_pdf of its
+    // direction in float, measured), where the contract wants them to agree; the stateless
+    // sample then walks per pass, as eval_pdf does.
+#if !defined(__FAST_MATH__)
     template <int K = kBoundEnds, typename std::enable_if<(K > 0), int>::type = 0>
     HAIRSCATTER_HD HairSample<T> sample_fresh(const Outgoing& o, const V3& wo, const V4& u) const {
         if (!ends_fit()) return sample_walk(live(o), wo, u);
         const Bound b = bind_from(o);
         return sample_walk(Replay{&b}, wo, u);
     }
+#endif
     template <bool kF, bool kPdf> HAIRSCATTER_HD HairEvalPdf<T> query(const Bound& b, const V3& wo, const V3& wi) const {
         if (b.n < 0) return query<kF, kPdf>(b.o, wo, wi);
         return query_walk<kF, kPdf>(Replay{&b}, wi);
