@@ -483,40 +483,30 @@ int arrivals(const Common& c, const std::string& kind, int hairs, const std::str
     std::printf("%-9s %-7s %7s %11s %11s %7s %9s\n", "count", "a", "share", "w·dual", "w·path", "ratio", "excess");
     double all_d = 0, all_p = 0;
     for (const auto& r : recs) all_d += r.weight * r.dual, all_p += r.weight * r.path;
-    for (int away = 1; away >= 0; --away)
-        for (int b = 0; b + 1 < kEdges; ++b) {
-            double n = 0, wd = 0, wp = 0;
-            for (const auto& r : recs) {
-                if (!(r.weight > 0) || (r.cos_view > 0) != bool(away)) continue;
-                if (b == 0 ? r.count != 0 : !(r.count >= edges[b] && r.count < edges[b + 1])) continue;
-                n += 1, wd += r.weight * r.dual, wp += r.weight * r.path;
+    // One table of bins: the records of each group (group(r) = its index in names, −1 none)
+    // by the fibers along a; the zero-fiber bin only when `open` (it is the same in both).
+    const auto table = [&](auto group, const std::vector<const char*>& names, bool open, const char* format) {
+        for (std::size_t g = 0; g < names.size(); ++g)
+            for (int b = open ? 0 : 1; b + 1 < kEdges; ++b) {
+                double n = 0, wd = 0, wp = 0;
+                for (const auto& r : recs) {
+                    if (!(r.weight > 0) || group(r) != int(g)) continue;
+                    if (b == 0 ? r.count != 0 : !(r.count >= edges[b] && r.count < edges[b + 1])) continue;
+                    n += 1, wd += r.weight * r.dual, wp += r.weight * r.path;
+                }
+                if (n == 0) continue;
+                char label[32];
+                if (b == 0) std::snprintf(label, sizeof label, "0");
+                else std::snprintf(label, sizeof label, "%g-%g", double(edges[b]), double(edges[b + 1] > 1e29f ? 999 : edges[b + 1]));
+                std::printf(format, label, names[g], n / double(recs.size()), wd / double(recs.size()),
+                            wp / double(recs.size()), wp > 0 ? wd / wp : 0.0, all_p > 0 ? (wd - wp) / all_p : 0.0);
             }
-            if (n == 0) continue;
-            char label[32];
-            if (b == 0) std::snprintf(label, sizeof label, "0");
-            else std::snprintf(label, sizeof label, "%g-%g", double(edges[b]), double(edges[b + 1] > 1e29f ? 999 : edges[b + 1]));
-            std::printf("%-9s %-7s %7.3f %11.4g %11.4g %7.3f %+9.4f\n", label, away ? "away" : "toward", n / double(recs.size()),
-                        wd / double(recs.size()), wp / double(recs.size()), wp > 0 ? wd / wp : 0.0,
-                        all_p > 0 ? (wd - wp) / all_p : 0.0);
-        }
+    };
+    table([](const render::ArrivalRecord& r) { return r.cos_view > 0 ? 0 : 1; }, {"away", "toward"}, true,
+          "%-9s %-7s %7.3f %11.4g %11.4g %7.3f %+9.4f\n");
     // The same by the direction to the area light: a toward it (> 0.3), across, away (< −0.3).
-    for (int side = 0; side < 3; ++side)
-        for (int b = 0; b + 1 < kEdges; ++b) {
-            double n = 0, wd = 0, wp = 0;
-            for (const auto& r : recs) {
-                const int rs = r.cos_light > 0.3f ? 0 : r.cos_light < -0.3f ? 2 : 1;
-                if (!(r.weight > 0) || rs != side) continue;
-                if (b == 0 ? r.count != 0 : !(r.count >= edges[b] && r.count < edges[b + 1])) continue;
-                n += 1, wd += r.weight * r.dual, wp += r.weight * r.path;
-            }
-            if (n == 0 || b == 0) continue;
-            char label[32];
-            std::snprintf(label, sizeof label, "%g-%g", double(edges[b]), double(edges[b + 1] > 1e29f ? 999 : edges[b + 1]));
-            const char* names[] = {"to-light", "across", "off-light"};
-            std::printf("%-9s %-9s %5.3f %11.4g %11.4g %7.3f %+9.4f\n", label, names[side], n / double(recs.size()),
-                        wd / double(recs.size()), wp / double(recs.size()), wp > 0 ? wd / wp : 0.0,
-                        all_p > 0 ? (wd - wp) / all_p : 0.0);
-        }
+    table([](const render::ArrivalRecord& r) { return r.cos_light > 0.3f ? 0 : r.cos_light < -0.3f ? 2 : 1; },
+          {"to-light", "across", "off-light"}, false, "%-9s %-9s %5.3f %11.4g %11.4g %7.3f %+9.4f\n");
     std::printf("all: dual %.4g path %.4g ratio %.3f\n", all_d / double(recs.size()), all_p / double(recs.size()),
                 all_p > 0 ? all_d / all_p : 0.0);
     return 0;

@@ -312,7 +312,8 @@ class TwoStreamIntegrator final : public PixelIntegrator {
                     open = true;
                     const auto ep = bound.eval_pdf(sp.to_local(ls.wi));
                     L += ep.f * ls.Le * power_heuristic(ls.pdf, ep.pdf) / ls.pdf;
-                } else {
+                } else if (depth >= c_.shading.options().traced_vertices) {
+                    // (Only the estimator reads `open`: a traced vertex does not.)
                     open = scene.intersect_opaque(sp.p, ls.wi, tmax).kind == Hit::kMiss;
                 }
             }
