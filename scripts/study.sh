@@ -375,7 +375,10 @@ floor_of() {  # csv integrator column [noise column]: the error at the largest s
     echo "after 4×4 blocks: each 4 × 4 block's hair pixels averaged first, which removes most noise"
     echo "and keeps the bias. The reference is noisy too; the rows \"against the truth\" remove its"
     echo "noise from each error, √(e² − e_ref²) (image and reference are independent, so their squared"
-    echo "errors add), which estimates the error against a converged reference."
+    echo "errors add), which estimates the error against a converged reference. Seconds are the"
+    echo "render's plus, for dual scattering, its setup (setup_seconds: the tables, the density grid"
+    echo "and the count field, which the path tracer does not need); the render's own seconds hold the"
+    echo "glow volume's build."
     echo
     for t in "$out"/time_to_error_*.csv; do
         tag="$(basename "$t" .csv)"; tag="${tag#time_to_error_}"

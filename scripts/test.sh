@@ -552,7 +552,7 @@ step_example() {
     build/test-example/examples/image_io_test
     # The renderer: its .hair loader tests, then a tiny image per integrator whose EXR must
     # hold only finite values (the summary line reports dropped non-finite samples).
-    ctest --test-dir build/test-example/examples/render --output-on-failure
+    ctest --test-dir build/test-example/examples/render --output-on-failure -j "$JOBS"
     local r="$ROOT/build/test-example/out/render" integrator line
     for integrator in single dual path; do
         line="$(build/test-example/examples/render/render --integrator "$integrator" --width 64 --height 48 \

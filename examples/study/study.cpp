@@ -21,6 +21,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <memory>
 #include <tuple>
 #include <vector>
 
@@ -426,10 +427,10 @@ int furnace(const Common& c, const std::vector<std::string>& scenes, const std::
 // Seconds for dual scattering (the two-stream integrator) and the path tracer, both with MIS, to
 // reach each relative RMSE over the hair pixels against a converged path-traced reference
 // (rendered as two independent halves: their difference states its own RMSE).
-int time_to_error(const Common& c, const std::string& kind, int reference_spp, int dual_max_spp, int path_max_spp) {
+int time_to_error(const Common& c, const std::string& kind, int reference_spp, int dual_max_spp, int path_max_spp,
+                  const std::vector<std::string>& formulations) {
     const render::Scene scene(block_scene(c.hairs, c.lighting, c.ground, kind));
     const render::ShadingSetup shading(scene, shading_options(c.colour));
-    const render::ShadingSetup field_shading(scene, shading_options(c.colour, "two-stream-field"));
     const HalvedReference halves = path_reference(c, scene, shading, reference_spp, 1000003, 2000003);
     const render::RenderResult &ra = halves.a, &rb = halves.b, &ref = halves.mean;
     const Roi roi(ref);
@@ -440,23 +441,34 @@ int time_to_error(const Common& c, const std::string& kind, int reference_spp, i
     const std::string tag = kind + "_" + c.colour + "_" + std::to_string(c.hairs);
     write_images(c.out + "/tte_" + tag + "_reference", ref, 1.0f);
     std::ofstream csv(c.out + "/time_to_error_" + tag + ".csv");
-    csv << "integrator,spp,seconds,rel_rmse,reference_rel_rmse,rel_rmse_4x4,reference_rel_rmse_4x4\n";
+    csv << "integrator,spp,seconds,rel_rmse,reference_rel_rmse,rel_rmse_4x4,reference_rel_rmse_4x4,setup_seconds\n";
     const double ref_rmse_4x4 = std::sqrt(roi.block_mse(ra.rgb, rb.rgb, 4)) / 2 / mean_ref;
-    // dual: the two-stream estimator with exact counts; dual_field: with field counts.
-    for (const auto& [name, integrator, max_spp, setup] :
-         {std::tuple<const char*, render::Integrator, int, const render::ShadingSetup*>{
-              "dual", render::Integrator::kDual, dual_max_spp, &shading},
-          {"dual_field", render::Integrator::kDual, dual_max_spp, &field_shading},
-          {"path", render::Integrator::kPath, path_max_spp, &shading}}) {
+    // Each formulation's rows (dual: the two-stream estimator with exact counts; dual_field:
+    // with field counts; dual_<formulation> otherwise), then the path tracer's.
+    std::vector<std::unique_ptr<render::ShadingSetup>> setups;
+    // seconds: the render's, plus for dual scattering its setup (the tables, the density grid and
+    // the count field: ShadingSetup's build, which the path tracer does not need); the
+    // render's own part holds the glow volume's build.
+    std::vector<std::tuple<std::string, render::Integrator, int, const render::ShadingSetup*>> runs;
+    for (const std::string& f : formulations) {
+        setups.push_back(std::make_unique<render::ShadingSetup>(scene, shading_options(c.colour, f)));
+        std::string name = f == "two-stream" ? "dual" : f == "two-stream-field" ? "dual_field" : "dual_" + f;
+        std::replace(name.begin(), name.end(), '-', '_');
+        runs.emplace_back(name, render::Integrator::kDual, dual_max_spp, setups.back().get());
+    }
+    runs.emplace_back("path", render::Integrator::kPath, path_max_spp, &shading);
+    for (const auto& [name, integrator, max_spp, setup] : runs) {
         for (int spp = 1; spp <= max_spp; spp *= 2) {
             const render::RenderResult r =
                 render::render(scene, *setup, options(c, integrator, render::Sampling::kMis, spp, 17));
+            const double setup_s = integrator == render::Integrator::kDual ? setup->stats().seconds : 0.0;
+            const double seconds = r.seconds + setup_s;
             const double rel = std::sqrt(roi.mse(r.rgb, ref.rgb).first) / mean_ref;
             const double rel_4x4 = std::sqrt(roi.block_mse(r.rgb, ref.rgb, 4)) / mean_ref;
-            csv << name << ',' << spp << ',' << r.seconds << ',' << rel << ',' << ref_rmse << ',' << rel_4x4 << ','
-                << ref_rmse_4x4 << '\n';
+            csv << name << ',' << spp << ',' << seconds << ',' << rel << ',' << ref_rmse << ',' << rel_4x4 << ','
+                << ref_rmse_4x4 << ',' << setup_s << '\n';
             csv.flush();
-            std::fprintf(stderr, "study: %-5s %5d spp %8.2f s  relative RMSE %.4f (reference %.4f)\n", name, spp, r.seconds,
+            std::fprintf(stderr, "study: %-5s %5d spp %8.2f s  relative RMSE %.4f (reference %.4f)\n", name.c_str(), spp, seconds,
                          rel, ref_rmse);
         }
     }
@@ -583,6 +595,9 @@ int main(int argc, char** argv) {
     tte->add_flag("--no-ground", tte_no_ground, "remove the ground plane");
     std::string tte_kind = "block";
     tte->add_option("--scene", tte_kind, "block | scalp | fur | fur-shell | slab")->capture_default_str();
+    std::vector<std::string> tte_formulations{"two-stream", "two-stream-field"};
+    tte->add_option("--formulations", tte_formulations, "dual-scattering formulations (as dual-vs-path's)")
+        ->capture_default_str();
 
     CLI::App* arr = app.add_subcommand("arrivals", "the dual estimator's arrivals against the path tracer's, binned");
     common(arr);
@@ -609,7 +624,7 @@ int main(int argc, char** argv) {
         }
         if (tte->parsed()) {
             c.ground = !tte_no_ground;
-            return time_to_error(c, tte_kind, tte_ref, tte_dual, tte_path);
+            return time_to_error(c, tte_kind, tte_ref, tte_dual, tte_path, tte_formulations);
         }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "study: %s\n", e.what());
