@@ -227,6 +227,28 @@ TEST(CountField, AgreesWithTheGridMarchInAFurShell) {
     }
 }
 
+// The grid's tensors read once at the lattice points (lattice_tensors, the renderer's and
+// from_grid's path) give the same counts, bit for bit, as reading the grid per direction.
+TEST(CountField, LatticeTensorsGiveTheSameCounts) {
+    const hs::DensityGrid<float> grid = hs::DensityGrid<float>::from_strands(fur_strands(2000, 5), 0.12f, 0.004f);
+    hs::DirectionalCountField<float> per_direction(grid.box_min(), grid.box_max(),
+                                                   hs::DirectionalCountField<float>::points_over_grid(grid.resolution(), 1.0f), 6);
+    hs::DirectionalCountField<float> from_tensors = per_direction;
+    const auto tensors = from_tensors.lattice_tensors(grid.view());
+    for (int k = 0; k < per_direction.direction_count(); ++k) {
+        per_direction.build_direction(k, grid.view());
+        from_tensors.build_direction(k, tensors);
+    }
+    double total = 0;
+    for (float c : per_direction.counts()) total += double(c);
+    EXPECT_GT(total, 0.0);
+    EXPECT_TRUE(per_direction.counts() == from_tensors.counts());
+    EXPECT_TRUE(hs::DirectionalCountField<float>::from_grid(grid, 6).counts() == per_direction.counts());
+    // Tensors of another lattice are refused.
+    hs::DirectionalCountField<float> other(grid.box_min(), grid.box_max(), glm::ivec3(3, 3, 3), 6);
+    EXPECT_THROW(other.build_direction(0, tensors), std::invalid_argument);
+}
+
 TEST(CountField, IsADensitySource) {
     static_assert(hs::is_density_source_v<hs::DirectionalCountField<float>, float>);
     static_assert(hs::is_density_source_v<hs::DirectionalCountFieldView<double>, double>);

@@ -342,9 +342,33 @@ template <typename T> class DirectionalCountField {
         return f;
     }
 
+    // The shipped grid's tensor density at every lattice point, read once for all directions
+    // (build_direction(k, tensors) then skips the grid's trilinear reads, which are the same
+    // for every direction: the counts are bit for bit those of build_direction(k, grid)).
+    struct LatticeTensors {
+        DensityGridView<T> grid;
+        std::vector<HairLengthTensor<T>> tensors;  // x fastest, as the counts of one direction
+    };
+    LatticeTensors lattice_tensors(const DensityGridView<T>& grid) const {
+        LatticeTensors out{grid, {}};
+        const glm::ivec3 n = v_.points_;
+        out.tensors.resize(v_.per_direction_);
+        for (int z = 0; z < n.z; ++z)
+            for (int y = 0; y < n.y; ++y)
+                for (int x = 0; x < n.x; ++x)
+                    out.tensors[std::size_t(x) + std::size_t(n.x) * (std::size_t(y) + std::size_t(n.y) * std::size_t(z))] =
+                        grid.tensor_density(lattice_point(x, y, z));
+        return out;
+    }
+
     // Fills every direction from the source (see the top of this header).
     template <typename D> void build(const D& source) {
-        for (int k = 0; k < direction_count(); ++k) build_direction(k, source);
+        if constexpr (std::is_same_v<D, DensityGridView<T>>) {
+            const LatticeTensors pre = lattice_tensors(source);
+            for (int k = 0; k < direction_count(); ++k) build_direction(k, pre);
+        } else {
+            for (int k = 0; k < direction_count(); ++k) build_direction(k, source);
+        }
     }
 
     // Fills direction k only: distinct k write disjoint counts, so a renderer may build the
@@ -353,6 +377,29 @@ template <typename T> class DirectionalCountField {
         static_assert(is_density_source_v<D, T>,
                       "hairscatter: DirectionalCountField::build: not a density source (see "
                       "hairscatter/dual/density_source.hpp)");
+        build_direction_from(k, source, [&](const glm::ivec3&, const V3& p, const V3& d) { return rate(source, p, d); });
+    }
+    // The same from the grid's tensors at the lattice points (lattice_tensors(grid)).
+    void build_direction(int k, const LatticeTensors& pre) {
+        if (pre.tensors.size() != v_.per_direction_)
+            HAIRSCATTER_THROW(std::invalid_argument(
+                "hairscatter: DirectionalCountField::build_direction: the lattice tensors are not this field's"));
+        const glm::ivec3 n = v_.points_;
+        build_direction_from(k, pre.grid, [&](const glm::ivec3& ijk, const V3&, const V3& d) {
+            const std::size_t i =
+                std::size_t(ijk.x) + std::size_t(n.x) * (std::size_t(ijk.y) + std::size_t(n.y) * std::size_t(ijk.z));
+            return sanitise(pre.grid.crossing_density_of(pre.tensors[i], d));
+        });
+    }
+
+  private:
+    // The lattice point (x, y, z), as build_direction places it.
+    V3 lattice_point(int x, int y, int z) const {
+        return V3(v_.lo_.x + T(x) * spacing_.x, v_.lo_.y + T(y) * spacing_.y, v_.lo_.z + T(z) * spacing_.z);
+    }
+
+    // build_direction's sweep; rate_of(ijk, p, d): the crossing density at lattice point ijk (at p).
+    template <typename D, typename Rate> void build_direction_from(int k, const D& source, const Rate& rate_of) {
         if (k < 0 || k >= direction_count())
             HAIRSCATTER_THROW(std::out_of_range("hairscatter: DirectionalCountField::build_direction: k = " +
                                                 std::to_string(k) + " is outside [0, " +
@@ -371,6 +418,11 @@ template <typename T> class DirectionalCountField {
             int ijk[3];
             ijk[A] = a_index, ijk[B] = b_index, ijk[C] = c_index;
             return out[std::size_t(ijk[0]) + std::size_t(n.x) * (std::size_t(ijk[1]) + std::size_t(n.y) * std::size_t(ijk[2]))];
+        };
+        auto lattice_index = [&](int a_index, int b_index, int c_index) {
+            glm::ivec3 ijk;
+            ijk[A] = a_index, ijk[B] = b_index, ijk[C] = c_index;
+            return ijk;
         };
         auto point = [&](int a_index, int b_index, int c_index) {
             V3 p;
@@ -395,14 +447,14 @@ template <typename T> class DirectionalCountField {
         for (int b = 0; b < n[B]; ++b)
             for (int c = 0; c < n[C]; ++c) {
                 at(exit, b, c) = T(0);
-                if (kRate) rate_at(rate_next, b, c) = rate(source, point(exit, b, c), d);
+                if (kRate) rate_at(rate_next, b, c) = rate_of(lattice_index(exit, b, c), point(exit, b, c), d);
             }
         const T tol = T(1e-4);
         for (int a = exit - step; a >= 0 && a < n[A]; a -= step) {
             for (int b = 0; b < n[B]; ++b) {
                 for (int c = 0; c < n[C]; ++c) {
                     const V3 p = point(a, b, c);
-                    const T rho_p = kRate ? rate(source, p, d) : T(0);
+                    const T rho_p = kRate ? rate_of(lattice_index(a, b, c), p, d) : T(0);
                     if (kRate) rate_at(rate_here, b, c) = rho_p;
                     // Where the segment to the next plane lands, in lattice units of that plane.
                     const T gb = T(b) + t_next * d[B] * v_.inv_spacing_[B];
@@ -428,6 +480,7 @@ template <typename T> class DirectionalCountField {
         }
     }
 
+  public:
     DirectionalCountFieldView<T> view() const { return v_.with_counts(counts_.data()); }
     // The same queries over a copy of counts() elsewhere (e.g. device memory).
     DirectionalCountFieldView<T> view(const T* counts) const { return v_.with_counts(counts); }

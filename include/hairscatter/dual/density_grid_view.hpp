@@ -140,6 +140,9 @@ template <typename T> class DensityGridView {
     // Expected fibers crossed per unit path length at p by a ray along the unit vector d:
     // L_v·D·(mean sinψ), the orientation model above FiberOrientation.
     HAIRSCATTER_HD T crossing_density(const V3& p, const V3& d) const { return crossing(tensor_density(p), d); }
+    // The same from a tensor density already read at a point (tensor_density(p)): a caller
+    // that asks along many directions at one point reads the grid once.
+    HAIRSCATTER_HD T crossing_density_of(const Cell& tensor, const V3& d) const { return crossing(tensor, d); }
 
     // n between origin and origin + max_distance·direction, marched through the part of the
     // ray inside the box in equal steps no longer than march_step (midpoint rule). direction
