@@ -115,6 +115,13 @@ render::ShadingOptions shading_options(const std::string& colour, const std::str
         o.glow_points = 0;
         formulation = formulation.substr(0, v);
     }
+    // A "-gN" suffix sets the glow volume's points per cell (--dual-glow N; 0: none).
+    const std::size_t g = formulation.rfind("-g");
+    if (g != std::string::npos && g + 2 < formulation.size() &&
+        formulation.find_first_not_of("0123456789", g + 2) == std::string::npos && formulation.size() - g <= 5) {
+        o.glow_points = std::stoi(formulation.substr(g + 2));
+        formulation = formulation.substr(0, g);
+    }
     // A "-point" suffix reads the stacks' sources at the shading point (DualSource::kPoint).
     const std::string point = "-point";
     const bool at_point = formulation.size() > point.size() &&
