@@ -266,6 +266,61 @@ TEST(FurFiber, RoughCortexTurnsRTowardTheLight) {
     }
 }
 
+// TT's azimuth on the rough cortex (RoughCortexTables' ψ_TT): the walk follows each chord
+// round the section (a chord at γ' to the normal turns the position by π − 2γ') and takes the
+// exit's turn from the smooth cylinder's Φ(1, h). Nearly smooth, untilted facets (GGX 0.002)
+// give back the smooth cylinder, ψ_TT within 0.5° at every node up to θo 60° and γ 67.5° (a
+// check of that geometry, not only of symmetry); with the default facets ψ_TT is about 0 on the axis (by
+// symmetry, within the walk's noise) and grows toward the rim, where the facets wo sees lean
+// toward it and refract the light less far round; and the fibre's TT lobe is centred on
+// Φ(1, h) + sign(h) ψ_TT.
+TEST(FurFiber, RoughCortexTurnsTTByItsFacets) {
+    constexpr int kTheta = hs::detail::RoughCortexTables<double>::kTheta, kH = hs::detail::RoughCortexTables<double>::kH;
+    constexpr int kMid = kTheta / 2;
+    const double deg = 180 / kPi;
+    hs::FurParams<double> smooth_p = fur_params<double>(0, 0, 0, glm::dvec3(0), true);
+    smooth_p.cortex.alpha = 0;
+    smooth_p.facet_alpha = 0.002;
+    const hs::FurMaterial<double> smooth(smooth_p), rough(fur_params<double>(0, 0, 0, glm::dvec3(0), true));
+    for (int i = 0; i < kTheta; ++i) {
+        const double theta = (2.0 * i / (kTheta - 1) - 1) * 1.5;
+        std::printf("[ fur ] node θo %5.1f°: ψ_TT over γ, smooth facets / default =", theta * deg);
+        for (int j = 0; j < kH; ++j)
+            std::printf(" %.1f°/%.1f°", smooth.rough_cortex().share[i][j][8] * deg, rough.rough_cortex().share[i][j][8] * deg);
+        std::printf("\n");
+        if (std::fabs(theta) > 60 / deg) continue;
+        // (up to γ 67.5°: nearer the rim a refraction out of the fibre turns by η cos γt / cos γ
+        // times its facet's tilt, and even GGX 0.002 turns TT by degrees there)
+        for (int j = 0; j < kH - 2; ++j) EXPECT_LT(std::fabs(smooth.rough_cortex().share[i][j][8]) * deg, 0.5) << i << " " << j;
+        EXPECT_LT(std::fabs(rough.rough_cortex().share[i][0][8]) * deg, 2.0) << "node " << i;
+    }
+    const auto& t = rough.rough_cortex();
+    EXPECT_GT(std::fabs(t.share[kMid][kH - 2][8]), std::fabs(t.share[kMid][kH / 2][8]) + 2 / deg);
+    // The fibre's TT at a node (θo 0.5 rad, γ 78.75°), the other lobes off: its peak over φ.
+    hs::FurControls<double> only_tt;
+    for (int l = 0; l < 4; ++l) only_tt.lobes.gain[l] = l == 1 ? 1.0 : 0.0;
+    only_tt.gain_s = 0;
+    const hs::FurMaterial<double> tt_only(fur_params<double>(0, 0, 0, glm::dvec3(0), true), only_tt);
+    const int i = kMid + 2, j = kH - 2;
+    const double theta = 0.5, gamma = kPi / 2 * j / (kH - 1);
+    const double eta_p = std::sqrt(1.55 * 1.55 - std::sin(theta) * std::sin(theta)) / std::cos(theta);
+    for (double sign : {-1.0, 1.0}) {
+        const double h = sign * std::sin(gamma), gamma_t = std::asin(h / eta_p);
+        const double smooth_phi = std::remainder(2 * gamma_t - 2 * std::asin(h) + kPi, 2 * kPi);
+        const double expected = std::remainder(smooth_phi + sign * t.share[i][j][8], 2 * kPi);
+        const hs::FurFiber<double> fiber(tt_only, h);
+        double best = -1, best_phi = 0;
+        for (int k = 0; k < 7200; ++k) {
+            const double phi = -kPi + (k + 0.5) * 2 * kPi / 7200;
+            const double f = fiber.eval(direction(theta * deg), direction(-theta * deg, phi)).x;
+            if (f > best) best = f, best_phi = phi;
+        }
+        std::printf("[ fur ] θo %.1f°, h %+.3f: TT peaks at φ %.2f°, Φ(1, h) %.2f°, turned %.2f°\n", theta * deg, h, best_phi * deg,
+                    smooth_phi * deg, expected * deg);
+        EXPECT_NEAR(std::remainder(best_phi - expected, 2 * kPi) * deg, 0.0, 0.2) << h;
+    }
+}
+
 // The default facets (FurParams::facet_alpha 0) are the GGX whose reflections give R the
 // longitudinal spread β_m gives it (facet_alpha_from_beta): for narrow lobes √3/2 Φ⁻¹(¾) √v
 // (R's upper quartile of θi, Φ⁻¹(¾) √v, is twice the facets' slope quartile along the fibre,
@@ -684,7 +739,8 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     std::printf("[ physical ] rough cortex: f worst %.1f %%, mean %.1f %% lossless, %.1f %% blond; scattered worst %.1f %%,"
                 " mean %.1f %%\n", 100 * worst_all, 100 * mean_all[0], 100 * mean_all[1], 100 * worst[0], 100 * mean[0]);
     std::printf("[ physical ] smooth cortex: scattered worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst[1], 100 * mean[1]);
-    // Measured: 15.3 %, mean 8.6 % lossless and 9.3 % blond; scattered 22.2 %, 8.1 % (17.7 %,
+    // Measured: 13.8 %, mean 7.7 % lossless and 8.5 % blond; scattered 22.2 %, 8.1 % (15.3 %,
+    // 8.6 %, 9.3 % before TT's azimuth turned by its facets, ψ_TT; 17.7 %,
     // 8.6 %, 9.9 %; 22.5 %, 8.2 % before R's azimuth turned toward wo, ψ_R; 16.4 %, 8.4 %,
     // 9.7 %; 22.0 %, 8.2 % given the reference's GGX 0.17; 23.2 %, 10.2 %, 12.9 %; 22.8 %
     // and 9.1 % with the walk on the microsurface over Gaussian facets from β; 20.7 %,
@@ -693,9 +749,9 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     // lobe width at every h; 58.6 %, 12.8 % and 21.6 % with the smooth F at the rough cortex's
     // entry and a smooth boundary in the medulla tables; 19.0 % and 25.2 % mean with the smooth
     // cortex's orders); 6.3 %, 4.8 % (the reference's noise: 1–3 %).
-    EXPECT_LT(worst_all, 0.16);
-    EXPECT_LT(mean_all[0], 0.09);
-    EXPECT_LT(mean_all[1], 0.10);
+    EXPECT_LT(worst_all, 0.145);
+    EXPECT_LT(mean_all[0], 0.08);
+    EXPECT_LT(mean_all[1], 0.09);
     EXPECT_LT(worst[0], 0.23);
     EXPECT_LT(mean[0], 0.085);
     EXPECT_LT(worst[1], 0.07);

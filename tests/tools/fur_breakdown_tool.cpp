@@ -12,10 +12,13 @@
 // is printed next to them: lobes that overlap can cancel). Blond is the mean over RGB.
 // With --marginals, per case and lobe instead: the lossless model's and reference's f
 // integrated over φ per bin of sin θi, and over sin θi per bin of φ (the lobe's shape).
+// With --split, each lobe's share is split into its energy's part, |E_p − E_ref,p| over the
+// reference's whole energy, and its shape's, Σ_bins |f_p E_ref,p / E_p − f_ref,p| dω over the
+// same (the lobe scaled to the reference's energy first).
 // The model's facets are those its β implies (FurParams::facet_alpha 0), as in the test, or
 // with --facet-alpha A GGX of roughness A (the reference's own: 0.17).
 //
-//   fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals] [--facet-alpha A]
+//   fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals] [--split] [--facet-alpha A]
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -81,16 +84,17 @@ int main(int argc, char** argv) {
     long long rays = 1000000;
     int threads = 2;
     std::string only;
-    bool marginals = false;
+    bool marginals = false, split = false;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--rays") && i + 1 < argc) rays = std::atoll(argv[++i]);
         else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
         else if (!std::strcmp(argv[i], "--marginals")) marginals = true;
+        else if (!std::strcmp(argv[i], "--split")) split = true;
         else if (!std::strcmp(argv[i], "--facet-alpha") && i + 1 < argc) g_facet_alpha = std::atof(argv[++i]);
         else {
             std::fprintf(stderr, "usage: fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals]"
-                                 " [--facet-alpha A]\n");
+                                 " [--split] [--facet-alpha A]\n");
             return 2;
         }
     }
@@ -100,9 +104,12 @@ int main(int argc, char** argv) {
     }
     const glm::dvec3 blond(phys_fiber::kBlond[0], phys_fiber::kBlond[1], phys_fiber::kBlond[2]);
     const double dw = (2.0 / kNu) * (2 * phys_fiber::kPi / kNphi);
-    std::printf("# fur_breakdown_tool --rays %lld%s%s --facet-alpha %g\n\n", rays, only.empty() ? "" : " --only ", only.c_str(),
-                g_facet_alpha);
-    std::printf("| case | pigment | f L1 | R: model / ref, share | TT | TRT | higher | S |\n|---|---|---|---|---|---|---|---|\n");
+    std::printf("# fur_breakdown_tool --rays %lld%s%s%s --facet-alpha %g\n\n", rays, only.empty() ? "" : " --only ", only.c_str(),
+                split ? " --split" : "", g_facet_alpha);
+    if (split)
+        std::printf("| case | pigment | f L1 | R: energy, shape | TT | TRT | higher | S |\n|---|---|---|---|---|---|---|---|\n");
+    else
+        std::printf("| case | pigment | f L1 | R: model / ref, share | TT | TRT | higher | S |\n|---|---|---|---|---|---|---|---|\n");
     for (const phys_fur::FurCase& fc : phys_fur::fur_cases()) {
         if (fc.roughness < 0.1 || (!only.empty() && fc.name().find(only) == std::string::npos)) continue;
         const phys_fur::Tracer tracer(fc.fur());
@@ -118,7 +125,7 @@ int main(int argc, char** argv) {
         for (int pigment = 0; pigment < 2; ++pigment) {
             std::vector<glm::dvec3> lobe[5];
             for (int l = 0; l < 5; ++l) lobe[l] = lobe_bins(fc, pigment ? blond : glm::dvec3(0.0), l, grid);
-            double energy[5][2] = {}, share[5] = {}, whole = 0;
+            double energy[5][2] = {}, share[5] = {}, energy_part[5] = {}, shape_part[5] = {}, whole = 0;
             const int channels = pigment ? 3 : 1;
             for (int c = 0; c < channels; ++c) {
                 const int mch = pigment ? c : 0, ch = pigment ? c + 1 : 0;
@@ -136,6 +143,14 @@ int main(int argc, char** argv) {
                     ref_total += r_sum * dw;
                     diff_whole += std::fabs(m_sum - r_sum) * dw;
                 }
+                for (int l = 0; l < 5; ++l) {  // the lobe scaled to the reference's energy: its shape's error
+                    const double scale = e[l][0] > 0 ? e[l][1] / e[l][0] : 0;
+                    double shape = 0;
+                    for (int b = 0; b < kNu * kNphi; ++b)
+                        shape += std::fabs(lobe[l][std::size_t(b)][mch] * scale - h.f(b, ch, l)) * dw;
+                    energy_part[l] += std::fabs(e[l][0] - e[l][1]) / ref_total / channels;
+                    shape_part[l] += shape / ref_total / channels;
+                }
                 for (int l = 0; l < 5; ++l) {
                     share[l] += part[l] / ref_total / channels;
                     energy[l][0] += e[l][0] / channels;
@@ -145,7 +160,8 @@ int main(int argc, char** argv) {
             }
             std::printf("| %s | %s | %.1f %% |", fc.name().c_str(), pigment ? "blond" : "lossless", 100 * whole);
             for (int l = 0; l < 5; ++l)
-                std::printf(" %.3f / %.3f, %.1f %% |", energy[l][0], energy[l][1], 100 * share[l]);
+                if (split) std::printf(" %.1f %%, %.1f %% |", 100 * energy_part[l], 100 * shape_part[l]);
+                else std::printf(" %.3f / %.3f, %.1f %% |", energy[l][0], energy[l][1], 100 * share[l]);
             std::printf("\n");
             std::fflush(stdout);
         }

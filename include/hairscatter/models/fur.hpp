@@ -300,13 +300,16 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 // surface (the rim, and θo toward ±90°) the reflections turn from the smooth mirror's
 // azimuth Φ(0, h) = −2γ toward wo's; the table keeps their weighted median turn ψ_R
 // (a median, as R's quartiles: GGX's tail would throw a mean), and the fibre centres N_R on
-// −2γ + sign(h) ψ_R. The nodes are uniform in γ = asin |h|, denser toward the rim, where
-// F_r, v_R and ψ_R change fastest (ψ_R at θo 30° is 2.5° at h 0.875 and 17° at 0.999).
+// −2γ + sign(h) ψ_R. TT's azimuth likewise: the walk carries the light round the section
+// chord by chord, and the exit's median turn from the smooth cylinder's Φ(1, h), ψ_TT, centres
+// N_TT on Φ(1, h) + sign(h) ψ_TT: toward the rim the facets wo sees lean toward it, refract
+// the light less far round, and the exits turn toward the forward direction. The nodes are
+// uniform in γ = asin |h|, denser toward the rim, where F_r, v_R, ψ_R and ψ_TT change fastest.
 template <typename T> struct RoughCortexTables {
     static constexpr int kTheta = 13, kH = 9;  // θo nodes over ±kThetaMax, |γ| nodes over [0, π/2]
     static constexpr double kThetaMax = 1.5;   // (beyond, the nearest node: cos θo → 0 there)
-    static constexpr int kValues = 8;
-    T share[kTheta][kH][kValues];              // TT, TRT, later, r, F_r / F, v_R, δ_R, ψ_R
+    static constexpr int kValues = 9;
+    T share[kTheta][kH][kValues];              // TT, TRT, later, r, F_r / F, v_R, δ_R, ψ_R, ψ_TT
 
     // The values at (θo, γ), h = sin γ, bilinear between the nodes.
     HAIRSCATTER_HD void at(T theta, T gamma, T (&out)[kValues]) const {
@@ -612,6 +615,7 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
     constexpr int kWalks = 2000, kMaxEvents = 400, kShapeDraws = 2;
     const RoughFacets facets = RoughFacets::of(eta, alpha, beta_m, facet_alpha);
     std::vector<std::pair<double, double>> reflections, turns;  // R's sin θi, its turn toward wo; weights
+    std::vector<std::pair<double, double>> tt_turns;             // TT's exits: the turn from Φ(1, h); weights
     RoughCortexTables<T> tab;
     FurRng rng(0x0C0A7E5Eull);
     constexpr int kTheta = RoughCortexTables<T>::kTheta, kH = RoughCortexTables<T>::kH;
@@ -625,9 +629,16 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             double entered = 0, first = 0, second = 0, later = 0, tail_events = 0, reflected = 0;
             reflections.clear();
             turns.clear();
+            tt_turns.clear();
             // A reflection's azimuth in the section, turned from the mirror's (+γ) toward wo's (−γ).
             const double gamma = std::asin(h);
             const auto turn = [&](const glm::dvec3& r) { return wrap_pi(gamma - std::atan2(r.z, r.y)); };
+            // TT's: a chord whose in-plane direction meets the normal at γ' (signed by the
+            // tangential part) carries the light round the section by π − 2γ', and the exit
+            // leaves at atan2(z, y) from the normal there, so from wo's azimuth (γ from the
+            // entry's normal) the exit's is π − 2γ'_1 + atan2(z, y) + γ; the smooth cylinder's
+            // is π + 2γ − 2γt (γ'_1 = γt, Bravais: sin γt = h/η'). The turn is the difference.
+            const double gamma_t = std::asin(h * std::cos(theta) / std::sqrt(eta * eta - sqr(std::sin(theta))));
             for (int w = 0; w < kWalks; ++w) {
                 // The entry is the walk of Heitz et al. 2016 from afar (RoughFacets::walk). Its
                 // first facet's reflections that leave at once are counted by their expectation,
@@ -667,10 +678,15 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
                 }
                 entered += 1;
                 glm::dvec3 d(entry.dir.x, std::fabs(entry.dir.y), entry.dir.z);  // at the chord's far end
+                const double gamma_1 = std::atan2(d.z, d.y);                   // the first chord's γ'
                 int order = 1;
                 for (; order < kMaxEvents; ++order) {
                     const RoughFacets::Exit x = facets.walk(d, false, eta, rng);
-                    if (x.outside) break;  // leaves at this order
+                    if (x.outside) {  // leaves at this order
+                        if (order == 1)
+                            tt_turns.emplace_back(wrap_pi(gamma - 2 * gamma_t + 2 * gamma_1 - std::atan2(x.dir.z, x.dir.y)), 1.0);
+                        break;
+                    }
                     d = glm::dvec3(x.dir.x, std::fabs(x.dir.y), x.dir.z);  // the next chord's far end
                 }
                 if (order == 1) first += 1;
@@ -688,6 +704,7 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             tab.share[i][j][5] = T(lobe.v);
             tab.share[i][j][6] = T(theta - 2 * alpha + lobe.theta_c);  // δ_R: θo' = θo − 2α turned to −θc
             tab.share[i][j][7] = T(reflected > 0 ? weighted_quantile(turns, 0.5) : 0.0);  // ψ_R: the median turn
+            tab.share[i][j][8] = T(tt_turns.empty() ? 0.0 : weighted_quantile(tt_turns, 0.5));  // ψ_TT: the median turn
         }
     }
     return tab;
@@ -1178,7 +1195,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         // inside at the k-th chord. Smooth: Q_k = F^(k−1), the sum 1 / (1 − T F).
         T passes[3];
         T entry_reflect = fresnel;  // R's share at entry: the smooth F, or the rough boundary's F_r
-        T r_shape[3] = {T(0), T(0), T(0)};  // R's v_R, δ_R and ψ_R (the rough cortex's)
+        T r_shape[4] = {T(0), T(0), T(0), T(0)};  // R's v_R, δ_R and ψ_R, and TT's ψ_TT (the rough cortex's)
         if (prm.rough_cortex) {
             // The rough cortex's walk (RoughCortexTables): the facets reflect F_r at entry; of
             // the light that entered (1 − F_r), e1 leaves after one chord, e2 after two, the
@@ -1189,7 +1206,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             // Lossless (T = 1) every entered share leaves: Σ_p A_p = 1 as before.
             T e[detail::RoughCortexTables<T>::kValues];
             mat_->rough_cortex().at(elem::asin(sin_o), gamma_o_, e);
-            r_shape[0] = e[5], r_shape[1] = e[6], r_shape[2] = e[7];
+            for (int k = 0; k < 4; ++k) r_shape[k] = e[5 + k];
             entry_reflect = clamp(e[4] * fresnel, T(0), T(1));
             for (int c = 0; c < 3; ++c) {
                 const T t = chord.transmittance[c], in = T(1) - entry_reflect, rt = T(1) - e[3] * t;
@@ -1225,8 +1242,11 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         for (int p = 0; p <= kLobes; ++p) o.phi_p[p] = p < kLobes ? exit_azimuth_wrapped(p, gamma_o_, gamma_t) : T(0);
         o.r_lobe = mat_->longitudinal(0);
         if (prm.rough_cortex) {
-            // R's azimuth turned by ψ_R toward wo's (Φ = −2γ toward 0; ψ_R is 0 at h = 0).
-            o.phi_p[0] = wrap_pi_once(o.phi_p[0] + (h_ < T(0) ? -r_shape[2] : r_shape[2]));
+            // R's azimuth turned by ψ_R toward wo's (Φ = −2γ toward 0; ψ_R is 0 at h = 0), TT's
+            // by ψ_TT from Φ(1, h) (both 0 at h = 0).
+            const T sign = h_ < T(0) ? T(-1) : T(1);
+            o.phi_p[0] = wrap_pi_once(o.phi_p[0] + sign * r_shape[2]);
+            o.phi_p[1] = wrap_pi_once(o.phi_p[1] + sign * r_shape[3]);
             // R's shape at h from the same facets (RoughCortexTables): the lobe of variance v_R
             // (floored at the narrowest lobe the parameters allow), its conditioning angle
             // turned by −δ_R from the tilt's (the controls' R tilt still acts on top).
