@@ -184,6 +184,13 @@ template <typename T> bench_ref::HairBxDF<T> ref_at_hit(std::size_t i, T h) {
 template <typename T> void BM_OursHitEval(benchmark::State& state) {
     const auto& in = inputs<T>();
     cycle(state, [&](std::size_t i) {
+        return hairscatter::ChiangFiber<T>::per_hit_eval(hit_params<T>()[i], in.h[i], in.wo[i], wi_uniform<T>()[i]);
+    });
+}
+// The same from its parts: the material built by the caller, then the fiber's eval.
+template <typename T> void BM_OursHitEvalParts(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) {
         const auto m = hairscatter::ChiangMaterial<T>::per_hit(hit_params<T>()[i]);
         return hairscatter::ChiangFiber<T>(m, in.h[i]).eval(in.wo[i], wi_uniform<T>()[i]);
     });
@@ -353,6 +360,7 @@ void print_results(const Collector& c) {
                               {"fresh.pdf", "BM_OursFreshPdf", "BM_RefFreshPdf"},
                               {"fresh.sample", "BM_OursFreshSample", "BM_RefFreshSample"},
                               {"hit.eval", "BM_OursHitEval", "BM_RefHitEval"},
+                              {"hit.eval.parts", "BM_OursHitEvalParts", "BM_RefHitEval"},
                               {"hit.vertex", "BM_OursHitVertex", "BM_RefHitVertex"},
                               {"b0.05.eval", "BM_OursEvalB", "BM_RefEvalB", "/0"},
                               {"b1.eval", "BM_OursEvalB", "BM_RefEvalB", "/2"},
@@ -427,6 +435,7 @@ HAIRSCATTER_BOTH(BM_RefFreshPdf);
 HAIRSCATTER_BOTH(BM_OursFreshSample);
 HAIRSCATTER_BOTH(BM_RefFreshSample);
 HAIRSCATTER_BOTH(BM_OursHitEval);
+HAIRSCATTER_BOTH(BM_OursHitEvalParts);
 HAIRSCATTER_BOTH(BM_RefHitEval);
 HAIRSCATTER_BOTH(BM_OursHitVertex);
 HAIRSCATTER_BOTH(BM_RefHitVertex);

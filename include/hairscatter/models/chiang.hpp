@@ -139,6 +139,36 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     HAIRSCATTER_HD T h() const { return h_; }
     HAIRSCATTER_HD const Material& material() const { return *mat_; }
 
+    // eval, pdf and sample at a hit whose parameters vary per hit (textures, strand
+    // variation), the material built inside the call: the same values as
+    //   const auto m = ChiangMaterial<T>::per_hit(params);
+    //   BasicChiangFiber(m, h).eval(wo, wi);  // (or pdf, sample)
+    // to a few ulp (the same arithmetic; only the compiler's FMA contraction may differ:
+    // tests/per_hit_test.cpp). Cheaper than that composition: the material is a local of
+    // the call, so the compiler keeps only the constants the query reads, in registers,
+    // where a material built outside an out-of-line eval must be stored whole first
+    // (bench/results/vs_pbrt.md, per-hit rows). No checks, no exceptions, device-callable;
+    // the parameters are clamped as per_hit clamps them. Not forced inline: inlined into
+    // the caller's loop, GCC spilled more than it saved (docs/performance.md).
+    static HAIRSCATTER_HD V3 per_hit_eval(const FiberParams<T>& params, T h, V3 wo, V3 wi) {
+        if (!unit_directions(wo, wi)) return V3(T(0));
+        const Material m = Material::per_hit(params);
+        const BasicChiangFiber fiber(m, h);
+        return fiber.template query<true, false>(fiber.template outgoing<false>(wo), wo, wi).f;
+    }
+    static HAIRSCATTER_HD T per_hit_pdf(const FiberParams<T>& params, T h, V3 wo, V3 wi) {
+        if (!unit_directions(wo, wi)) return T(0);
+        const Material m = Material::per_hit(params);
+        const BasicChiangFiber fiber(m, h);
+        return fiber.template query<false, true>(fiber.template outgoing<true>(wo), wo, wi).pdf;
+    }
+    static HAIRSCATTER_HD HairSample<T> per_hit_sample(const FiberParams<T>& params, T h, V3 wo, V4 u) {
+        if (!unit_direction_and_numbers(wo, u)) return HairSample<T>{};
+        const Material m = Material::per_hit(params);
+        const BasicChiangFiber fiber(m, h);
+        return fiber.sample_fresh(fiber.template outgoing<true>(wo), wo, u);
+    }
+
     // Per lobe: A_p(wo) and the fraction of N_p inside the half-circle of relative
     // azimuths |φ - centre| < π/2 (centre 0: the backward half). M_p integrates to 1, so
     // ∫ over that half of f_p = A_p · backward; the dual-scattering tables integrate these
