@@ -3,7 +3,7 @@
 // for any input at all; and the cheaper constants they share with the checked path
 // (TrimmedLogistic's normaliser, the tilt's sine, DeonLobes' lanes) against their
 // standard-library forms; the per-hit calls (ChiangFiber::per_hit_eval, per_hit_pdf,
-// per_hit_sample) against the same calls from their parts.
+// per_hit_sample, per_hit_vertex) against the same calls from their parts.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -83,8 +83,8 @@ template <typename T> bool close(T a, T b, T rel, T tiny) {
     return std::abs(a - b) <= rel * std::max(std::abs(a), std::abs(b)) || std::max(std::abs(a), std::abs(b)) < tiny;
 }
 
-// ChiangFiber::per_hit_eval, per_hit_pdf and per_hit_sample against the same calls from
-// their parts (ChiangMaterial::per_hit, then the fiber): the same arithmetic, so equal but
+// ChiangFiber::per_hit_eval, per_hit_pdf, per_hit_sample and per_hit_vertex against the
+// same calls from their parts (ChiangMaterial::per_hit, then the fiber): the same arithmetic, so equal but
 // for the compiler's FMA contraction, which may fuse differently once the material is a
 // local of the call. Bound: 1e-6 relative in float, 1e-13 in double (measured: bit for bit
 // without FMA, 2.2e-16 in double with GCC -O3 -ffp-contract=fast; the worst is printed).
@@ -123,10 +123,29 @@ template <typename T> void per_hit_calls_are_the_composed_calls() {
             EXPECT_TRUE(close(s.weight[c], s_ref.weight[c], rel, tiny)) << s.weight[c] << " vs " << s_ref.weight[c];
             track(s.weight[c], s_ref.weight[c]);
         }
-        // A sample's pdf is the per-hit pdf of its own direction.
+        // The vertex: eval_pdf and sample of the bound fiber.
+        const auto at = fiber.at(wo);
+        const auto v = hs::ChiangFiber<T>::per_hit_vertex(p, h, wo, wi, uu);
+        const auto ep = at.eval_pdf(wi);
+        const auto sv = at.sample(uu);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_TRUE(close(v.light.f[c], ep.f[c], rel, tiny)) << v.light.f[c] << " vs " << ep.f[c];
+            EXPECT_TRUE(close(v.next.weight[c], sv.weight[c], rel, tiny)) << v.next.weight[c] << " vs " << sv.weight[c];
+            EXPECT_NEAR(v.next.wi[c], sv.wi[c], rel);
+            track(v.light.f[c], ep.f[c]);
+            track(v.next.weight[c], sv.weight[c]);
+        }
+        EXPECT_TRUE(close(v.light.pdf, ep.pdf, rel, tiny)) << v.light.pdf << " vs " << ep.pdf;
+        EXPECT_TRUE(close(v.next.pdf, sv.pdf, rel, tiny)) << v.next.pdf << " vs " << sv.pdf;
+        EXPECT_EQ(v.next.lobe, sv.lobe);
+        track(v.light.pdf, ep.pdf);
+        track(v.next.pdf, sv.pdf);
+        // A sample's pdf is the per-hit pdf of its own direction, to the rounding of that
+        // direction's round trip through wi (1e-4 relative seen in float).
         if (s.pdf > T(0)) {
             const T at_wi = hs::ChiangFiber<T>::per_hit_pdf(p, h, wo, s.wi);
-            EXPECT_TRUE(close(s.pdf, at_wi, T(100) * rel, tiny)) << s.pdf << " vs " << at_wi;
+            const T trip = std::is_same<T, float>::value ? T(1e-3) : T(1e-9);
+            EXPECT_TRUE(close(s.pdf, at_wi, trip, tiny)) << s.pdf << " vs " << at_wi;
         }
     }
     std::printf("per-hit calls against their parts: worst relative difference %.3g\n", worst);
@@ -180,6 +199,9 @@ TEST(PerHit, ClampedParamsKeepValidOnesAndMoveTheRestIntoRange) {
             EXPECT_TRUE(std::isfinite(pdf2) && pdf2 >= 0.0f) << field << " " << x;
             EXPECT_TRUE(std::isfinite(s2.pdf) && s2.pdf >= 0.0f) << field << " " << x;
             for (int c = 0; c < 3; ++c) EXPECT_TRUE(std::isfinite(s2.weight[c]) && s2.weight[c] >= 0.0f);
+            const auto v2 = hs::ChiangFiber<float>::per_hit_vertex(p, 0.3f, wo, wi, glm::vec4(0.3f, 0.6f, 0.2f, 0.9f));
+            for (int c = 0; c < 3; ++c) EXPECT_TRUE(std::isfinite(v2.light.f[c]) && v2.light.f[c] >= 0.0f);
+            EXPECT_TRUE(std::isfinite(v2.light.pdf) && v2.light.pdf >= 0.0f && std::isfinite(v2.next.pdf));
         }
     }
     // Non-finite directions and numbers give nothing, as the fiber's own calls do.
@@ -190,6 +212,10 @@ TEST(PerHit, ClampedParamsKeepValidOnesAndMoveTheRestIntoRange) {
         EXPECT_EQ(hs::ChiangFiber<float>::per_hit_eval(p, 0.3f, bad, wi), glm::vec3(0.0f));
         EXPECT_EQ(hs::ChiangFiber<float>::per_hit_eval(p, 0.3f, wo, glm::vec3(0.0f)), glm::vec3(0.0f));
         EXPECT_EQ(hs::ChiangFiber<float>::per_hit_pdf(p, 0.3f, wo, bad), 0.0f);
+        const auto v = hs::ChiangFiber<float>::per_hit_vertex(p, 0.3f, bad, wi, glm::vec4(0.5f));
+        EXPECT_EQ(v.light.f, glm::vec3(0.0f));
+        EXPECT_EQ(v.light.pdf, 0.0f);
+        EXPECT_EQ(v.next.pdf, 0.0f);
         EXPECT_EQ(hs::ChiangFiber<float>::per_hit_sample(p, 0.3f, wo, glm::vec4(nan)).pdf, 0.0f);
         const auto m = hs::ChiangMaterial<float>::per_hit(p);
         EXPECT_EQ(hs::ChiangFiber<float>::per_hit_sample(p, nan, wo, glm::vec4(0.5f)).pdf,

@@ -1,6 +1,7 @@
 // CUDA compile check: a material built per hit on the device (ChiangMaterial::per_hit, from
 // parameters that vary per thread, as textures give them) and its fiber evaluated there, and
-// the calls that build it inside (ChiangFiber::per_hit_eval, per_hit_pdf, per_hit_sample).
+// the calls that build it inside (ChiangFiber::per_hit_eval, per_hit_pdf, per_hit_sample,
+// per_hit_vertex).
 // Built by scripts/cuda-check.sh with the other kernels (nvcc -c only; no GPU is needed).
 #include <hairscatter/hairscatter.hpp>
 
@@ -22,6 +23,7 @@ __global__ void evaluate_per_hit(const hairscatter::FiberParams<T>* params, cons
     using Fiber = hairscatter::ChiangFiber<T>;
     f[i] += Fiber::per_hit_eval(params[i], h[i], wo[i], wi[i]);
     pdf[i] += Fiber::per_hit_pdf(params[i], h[i], wo[i], wi[i]) + Fiber::per_hit_sample(params[i], h[i], wo[i], u[i]).pdf;
+    pdf[i] += Fiber::per_hit_vertex(params[i], h[i], wo[i], wi[i], u[i]).next.pdf;
 }
 
 template __global__ void evaluate_per_hit<float>(const hairscatter::FiberParams<float>*, const float*,

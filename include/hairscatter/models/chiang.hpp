@@ -96,6 +96,13 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
     T sigma_a_lanes_[kChannelLanes];
 };
 
+// What BasicChiangFiber::per_hit_vertex returns: f and pdf toward the light sample, and
+// the continuation's sample.
+template <typename T> struct PerHitVertex {
+    HairEvalPdf<T> light;
+    HairSample<T> next;
+};
+
 // One fiber hit: a material and the offset h ∈ [-1, 1] across the fiber. Directions are
 // unit vectors in the fiber frame (fiber/frame.hpp): x = tangent, sinθ = w.x,
 // φ = atan2(w.z, w.y); wo toward the viewer, wi toward the light.
@@ -167,6 +174,17 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
         const Material m = Material::per_hit(params);
         const BasicChiangFiber fiber(m, h);
         return fiber.sample_fresh(fiber.template outgoing<true>(wo), wo, u);
+    }
+    // A path vertex at such a hit: f and pdf toward the light sample wi (its multiple
+    // importance weight needs both) and the continuation sampled with u, with wo's terms
+    // computed once, as at(wo) shares them: the same values as
+    //   const auto at = BasicChiangFiber(ChiangMaterial<T>::per_hit(params), h).at(wo);
+    //   {at.eval_pdf(wi), at.sample(u)}
+    static HAIRSCATTER_HD PerHitVertex<T> per_hit_vertex(const FiberParams<T>& params, T h, const V3& wo, const V3& wi,
+                                                        const V4& u) {
+        const Material m = Material::per_hit(params);
+        const auto at = BasicChiangFiber(m, h).at(wo);
+        return {at.eval_pdf(wi), at.sample(u)};
     }
 
     // Per lobe: A_p(wo) and the fraction of N_p inside the half-circle of relative
