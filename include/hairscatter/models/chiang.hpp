@@ -133,7 +133,9 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     HAIRSCATTER_HD static constexpr bool keeps(int p) { return keeps_lobe(kKept, p); }
 
     // Cheap, device-callable: h is clamped into [-1, 1] (hit offsets round slightly out).
-    HAIRSCATTER_HD BasicChiangFiber(const Material& material, T h) : mat_(&material) {
+    // Forced inline: kept a call (GCC -O3, with many instantiations), it took the material's
+    // address out of the per-hit calls below, which then stored the whole material again.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE BasicChiangFiber(const Material& material, T h) : mat_(&material) {
         h_ = clamped_offset(h);
         gamma_o_ = elem::asin(h_);
         cos_gamma_o_ = cos_from_sin(h_);
