@@ -88,8 +88,13 @@ template <typename T> bool close(T a, T b, T rel, T tiny) {
 // for the compiler's FMA contraction, which may fuse differently once the material is a
 // local of the call. Bound: 1e-6 relative in float, 1e-13 in double (measured: bit for bit
 // without FMA, 2.2e-16 in double with GCC -O3 -ffp-contract=fast; the worst is printed).
+// Under -ffast-math (HAIRSCATTER_ALLOW_FAST_MATH) 1e-4 and 1e-12.
 template <typename T> void per_hit_calls_are_the_composed_calls() {
+#if defined(__FAST_MATH__)  // (reassociated differently in the two: 5.5e-6 and 7.6e-15 seen)
+    const T rel = std::is_same<T, float>::value ? T(1e-4) : T(1e-12);
+#else
     const T rel = std::is_same<T, float>::value ? T(1e-6) : T(1e-13);
+#endif
     const T tiny = std::is_same<T, float>::value ? T(1e-30) : T(1e-290);
     const auto params = random_valid_params<T>(400, 13u);
     std::mt19937 rng(17u);
