@@ -184,6 +184,13 @@ template <typename T> bench_ref::HairBxDF<T> ref_at_hit(std::size_t i, T h) {
 template <typename T> void BM_OursHitEval(benchmark::State& state) {
     const auto& in = inputs<T>();
     cycle(state, [&](std::size_t i) {
+        return hairscatter::ChiangFiber<T>::per_hit_eval(hit_params<T>()[i], in.h[i], in.wo[i], wi_uniform<T>()[i]);
+    });
+}
+// The same from its parts: the material built by the caller, then the fiber's eval.
+template <typename T> void BM_OursHitEvalParts(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) {
         const auto m = hairscatter::ChiangMaterial<T>::per_hit(hit_params<T>()[i]);
         return hairscatter::ChiangFiber<T>(m, in.h[i]).eval(in.wo[i], wi_uniform<T>()[i]);
     });
@@ -192,7 +199,16 @@ template <typename T> void BM_RefHitEval(benchmark::State& state) {
     const auto& in = inputs<T>();
     cycle(state, [&](std::size_t i) { return ref_at_hit<T>(i, in.h[i]).f(in.wo[i], wi_uniform<T>()[i]); });
 }
+// per_hit_vertex also gives the pdf toward wi (for a renderer's MIS weight), which the
+// reference's f does not: more work on our side.
 template <typename T> void BM_OursHitVertex(benchmark::State& state) {
+    const auto& in = inputs<T>();
+    cycle(state, [&](std::size_t i) {
+        return hairscatter::ChiangFiber<T>::per_hit_vertex(hit_params<T>()[i], in.h[i], in.wo[i],
+                                                            wi_uniform<T>()[i], in.u[i]);
+    });
+}
+template <typename T> void BM_OursHitVertexParts(benchmark::State& state) {
     const auto& in = inputs<T>();
     cycle(state, [&](std::size_t i) {
         const auto m = hairscatter::ChiangMaterial<T>::per_hit(hit_params<T>()[i]);
@@ -353,7 +369,9 @@ void print_results(const Collector& c) {
                               {"fresh.pdf", "BM_OursFreshPdf", "BM_RefFreshPdf"},
                               {"fresh.sample", "BM_OursFreshSample", "BM_RefFreshSample"},
                               {"hit.eval", "BM_OursHitEval", "BM_RefHitEval"},
+                              {"hit.eval.parts", "BM_OursHitEvalParts", "BM_RefHitEval"},
                               {"hit.vertex", "BM_OursHitVertex", "BM_RefHitVertex"},
+                              {"hit.vertex.parts", "BM_OursHitVertexParts", "BM_RefHitVertex"},
                               {"b0.05.eval", "BM_OursEvalB", "BM_RefEvalB", "/0"},
                               {"b1.eval", "BM_OursEvalB", "BM_RefEvalB", "/2"},
                               {"b0.05.sample", "BM_OursSampleB", "BM_RefSampleB", "/0"},
@@ -427,8 +445,10 @@ HAIRSCATTER_BOTH(BM_RefFreshPdf);
 HAIRSCATTER_BOTH(BM_OursFreshSample);
 HAIRSCATTER_BOTH(BM_RefFreshSample);
 HAIRSCATTER_BOTH(BM_OursHitEval);
+HAIRSCATTER_BOTH(BM_OursHitEvalParts);
 HAIRSCATTER_BOTH(BM_RefHitEval);
 HAIRSCATTER_BOTH(BM_OursHitVertex);
+HAIRSCATTER_BOTH(BM_OursHitVertexParts);
 HAIRSCATTER_BOTH(BM_RefHitVertex);
 HAIRSCATTER_BOTH(BM_OursHitBuild);
 HAIRSCATTER_BOTH(BM_OursCheckedBuild);

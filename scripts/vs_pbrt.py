@@ -17,7 +17,9 @@ CALLS = [("eval", "`eval(wo, wi)`"), ("pdf", "`pdf(wo, wi)`"), ("sample", "`samp
          ("vertex", "path vertex"), ("at.eval", "`at(wo).eval(wi)`"),
          ("fresh.eval", "stateless `eval`: fiber(h) + eval"), ("fresh.pdf", "stateless `pdf`: fiber(h) + pdf"),
          ("fresh.sample", "stateless `sample`: fiber(h) + sample"),
-         ("hit.eval", "per-hit material + `eval`"), ("hit.vertex", "per-hit material + path vertex"),
+         ("hit.eval", "per-hit `eval`: per_hit_eval"),
+         ("hit.eval.parts", "per-hit material, then fiber + `eval`"), ("hit.vertex", "per-hit path vertex: per_hit_vertex"),
+         ("hit.vertex.parts", "per-hit material, then fiber + path vertex"),
          ("b0.05.eval", "`eval`, β 0.05"), ("b1.eval", "`eval`, β 1"),
          ("b0.05.sample", "`sample`, β 0.05"), ("b1.sample", "`sample`, β 1"),
          ("batch.eval", "batched `eval`, per hit"), ("batch.pdf", "batched `pdf`, per hit"),
@@ -110,7 +112,9 @@ def cmd_results(out_md, header, *runs_paths):
             "(bench/reference/pbrt_style.hpp), both measured in the same process. Builds: native =",
             "-march=native, v3 = -march=x86-64-v3, v2 = -march=x86-64-v2. Stateless rows build the",
             "fiber from h inside the timed call (the reference its HairBxDF); per-hit rows build the",
-            "material too, from parameters that differ at every input (ours ChiangMaterial::per_hit).",
+            "material too, from parameters that differ at every input (ours inside the call:",
+            "ChiangFiber::per_hit_eval and per_hit_vertex, the latter also giving the pdf toward wi;",
+            "or from the parts: ChiangMaterial::per_hit, then the fiber).",
             "Batched rows: ChiangBatch over 256 hits of one material per call (h per hit), the time",
             "per hit against the reference's prebuilt per-hit calls.", ""]
     text += ["```"] + open(header).read().rstrip("\n").splitlines() + ["```", ""]

@@ -1,5 +1,7 @@
 // CUDA compile check: a material built per hit on the device (ChiangMaterial::per_hit, from
-// parameters that vary per thread, as textures give them) and its fiber evaluated there.
+// parameters that vary per thread, as textures give them) and its fiber evaluated there, and
+// the calls that build it inside (ChiangFiber::per_hit_eval, per_hit_pdf, per_hit_sample,
+// per_hit_vertex).
 // Built by scripts/cuda-check.sh with the other kernels (nvcc -c only; no GPU is needed).
 #include <hairscatter/hairscatter.hpp>
 
@@ -18,6 +20,10 @@ __global__ void evaluate_per_hit(const hairscatter::FiberParams<T>* params, cons
     const auto at = fiber.at(wo[i]);
     f[i] = at.eval(wi[i]);
     pdf[i] = at.sample(u[i]).pdf + fiber.pdf(wo[i], wi[i]);
+    using Fiber = hairscatter::ChiangFiber<T>;
+    f[i] += Fiber::per_hit_eval(params[i], h[i], wo[i], wi[i]);
+    pdf[i] += Fiber::per_hit_pdf(params[i], h[i], wo[i], wi[i]) + Fiber::per_hit_sample(params[i], h[i], wo[i], u[i]).pdf;
+    pdf[i] += Fiber::per_hit_vertex(params[i], h[i], wo[i], wi[i], u[i]).next.pdf;
 }
 
 template __global__ void evaluate_per_hit<float>(const hairscatter::FiberParams<float>*, const float*,

@@ -96,6 +96,13 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
     T sigma_a_lanes_[kChannelLanes];
 };
 
+// What BasicChiangFiber::per_hit_vertex returns: f and pdf toward the light sample, and
+// the continuation's sample.
+template <typename T> struct PerHitVertex {
+    HairEvalPdf<T> light;
+    HairSample<T> next;
+};
+
 // One fiber hit: a material and the offset h ∈ [-1, 1] across the fiber. Directions are
 // unit vectors in the fiber frame (fiber/frame.hpp): x = tangent, sinθ = w.x,
 // φ = atan2(w.z, w.y); wo toward the viewer, wi toward the light.
@@ -126,7 +133,9 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
     HAIRSCATTER_HD static constexpr bool keeps(int p) { return keeps_lobe(kKept, p); }
 
     // Cheap, device-callable: h is clamped into [-1, 1] (hit offsets round slightly out).
-    HAIRSCATTER_HD BasicChiangFiber(const Material& material, T h) : mat_(&material) {
+    // Forced inline: kept a call (GCC -O3, with many instantiations), it took the material's
+    // address out of the per-hit calls below, which then stored the whole material again.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE BasicChiangFiber(const Material& material, T h) : mat_(&material) {
         h_ = clamped_offset(h);
         gamma_o_ = elem::asin(h_);
         cos_gamma_o_ = cos_from_sin(h_);
@@ -138,6 +147,47 @@ class BasicChiangFiber : public FiberModel<BasicChiangFiber<T, kKept>, T> {
 
     HAIRSCATTER_HD T h() const { return h_; }
     HAIRSCATTER_HD const Material& material() const { return *mat_; }
+
+    // eval, pdf and sample at a hit whose parameters vary per hit (textures, strand
+    // variation), the material built inside the call: the same values as
+    //   const auto m = ChiangMaterial<T>::per_hit(params);
+    //   BasicChiangFiber(m, h).eval(wo, wi);  // (or pdf, sample)
+    // to a few ulp (the same arithmetic; only the compiler's FMA contraction may differ:
+    // tests/per_hit_test.cpp). Cheaper than that composition: the material is a local of
+    // the call, so the compiler keeps only the constants the query reads, in registers,
+    // where a material built outside an out-of-line eval must be stored whole first
+    // (bench/results/vs_pbrt.md, per-hit rows). No checks, no exceptions, device-callable;
+    // the parameters are clamped as per_hit clamps them. Not forced inline: inlined into
+    // the caller's loop, GCC spilled more than it saved (docs/performance.md).
+    static HAIRSCATTER_HD V3 per_hit_eval(const FiberParams<T>& params, T h, V3 wo, V3 wi) {
+        if (!unit_directions(wo, wi)) return V3(T(0));
+        const Material m = Material::per_hit(params);
+        const BasicChiangFiber fiber(m, h);
+        return fiber.template query<true, false>(fiber.template outgoing<false>(wo), wo, wi).f;
+    }
+    static HAIRSCATTER_HD T per_hit_pdf(const FiberParams<T>& params, T h, V3 wo, V3 wi) {
+        if (!unit_directions(wo, wi)) return T(0);
+        const Material m = Material::per_hit(params);
+        const BasicChiangFiber fiber(m, h);
+        return fiber.template query<false, true>(fiber.template outgoing<true>(wo), wo, wi).pdf;
+    }
+    static HAIRSCATTER_HD HairSample<T> per_hit_sample(const FiberParams<T>& params, T h, V3 wo, V4 u) {
+        if (!unit_direction_and_numbers(wo, u)) return HairSample<T>{};
+        const Material m = Material::per_hit(params);
+        const BasicChiangFiber fiber(m, h);
+        return fiber.sample_fresh(fiber.template outgoing<true>(wo), wo, u);
+    }
+    // A path vertex at such a hit: f and pdf toward the light sample wi (its multiple
+    // importance weight needs both) and the continuation sampled with u, with wo's terms
+    // computed once, as at(wo) shares them: the same values as
+    //   const auto at = BasicChiangFiber(ChiangMaterial<T>::per_hit(params), h).at(wo);
+    //   {at.eval_pdf(wi), at.sample(u)}
+    static HAIRSCATTER_HD PerHitVertex<T> per_hit_vertex(const FiberParams<T>& params, T h, const V3& wo, const V3& wi,
+                                                        const V4& u) {
+        const Material m = Material::per_hit(params);
+        const auto at = BasicChiangFiber(m, h).at(wo);
+        return {at.eval_pdf(wi), at.sample(u)};
+    }
 
     // Per lobe: A_p(wo) and the fraction of N_p inside the half-circle of relative
     // azimuths |φ - centre| < π/2 (centre 0: the backward half). M_p integrates to 1, so
