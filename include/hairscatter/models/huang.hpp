@@ -1122,19 +1122,18 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     // surface, which GGX's core follows), so the exit lobe's roughness becomes
     // sqrt(β² + A / 2π): a kernel that shrinks as the lattice grows and is widest where the
     // lattice is sparsest (D_v's tail), at most 1.
-    // (HuangMaterial::entry_row rounds it to a row without computing it; enter_lanes finds
-    // D_v(h) with the entry.)
-
+    // HuangMaterial::entry_row rounds it to a row without computing it, from D_v(h), which
+    // enter_lanes computes with the entry.
     // The entries of a block of kEntryLanes consecutive lattice points, structure-of-arrays
     // over the points: per point the circle point c it enters at, the direction t the light
     // refracts into through the point's visible normal, its weight y = beam (1 - F) G1 gain,
     // the beam per unit h (the points are uniform in h; hit's is per unit γ = asin h), 0
-    // where nothing enters, and its exit kernel's row. The same formulas as hit,
-    // visible_normal, refract_through, fresnel_any, Ggx::g1 and entry_kernel, each step one
-    // loop across the points with its conditionals as selects (math/functions.hpp) and its
-    // square roots batched between the steps (elem::sqrt_each), so that GCC and Clang
-    // vectorise the loops across the points (eight floats to an AVX register), where the
-    // one-point form was scalar code about 460 instructions long.
+    // where nothing enters, and its exit kernel's row. The same formulas as hit (the
+    // mesonormal and the beam), TangentFrame with Ggx's visible-normal sampler,
+    // refract_through, fresnel_any, Ggx::g1 and Ggx::visible, each step one loop across the
+    // points with its conditionals as selects (math/functions.hpp) and its square roots
+    // batched between the steps (elem::sqrt_each), so that GCC and Clang vectorise the loops
+    // across the points (eight floats to an AVX register).
 #if defined(__CUDACC__)
     static constexpr int kEntryLanes = 1;  // a GPU thread gains nothing from lanes
 #else
