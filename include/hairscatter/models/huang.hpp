@@ -381,6 +381,15 @@ template <typename T> class HuangMaterial {
     // inside: the share of the light that stays on its side.
     HAIRSCATTER_HD T total_reflectance_outside(T c) const { return lookup(total_out_, c); }
     HAIRSCATTER_HD T total_reflectance_inside(T c) const { return lookup(total_in_, c); }
+    // The same of N cosines at once, in loops that vectorise (the table's cell found by
+    // selects, the entries gathered).
+    template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void reflectance_inside(const T (&c)[N], T (&e)[N]) const {
+        for (int j = 0; j < N; ++j) e[j] = lookup_lane(inside_, c[j]);
+    }
+    template <int N>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void total_reflectance_inside(const T (&c)[N], T (&e)[N]) const {
+        for (int j = 0; j < N; ++j) e[j] = lookup_lane(total_in_, c[j]);
+    }
     // The lobes' scales: the reflection lobe from outside carries the total reflectance in
     // the shape of its unshadowed single scattering (total / single), the transmission lobe
     // leaving the fiber its total transmittance (1 − total_in) / transmit_single.
@@ -509,6 +518,15 @@ template <typename T> class HuangMaterial {
         }
     }
 
+    // lookup's value with table_cell's and clamp's branches as selects.
+    HAIRSCATTER_HD static HAIRSCATTER_FORCE_INLINE T lookup_lane(const T* table, T c) {
+        constexpr T last = T(kTableSize - 2);
+        const T above = select(c < T(0), T(0), c);
+        const T x = select(above > T(1), T(1), above) * T(kTableSize - 1);
+        const int i = int(select(x > T(0), select(x < last, x, last), T(0)));
+        const T f = x - T(i);
+        return table[i] + f * (table[i + 1] - table[i]);
+    }
     template <int kSize = kTableSize> HAIRSCATTER_HD static T lookup(const T* table, T c) {
         const T x = clamp(c, T(0), T(1)) * T(kSize - 1);
         const int i = table_cell(x, kSize - 2);
@@ -1276,6 +1294,18 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         return select(sin2_i >= n2, T(1), f);
     }
 
+    // Ggx::g1 of the material's roughness at N cosines.
+    template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void g1_lanes(const Lanes<N>& cos_w, Lanes<N>& g1) const {
+        const T a = mat_->ggx().alpha(), a2 = a * a;
+        Lanes<N> c, r;
+        for (int j = 0; j < N; ++j) {
+            c[j] = select(cos_w[j] > T(0), select(cos_w[j] < T(1), cos_w[j], T(1)), T(0));
+            r[j] = a2 * (T(1) - c[j]) * (T(1) + c[j]) + c[j] * c[j];
+        }
+        elem::sqrt_each(r);
+        for (int j = 0; j < N; ++j) g1[j] = select(c[j] > T(0), T(2) * c[j] * (T(1) / (c[j] + r[j])), T(0));
+    }
+
     // Points past the lattice's end (a last, partial block) repeat its last point; the walk
     // reads only the block's first `count`.
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void enter_lanes(const Outgoing& o, int first, EntryLanes& e) const {
@@ -1376,7 +1406,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         // share; 0 where it points outward); the second chord and the TRT exit's mesonormal
         // and cosine.
         T rx[kM][K], ry[kM][K], rz[kM][K], fr[kM][K], ex2[kM][K], ey2[kM][K], len2[kM][K];
-        T mx3[kM][K], my3[kM][K], mz3[kM][K], cos3[kM][K];
+        T mx3[kM][K], my3[kM][K], mz3[kM][K], cos3[kM][K], e3[kM][K], g1_3[kM][K];
         for (int first = 0; first < n; first += K) {
             enter_lanes(o, first, e);
             for (int j = 0; j < K; ++j) {
@@ -1391,6 +1421,12 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                 my[j] = -my[j];
                 mz[j] = -mz[j];
             }
+            // The exit's cosine and its tables.
+            T cos2[K], e_in[K], e_mean[K], g1_2[K];
+            for (int j = 0; j < K; ++j) cos2[j] = vx[j] * mx[j] + vy[j] * my[j] + vz[j] * mz[j];
+            mat_->reflectance_inside(cos2, e_mean);
+            mat_->total_reflectance_inside(cos2, e_in);
+            g1_lanes(cos2, g1_2);
             // The internal reflections: v2 = −t in the frame of the inward mesonormal.
             frame_lanes(mx, my, mz, vx, vy, vz, sx, sy, sz, wx, wy, wz);
             for (int l = 0; l < m; ++l) {
@@ -1430,6 +1466,8 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                     mz3[l][j] = -mz3[l][j];
                     cos3[l][j] = -(rx[l][j] * mx3[l][j] + ry[l][j] * my3[l][j] + rz[l][j] * mz3[l][j]);
                 }
+                mat_->total_reflectance_inside(cos3[l], e3[l]);
+                g1_lanes(cos3[l], g1_3[l]);
             }
             const int count = n - first < K ? n - first : K;
             for (int j = 0; j < count; ++j) {
@@ -1446,14 +1484,13 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                 const V3 at_exit = y * a1;
                 const V3 m_in(mx[j], my[j], mz[j]);
                 const V3 v2(vx[j], vy[j], vz[j]);
-                const T cos2 = glm::dot(v2, m_in);
-                if (!(cos2 > T(0))) {
+                const T c2 = cos2[j];
+                if (!(c2 > T(0))) {
                     s.residual += at_exit;
                     continue;
                 }
-                const T e_in = mat_->total_reflectance_inside(cos2);
-                visit(End{1, at_exit, at_exit * (T(1) - e_in), v2, m_in, cos2, mat_->exit_gain(cos2, row),
-                          mat_->ggx().g1(cos2), alpha});
+                const T e2 = e_in[j];
+                visit(End{1, at_exit, at_exit * (T(1) - e2), v2, m_in, c2, mat_->exit_gain(c2, row), g1_2[j], alpha});
 
                 // The internal reflection at m normals of the path, each carrying F / (m E) of
                 // the interface's total e_in, E the mean reflectance of one event: a share
@@ -1462,8 +1499,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                 // not weighted by its masking, which measured further from the physical fiber
                 // (docs/theory.md §3.6).
                 T f[kM], sum = T(0);
-                const T e_mean = mat_->reflectance_inside(cos2);
-                const T share = e_mean > T(0) ? e_in / (T(m) * e_mean) : T(0);
+                const T share = e_mean[j] > T(0) ? e2 / (T(m) * e_mean[j]) : T(0);
                 for (int l = 0; l < m; ++l) {
                     f[l] = share * fr[l][j];
                     sum += f[l];
@@ -1474,10 +1510,10 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                 {
                     V3 onward;
                     for (int ch = 0; ch < 3; ++ch) {
-                        const T den = T(1) - a1[ch] * e_in;
-                        onward[ch] = den > T(1e-6) ? a1[ch] * (T(1) - e_in) / den : T(1);
+                        const T den = T(1) - a1[ch] * e2;
+                        onward[ch] = den > T(1e-6) ? a1[ch] * (T(1) - e2) / den : T(1);
                     }
-                    s.residual += at_exit * (e_in - sum) * onward;
+                    s.residual += at_exit * (e2 - sum) * onward;
                 }
                 for (int l = 0; l < m; ++l) {
                     if (!(f[l] > T(0))) continue;
@@ -1493,20 +1529,18 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                         s.residual += at_exit2;
                         continue;
                     }
-                    const T e3 = mat_->total_reflectance_inside(c3);
-                    visit(End{2, at_exit2, at_exit2 * (T(1) - e3), -V3(rx[l][j], ry[l][j], rz[l][j]),
-                              V3(mx3[l][j], my3[l][j], mz3[l][j]), c3, mat_->exit_gain(c3, row), mat_->ggx().g1(c3),
-                              alpha});
+                    const T r_bar = e3[l][j];
+                    visit(End{2, at_exit2, at_exit2 * (T(1) - r_bar), -V3(rx[l][j], ry[l][j], rz[l][j]),
+                              V3(mx3[l][j], my3[l][j], mz3[l][j]), c3, mat_->exit_gain(c3, row), g1_3[l][j], alpha});
                     // Orders past TRT: A_3 Σ (A_3 R̄)^n (1 - R̄), every later interface reflecting
                     // R̄ = the total internal reflectance at this one's angle; its limit 1 where
                     // A_3 R̄ → 1.
-                    const T r_bar = e3;
                     V3 series;
                     for (int ch = 0; ch < 3; ++ch) {
                         const T den = T(1) - a.a3[ch] * r_bar;
                         series[ch] = den > T(1e-6) ? a.a3[ch] * (T(1) - r_bar) / den : T(1);
                     }
-                    s.residual += at_exit2 * e3 * series;
+                    s.residual += at_exit2 * r_bar * series;
                 }
             }
         }
