@@ -383,12 +383,12 @@ template <typename T> class HuangMaterial {
     HAIRSCATTER_HD T total_reflectance_inside(T c) const { return lookup(total_in_, c); }
     // The same of N cosines at once, in loops that vectorise (the table's cell found by
     // selects, the entries gathered).
-    template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void reflectance_inside(const T (&c)[N], T (&e)[N]) const {
-        for (int j = 0; j < N; ++j) e[j] = lookup_lane(inside_, c[j]);
+    template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void reflectance_inside(const T (&c)[N], T (&e)[N]) const {
+        for (int j = 0; j < int(N); ++j) e[j] = lookup_lane(inside_, c[j]);
     }
-    template <int N>
+    template <std::size_t N>
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void total_reflectance_inside(const T (&c)[N], T (&e)[N]) const {
-        for (int j = 0; j < N; ++j) e[j] = lookup_lane(total_in_, c[j]);
+        for (int j = 0; j < int(N); ++j) e[j] = lookup_lane(total_in_, c[j]);
     }
     // The lobes' scales: the reflection lobe from outside carries the total reflectance in
     // the shape of its unshadowed single scattering (total / single), the transmission lobe
@@ -1166,19 +1166,19 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     // The lane forms of the walk's geometric steps over arrays of N lanes: the formulas of
     // EllipticalSection, TangentFrame, Ggx and fresnel_any in the same order, conditionals as
     // selects and square roots batched (elem::sqrt_each), each loop free of branches.
-    template <int N> using Lanes = T[N];
+    template <std::size_t N> using Lanes = T[N];
     static HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_clamp(T x, T lo, T hi) {
         return select(x < lo, lo, select(x > hi, hi, x));
     }
     static HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_floor0(T x) { return select(x > T(0), x, T(0)); }
     // mesonormal(c) at circle points c, and |A⁻¹c| (EllipticalSection::normal_scale).
-    template <int N>
+    template <std::size_t N>
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void mesonormal_lanes(const Lanes<N>& cx, const Lanes<N>& cy, Lanes<N>& mx, Lanes<N>& my, Lanes<N>& mz,
                                          Lanes<N>& scale) const {
         const T st = mat_->sin_tilt(), ct = mat_->cos_tilt(), inv_b = mat_->section().inv_aspect();
-        for (int j = 0; j < N; ++j) scale[j] = cx[j] * cx[j] + sqr(cy[j] * inv_b);
+        for (int j = 0; j < int(N); ++j) scale[j] = cx[j] * cx[j] + sqr(cy[j] * inv_b);
         elem::sqrt_each(scale);
-        for (int j = 0; j < N; ++j) {
+        for (int j = 0; j < int(N); ++j) {
             mx[j] = st;
             my[j] = ct * (cx[j] / scale[j]);
             mz[j] = ct * (cy[j] * inv_b / scale[j]);
@@ -1186,13 +1186,13 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     }
     // EllipticalSection::chord from c along (dx, dy): the exit point and the length, 0 where
     // the chord is not ok (a chord that is has length > 0).
-    template <int N>
+    template <std::size_t N>
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void chord_lanes(const Lanes<N>& cx, const Lanes<N>& cy, const Lanes<N>& dx,
                                                              const Lanes<N>& dy, Lanes<N>& ex, Lanes<N>& ey,
                                                              Lanes<N>& length) const {
         const T inv_b = mat_->section().inv_aspect();
         Lanes<N> r;
-        for (int j = 0; j < N; ++j) {
+        for (int j = 0; j < int(N); ++j) {
             const T ux = dx[j], uy = dy[j] * inv_b;
             const T dd = ux * ux + uy * uy;
             const T sl = T(-2) * (cx[j] * ux + cy[j] * uy) / dd;
@@ -1202,7 +1202,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
             r[j] = ex[j] * ex[j] + ey[j] * ey[j];
         }
         elem::sqrt_each(r);
-        for (int j = 0; j < N; ++j) {
+        for (int j = 0; j < int(N); ++j) {
             const bool ok = length[j] > T(0);
             ex[j] = select(ok, ex[j] / r[j], cx[j]);
             ey[j] = select(ok, ey[j] / r[j], cy[j]);
@@ -1210,13 +1210,13 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     }
     // TangentFrame(m, w)'s s (its fallback where w lies along m), and w in the frame
     // stretched by α and normalised (Ggx::stretch of TangentFrame::to_local).
-    template <int N>
+    template <std::size_t N>
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void frame_lanes(const Lanes<N>& mx, const Lanes<N>& my, const Lanes<N>& mz, const Lanes<N>& wx,
                                     const Lanes<N>& wy, const Lanes<N>& wz, Lanes<N>& sx, Lanes<N>& sy, Lanes<N>& sz,
                                     Lanes<N>& vx, Lanes<N>& vy, Lanes<N>& vz) const {
         const T a = mat_->ggx().alpha();
         Lanes<N> r;
-        for (int j = 0; j < N; ++j) {
+        for (int j = 0; j < int(N); ++j) {
             const T wm = wx[j] * mx[j] + wy[j] * my[j] + wz[j] * mz[j];
             const T px = wx[j] - wm * mx[j], py = wy[j] - wm * my[j], pz = wz[j] - wm * mz[j];
             const T len2 = px * px + py * py + pz * pz;
@@ -1230,7 +1230,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
             r[j] = select(along, fx * fx + fy * fy + fz * fz, len2);
         }
         elem::sqrt_each(r);
-        for (int j = 0; j < N; ++j) {
+        for (int j = 0; j < int(N); ++j) {
             sx[j] /= r[j];
             sy[j] /= r[j];
             sz[j] /= r[j];
@@ -1241,7 +1241,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
             r[j] = vx[j] * vx[j] + vy[j] * vy[j] + vz[j] * vz[j];
         }
         elem::sqrt_each(r);
-        for (int j = 0; j < N; ++j) {
+        for (int j = 0; j < int(N); ++j) {
             const T inv = T(1) / r[j];
             vx[j] *= inv;
             vy[j] *= inv;
@@ -1250,7 +1250,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     }
     // Ggx::sample_visible_stretched from the stretched v at (u1 as its cosine and sine, u2),
     // then TangentFrame::to_world with the frame (s, m × s, m): the visible normal h.
-    template <int N>
+    template <std::size_t N>
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void visible_normal_lanes(const Lanes<N>& mx, const Lanes<N>& my, const Lanes<N>& mz,
                                              const Lanes<N>& sx, const Lanes<N>& sy, const Lanes<N>& sz,
                                              const Lanes<N>& vx, const Lanes<N>& vy, const Lanes<N>& vz,
@@ -1258,13 +1258,13 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                                              Lanes<N>& hx, Lanes<N>& hy, Lanes<N>& hz) const {
         const T a = mat_->ggx().alpha();
         Lanes<N> z, r, len2;
-        for (int j = 0; j < N; ++j) {
+        for (int j = 0; j < int(N); ++j) {
             z[j] = (T(1) - u2[j]) * (T(1) + vz[j]) - vz[j];
             const T zc = lane_clamp(z[j], T(-1), T(1));
             r[j] = lane_floor0((T(1) - zc) * (T(1) + zc));
         }
         elem::sqrt_each(r);
-        for (int j = 0; j < N; ++j) {
+        for (int j = 0; j < int(N); ++j) {
             hx[j] = a * (r[j] * cos_u1[j] + vx[j]);
             hy[j] = a * (r[j] * sin_u1[j] + vy[j]);
             hz[j] = z[j] + vz[j];
@@ -1272,7 +1272,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
             r[j] = len2[j];
         }
         elem::sqrt_each(r);
-        for (int j = 0; j < N; ++j) {
+        for (int j = 0; j < int(N); ++j) {
             const bool tiny = !(len2[j] > T(1e-30));
             const T lx = select(tiny, T(0), hx[j] / r[j]), ly = select(tiny, T(0), hy[j] / r[j]),
                     lz = select(tiny, T(1), hz[j] / r[j]);
@@ -1295,15 +1295,15 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     }
 
     // Ggx::g1 of the material's roughness at N cosines.
-    template <int N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void g1_lanes(const Lanes<N>& cos_w, Lanes<N>& g1) const {
+    template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void g1_lanes(const Lanes<N>& cos_w, Lanes<N>& g1) const {
         const T a = mat_->ggx().alpha(), a2 = a * a;
         Lanes<N> c, r;
-        for (int j = 0; j < N; ++j) {
+        for (int j = 0; j < int(N); ++j) {
             c[j] = select(cos_w[j] > T(0), select(cos_w[j] < T(1), cos_w[j], T(1)), T(0));
             r[j] = a2 * (T(1) - c[j]) * (T(1) + c[j]) + c[j] * c[j];
         }
         elem::sqrt_each(r);
-        for (int j = 0; j < N; ++j) g1[j] = select(c[j] > T(0), T(2) * c[j] * (T(1) / (c[j] + r[j])), T(0));
+        for (int j = 0; j < int(N); ++j) g1[j] = select(c[j] > T(0), T(2) * c[j] * (T(1) / (c[j] + r[j])), T(0));
     }
 
     // Points past the lattice's end (a last, partial block) repeat its last point; the walk
@@ -1396,7 +1396,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     // then per normal the second chord, the exit (TRT) and the residual's series.
     template <typename Visit> HAIRSCATTER_HD void walk_paths(const Outgoing& o, RuleTotals& s, Visit&& visit) const {
         if (!o.visible) return;
-        constexpr int K = kEntryLanes, kM = Material::kMaxTrtPerTT;
+        constexpr int K = kEntryLanes;
         const T inv_eta = T(1) / mat_->params().eta, inv_eta2 = inv_eta * inv_eta;
         const int m = mat_->trt_per_tt(), n = mat_->tt_points();
         EntryLanes e;
@@ -1405,8 +1405,8 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         // Per internal normal l: the reflected direction, its Fresnel factor (before the
         // share; 0 where it points outward); the second chord and the TRT exit's mesonormal
         // and cosine.
-        T rx[kM][K], ry[kM][K], rz[kM][K], fr[kM][K], ex2[kM][K], ey2[kM][K], len2[kM][K];
-        T mx3[kM][K], my3[kM][K], mz3[kM][K], cos3[kM][K], e3[kM][K], g1_3[kM][K];
+        T rx[Material::kMaxTrtPerTT][kEntryLanes], ry[Material::kMaxTrtPerTT][kEntryLanes], rz[Material::kMaxTrtPerTT][kEntryLanes], fr[Material::kMaxTrtPerTT][kEntryLanes], ex2[Material::kMaxTrtPerTT][kEntryLanes], ey2[Material::kMaxTrtPerTT][kEntryLanes], len2[Material::kMaxTrtPerTT][kEntryLanes];
+        T mx3[Material::kMaxTrtPerTT][kEntryLanes], my3[Material::kMaxTrtPerTT][kEntryLanes], mz3[Material::kMaxTrtPerTT][kEntryLanes], cos3[Material::kMaxTrtPerTT][kEntryLanes], e3[Material::kMaxTrtPerTT][kEntryLanes], g1_3[Material::kMaxTrtPerTT][kEntryLanes];
         for (int first = 0; first < n; first += K) {
             enter_lanes(o, first, e);
             for (int j = 0; j < K; ++j) {
@@ -1498,7 +1498,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                 // TRT 40 % too bright against the physical fiber). The reflected direction is
                 // not weighted by its masking, which measured further from the physical fiber
                 // (docs/theory.md §3.6).
-                T f[kM], sum = T(0);
+                T f[Material::kMaxTrtPerTT], sum = T(0);
                 const T share = e_mean[j] > T(0) ? e2 / (T(m) * e_mean[j]) : T(0);
                 for (int l = 0; l < m; ++l) {
                     f[l] = share * fr[l][j];
