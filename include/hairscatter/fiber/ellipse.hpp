@@ -31,6 +31,7 @@ template <typename T> class EllipticalSection {
     HAIRSCATTER_HD EllipticalSection(T b, T psi) : b_(b), inv_b_(T(1) / b) { elem::sincos(psi, sin_psi_, cos_psi_); }
 
     HAIRSCATTER_HD T aspect() const { return b_; }
+    HAIRSCATTER_HD T inv_aspect() const { return inv_b_; }  // 1 / b, as the section's formulas use it
 
     // Fiber frame (x axis, y, z) ↔ section frame (x axis, major u, minor v): a rotation about x.
     HAIRSCATTER_HD V3 to_section(const V3& w) const {

@@ -381,6 +381,15 @@ template <typename T> class HuangMaterial {
     // inside: the share of the light that stays on its side.
     HAIRSCATTER_HD T total_reflectance_outside(T c) const { return lookup(total_out_, c); }
     HAIRSCATTER_HD T total_reflectance_inside(T c) const { return lookup(total_in_, c); }
+    // The same of N cosines at once, in loops that vectorise (the table's cell found by
+    // selects, the entries gathered).
+    template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void reflectance_inside(const T (&c)[N], T (&e)[N]) const {
+        for (int j = 0; j < int(N); ++j) e[j] = lookup_lane(inside_, c[j]);
+    }
+    template <std::size_t N>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void total_reflectance_inside(const T (&c)[N], T (&e)[N]) const {
+        for (int j = 0; j < int(N); ++j) e[j] = lookup_lane(total_in_, c[j]);
+    }
     // The lobes' scales: the reflection lobe from outside carries the total reflectance in
     // the shape of its unshadowed single scattering (total / single), the transmission lobe
     // leaving the fiber its total transmittance (1 − total_in) / transmit_single.
@@ -509,6 +518,15 @@ template <typename T> class HuangMaterial {
         }
     }
 
+    // lookup's value with table_cell's and clamp's branches as selects.
+    HAIRSCATTER_HD static HAIRSCATTER_FORCE_INLINE T lookup_lane(const T* table, T c) {
+        constexpr T last = T(kTableSize - 2);
+        const T above = select(c < T(0), T(0), c);
+        const T x = select(above > T(1), T(1), above) * T(kTableSize - 1);
+        const int i = int(select(x > T(0), select(x < last, x, last), T(0)));
+        const T f = x - T(i);
+        return table[i] + f * (table[i + 1] - table[i]);
+    }
     template <int kSize = kTableSize> HAIRSCATTER_HD static T lookup(const T* table, T c) {
         const T x = clamp(c, T(0), T(1)) * T(kSize - 1);
         const int i = table_cell(x, kSize - 2);
@@ -737,6 +755,27 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     HAIRSCATTER_HD V3 albedo(V3 wo) const {
         if (!unit_direction(wo)) return V3(T(0));
         return albedo_from(outgoing<false>(wo));
+    }
+
+    // Path i's entry into the fiber from wo (i < material().tt_points()) as the walk
+    // computes it, in the section frame: the circle point it enters at, the refracted
+    // direction, its weight (0 where nothing enters) and its exit kernel's row. For tests and
+    // tools; a zero or non-finite wo gives weight 0.
+    struct Entry {
+        V2 c;
+        V3 t;
+        T weight;
+        int row;
+    };
+    HAIRSCATTER_HD Entry entry(V3 wo, int i) const {
+        Entry r{V2(T(0)), V3(T(0)), T(0), 0};
+        if (!unit_direction(wo) || i < 0 || i >= mat_->tt_points()) return r;
+        const Outgoing o = outgoing<false>(wo);
+        if (!o.visible) return r;
+        EntryLanes e;
+        const int j = i % kEntryLanes;
+        enter_lanes(o, i - j, e);
+        return Entry{V2(e.c_x[j], e.c_y[j]), V3(e.t_x[j], e.t_y[j], e.t_z[j]), e.y[j], e.row[j]};
     }
 
     // Per lobe: its energy A_p(wo) (exact, as albedo) and the fraction of it scattered into
@@ -1075,12 +1114,6 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         return o;
     }
 
-    // The visible normal of D_v about m from v at the unit-square point q.
-    HAIRSCATTER_HD V3 visible_normal(const V3& m, const V3& v, const typename Material::NormalPoint& q) const {
-        const TangentFrame<T> frame(m, v);
-        return frame.to_world(mat_->ggx().sample_visible_local(frame.to_local(v), q.cos_u1, q.sin_u1, q.u2));
-    }
-
     // R's rule: per offset node the surface reflection and the transmitted share.
     template <typename Visit> HAIRSCATTER_HD void walk_r(const Outgoing& o, RuleTotals& s, Visit&& visit) const {
         for (int k = 0; k < mat_->nodes(); ++k) {
@@ -1107,125 +1140,408 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     // surface, which GGX's core follows), so the exit lobe's roughness becomes
     // sqrt(β² + A / 2π): a kernel that shrinks as the lattice grows and is widest where the
     // lattice is sparsest (D_v's tail), at most 1.
-    // (HuangMaterial::entry_row rounds it to a row without computing it.)
-    HAIRSCATTER_HD int entry_kernel(const Hit& g, const V3& v, const V3& h) const {
-        return mat_->entry_row(mat_->ggx().visible(g.cos_v, glm::dot(v, h), glm::dot(h, g.m)));
+    // HuangMaterial::entry_row rounds it to a row without computing it, from D_v(h), which
+    // enter_lanes computes with the entry.
+    // The entries of a block of kEntryLanes consecutive lattice points, structure-of-arrays
+    // over the points: per point the circle point c it enters at, the direction t the light
+    // refracts into through the point's visible normal, its weight y = beam (1 - F) G1 gain,
+    // the beam per unit h (the points are uniform in h; hit's is per unit γ = asin h), 0
+    // where nothing enters, and its exit kernel's row. The same formulas as hit (the
+    // mesonormal and the beam), TangentFrame with Ggx's visible-normal sampler,
+    // refract_through, fresnel_any, Ggx::g1 and Ggx::visible, each step one loop across the
+    // points with its conditionals as selects (math/functions.hpp) and its square roots
+    // batched between the steps (elem::sqrt_each), so that GCC and Clang vectorise the loops
+    // across the points (eight floats to an AVX register).
+#if defined(__CUDACC__)
+    static constexpr int kEntryLanes = 1;  // a GPU thread gains nothing from lanes
+#else
+    static constexpr int kEntryLanes = 8;
+#endif
+    struct EntryLanes {
+        T c_x[kEntryLanes], c_y[kEntryLanes];
+        T t_x[kEntryLanes], t_y[kEntryLanes], t_z[kEntryLanes];
+        T y[kEntryLanes];
+        int row[kEntryLanes];
+    };
+    // The lane forms of the walk's geometric steps over arrays of N lanes: the formulas of
+    // EllipticalSection, TangentFrame, Ggx and fresnel_any in the same order, conditionals as
+    // selects and square roots batched (elem::sqrt_each), each loop free of branches.
+    template <std::size_t N> using Lanes = T[N];
+    static HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_clamp(T x, T lo, T hi) {
+        return select(x < lo, lo, select(x > hi, hi, x));
+    }
+    static HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T lane_floor0(T x) { return select(x > T(0), x, T(0)); }
+    // mesonormal(c) at circle points c, and |A⁻¹c| (EllipticalSection::normal_scale).
+    template <std::size_t N>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void mesonormal_lanes(const Lanes<N>& cx, const Lanes<N>& cy, Lanes<N>& mx, Lanes<N>& my, Lanes<N>& mz,
+                                         Lanes<N>& scale) const {
+        const T st = mat_->sin_tilt(), ct = mat_->cos_tilt(), inv_b = mat_->section().inv_aspect();
+        for (int j = 0; j < int(N); ++j) scale[j] = cx[j] * cx[j] + sqr(cy[j] * inv_b);
+        elem::sqrt_each(scale);
+        for (int j = 0; j < int(N); ++j) {
+            mx[j] = st;
+            my[j] = ct * (cx[j] / scale[j]);
+            mz[j] = ct * (cy[j] * inv_b / scale[j]);
+        }
+    }
+    // EllipticalSection::chord from c along (dx, dy): the exit point and the length, 0 where
+    // the chord is not ok (a chord that is has length > 0).
+    template <std::size_t N>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void chord_lanes(const Lanes<N>& cx, const Lanes<N>& cy, const Lanes<N>& dx,
+                                                             const Lanes<N>& dy, Lanes<N>& ex, Lanes<N>& ey,
+                                                             Lanes<N>& length) const {
+        const T inv_b = mat_->section().inv_aspect();
+        Lanes<N> r;
+        for (int j = 0; j < int(N); ++j) {
+            const T ux = dx[j], uy = dy[j] * inv_b;
+            const T dd = ux * ux + uy * uy;
+            const T sl = T(-2) * (cx[j] * ux + cy[j] * uy) / dd;
+            length[j] = select((dd > T(1e-12)) & (sl > T(0)), sl, T(0));
+            ex[j] = cx[j] + length[j] * ux;
+            ey[j] = cy[j] + length[j] * uy;
+            r[j] = ex[j] * ex[j] + ey[j] * ey[j];
+        }
+        elem::sqrt_each(r);
+        for (int j = 0; j < int(N); ++j) {
+            const bool ok = length[j] > T(0);
+            ex[j] = select(ok, ex[j] / r[j], cx[j]);
+            ey[j] = select(ok, ey[j] / r[j], cy[j]);
+        }
+    }
+    // TangentFrame(m, w)'s s (its fallback where w lies along m), and w in the frame
+    // stretched by α and normalised (Ggx::stretch of TangentFrame::to_local).
+    template <std::size_t N>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void frame_lanes(const Lanes<N>& mx, const Lanes<N>& my, const Lanes<N>& mz, const Lanes<N>& wx,
+                                    const Lanes<N>& wy, const Lanes<N>& wz, Lanes<N>& sx, Lanes<N>& sy, Lanes<N>& sz,
+                                    Lanes<N>& vx, Lanes<N>& vy, Lanes<N>& vz) const {
+        const T a = mat_->ggx().alpha();
+        Lanes<N> r;
+        for (int j = 0; j < int(N); ++j) {
+            const T wm = wx[j] * mx[j] + wy[j] * my[j] + wz[j] * mz[j];
+            const T px = wx[j] - wm * mx[j], py = wy[j] - wm * my[j], pz = wz[j] - wm * mz[j];
+            const T len2 = px * px + py * py + pz * pz;
+            const T sign = select(mz[j] >= T(0), T(1), T(-1));
+            const T fa = T(-1) / (sign + mz[j]), fb = mx[j] * my[j] * fa;
+            const T fx = T(1) + sign * mx[j] * mx[j] * fa, fy = sign * fb, fz = -sign * mx[j];
+            const bool along = !(len2 > T(1e-12));
+            sx[j] = select(along, fx, px);
+            sy[j] = select(along, fy, py);
+            sz[j] = select(along, fz, pz);
+            r[j] = select(along, fx * fx + fy * fy + fz * fz, len2);
+        }
+        elem::sqrt_each(r);
+        for (int j = 0; j < int(N); ++j) {
+            sx[j] /= r[j];
+            sy[j] /= r[j];
+            sz[j] /= r[j];
+            const T tx = my[j] * sz[j] - sy[j] * mz[j], ty = mz[j] * sx[j] - sz[j] * mx[j], tz = mx[j] * sy[j] - sx[j] * my[j];
+            vx[j] = a * (wx[j] * sx[j] + wy[j] * sy[j] + wz[j] * sz[j]);
+            vy[j] = a * (wx[j] * tx + wy[j] * ty + wz[j] * tz);
+            vz[j] = wx[j] * mx[j] + wy[j] * my[j] + wz[j] * mz[j];
+            r[j] = vx[j] * vx[j] + vy[j] * vy[j] + vz[j] * vz[j];
+        }
+        elem::sqrt_each(r);
+        for (int j = 0; j < int(N); ++j) {
+            const T inv = T(1) / r[j];
+            vx[j] *= inv;
+            vy[j] *= inv;
+            vz[j] *= inv;
+        }
+    }
+    // Ggx::sample_visible_stretched from the stretched v at (u1 as its cosine and sine, u2),
+    // then TangentFrame::to_world with the frame (s, m × s, m): the visible normal h.
+    template <std::size_t N>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void visible_normal_lanes(const Lanes<N>& mx, const Lanes<N>& my, const Lanes<N>& mz,
+                                             const Lanes<N>& sx, const Lanes<N>& sy, const Lanes<N>& sz,
+                                             const Lanes<N>& vx, const Lanes<N>& vy, const Lanes<N>& vz,
+                                             const Lanes<N>& cos_u1, const Lanes<N>& sin_u1, const Lanes<N>& u2,
+                                             Lanes<N>& hx, Lanes<N>& hy, Lanes<N>& hz) const {
+        const T a = mat_->ggx().alpha();
+        Lanes<N> z, r, len2;
+        for (int j = 0; j < int(N); ++j) {
+            z[j] = (T(1) - u2[j]) * (T(1) + vz[j]) - vz[j];
+            const T zc = lane_clamp(z[j], T(-1), T(1));
+            r[j] = lane_floor0((T(1) - zc) * (T(1) + zc));
+        }
+        elem::sqrt_each(r);
+        for (int j = 0; j < int(N); ++j) {
+            hx[j] = a * (r[j] * cos_u1[j] + vx[j]);
+            hy[j] = a * (r[j] * sin_u1[j] + vy[j]);
+            hz[j] = z[j] + vz[j];
+            len2[j] = hx[j] * hx[j] + hy[j] * hy[j] + hz[j] * hz[j];
+            r[j] = len2[j];
+        }
+        elem::sqrt_each(r);
+        for (int j = 0; j < int(N); ++j) {
+            const bool tiny = !(len2[j] > T(1e-30));
+            const T lx = select(tiny, T(0), hx[j] / r[j]), ly = select(tiny, T(0), hy[j] / r[j]),
+                    lz = select(tiny, T(1), hz[j] / r[j]);
+            const T tx = my[j] * sz[j] - sy[j] * mz[j], ty = mz[j] * sx[j] - sz[j] * mx[j], tz = mx[j] * sy[j] - sx[j] * my[j];
+            hx[j] = lx * sx[j] + ly * tx + lz * mx[j];
+            hy[j] = lx * sy[j] + ly * ty + lz * my[j];
+            hz[j] = lx * sz[j] + ly * tz + lz * mz[j];
+        }
+    }
+    // fresnel_any(cos_i, n): the square root's argument, then the value from its root.
+    static HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T fresnel_root_arg(T cos_i, T n2) {
+        const T ci = lane_clamp(cos_i, T(0), T(1));
+        return lane_floor0(n2 - (T(1) - ci) * (T(1) + ci));
+    }
+    static HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T fresnel_from_root(T cos_i, T n2, T root) {
+        const T ci = lane_clamp(cos_i, T(0), T(1));
+        const T sin2_i = (T(1) - ci) * (T(1) + ci), n2c = n2 * ci;
+        const T f = T(0.5) * (sqr((ci - root) / (ci + root)) + sqr((n2c - root) / (n2c + root)));
+        return select(sin2_i >= n2, T(1), f);
     }
 
-    // A lattice point's entry: the hit, the direction t the light refracts into through the
-    // point's visible normal, and its weight y = beam (1 - F), the beam per unit h (the
-    // points are uniform in h; hit's is per unit γ = asin h). False where nothing enters.
-    HAIRSCATTER_HD bool enter(const Outgoing& o, const typename Material::EntryPoint& p, Hit& g, V3& t, T& y, int& row) const {
-        g = hit(o, p.h, p.cos_gamma);
-        if (!(g.beam > T(0) && g.cos_v > T(0))) return false;
-        const T eta = mat_->params().eta;
-        const V3 h = visible_normal(g.m, o.v, p.normal);
-        const Refracted<T> r = refract_through(o.v, h, T(1) / eta);
-        // Refraction into the denser side always exists; normalise away the rounding.
-        t = r.ok ? glm::normalize(r.o) : -g.m;
-        // The share that leaves the microsurface downward unshadowed (G1 of −t), scaled to
-        // the interface's total transmission at this offset (entry_gain): the shadowed light
-        // that still gets in follows the same directions.
-        y = g.beam / p.cos_gamma * (T(1) - fresnel_any(glm::dot(o.v, h), eta)) * mat_->ggx().g1(-glm::dot(t, g.m)) *
-            mat_->entry_gain(g.cos_v);
-        row = entry_kernel(g, o.v, h);
-        return y > T(0);
+    // Ggx::g1 of the material's roughness at N cosines.
+    template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void g1_lanes(const Lanes<N>& cos_w, Lanes<N>& g1) const {
+        const T a = mat_->ggx().alpha(), a2 = a * a;
+        Lanes<N> c, r;
+        for (int j = 0; j < int(N); ++j) {
+            c[j] = select(cos_w[j] > T(0), select(cos_w[j] < T(1), cos_w[j], T(1)), T(0));
+            r[j] = a2 * (T(1) - c[j]) * (T(1) + c[j]) + c[j] * c[j];
+        }
+        elem::sqrt_each(r);
+        for (int j = 0; j < int(N); ++j) g1[j] = select(c[j] > T(0), T(2) * c[j] * (T(1) / (c[j] + r[j])), T(0));
     }
 
-    // The paths into the fiber, per TT point: the chord, the exit (TT) and its
-    // reflected share E_in split over the path's m internal normals ∝ F, then per normal
-    // the second chord, the exit (TRT) and the residual's series.
+    // Points past the lattice's end (a last, partial block) repeat its last point; the walk
+    // reads only the block's first `count`.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void enter_lanes(const Outgoing& o, int first, EntryLanes& e) const {
+        constexpr int K = kEntryLanes;
+        const int last = mat_->tt_points() - 1;
+        const T a = mat_->ggx().alpha(), a2 = a * a;
+        const T eta = mat_->params().eta, inv_eta = T(1) / eta, eta2 = eta * eta, inv_eta2 = inv_eta * inv_eta;
+        const V3 v = o.v;
+        T cg[K], cos_u1[K], sin_u1[K], u2[K], vx[K], vy[K], vz[K];
+        T m_x[K], m_y[K], m_z[K], cos_v[K], beam[K], s_x[K], s_y[K], s_z[K], w_x[K], w_y[K], w_z[K];
+        T h_x[K], h_y[K], h_z[K], cos_i[K], sin2_t[K], r0[K], r1[K], r2[K];
+        for (int j = 0; j < K; ++j) {
+            const int i = first + j < last ? first + j : last;
+            const typename Material::EntryPoint& q = mat_->tt_point(i);
+            cg[j] = q.cos_gamma;
+            cos_u1[j] = q.normal.cos_u1;
+            sin_u1[j] = q.normal.sin_u1;
+            u2[j] = q.normal.u2;
+            e.c_x[j] = q.h * o.view.e.x + q.cos_gamma * o.view.d.x;  // hit
+            e.c_y[j] = q.h * o.view.e.y + q.cos_gamma * o.view.d.y;
+            vx[j] = v.x;
+            vy[j] = v.y;
+            vz[j] = v.z;
+        }
+        mesonormal_lanes(e.c_x, e.c_y, m_x, m_y, m_z, r0);
+        for (int j = 0; j < K; ++j) {
+            cos_v[j] = v.x * m_x[j] + v.y * m_y[j] + v.z * m_z[j];
+            beam[j] = r0[j] * lane_floor0(cos_v[j]);
+        }
+        frame_lanes(m_x, m_y, m_z, vx, vy, vz, s_x, s_y, s_z, w_x, w_y, w_z);
+        visible_normal_lanes(m_x, m_y, m_z, s_x, s_y, s_z, w_x, w_y, w_z, cos_u1, sin_u1, u2, h_x, h_y, h_z);
+        for (int j = 0; j < K; ++j) {
+            // The three roots that need h: refraction's cos θt, Fresnel's, visible_scale(v·m).
+            cos_i[j] = v.x * h_x[j] + v.y * h_y[j] + v.z * h_z[j];
+            sin2_t[j] = inv_eta2 * (T(1) - cos_i[j]) * (T(1) + cos_i[j]);
+            r0[j] = lane_floor0(T(1) - sin2_t[j]);
+            r1[j] = fresnel_root_arg(cos_i[j], eta2);
+            r2[j] = a2 * (T(1) - cos_v[j]) * (T(1) + cos_v[j]) + cos_v[j] * cos_v[j];
+        }
+        elem::sqrt_each(r0);
+        elem::sqrt_each(r1);
+        elem::sqrt_each(r2);
+        T f[K], d_v[K];
+        for (int j = 0; j < K; ++j) {
+            // refract_through (1/η): t before normalising; fresnel_any(v·h, η); D_v for the
+            // exit kernel (Ggx::visible at v·m, v·h, h·m).
+            const T k = inv_eta * cos_i[j] - r0[j];
+            w_x[j] = k * h_x[j] - inv_eta * v.x;
+            w_y[j] = k * h_y[j] - inv_eta * v.y;
+            w_z[j] = k * h_z[j] - inv_eta * v.z;
+            f[j] = fresnel_from_root(cos_i[j], eta2, r1[j]);
+            const T scale_v = T(1) / (cos_v[j] + r2[j]);
+            const T cos_h = h_x[j] * m_x[j] + h_y[j] * m_y[j] + h_z[j] * m_z[j];
+            const T d = a2 * kInvPi<T> / sqr((T(1) - cos_h) * (T(1) + cos_h) + a2 * (cos_h * cos_h));
+            d_v[j] = select((cos_i[j] > T(0)) & (cos_h > T(0)), T(2) * cos_i[j] * d * scale_v, T(0));
+            r0[j] = w_x[j] * w_x[j] + w_y[j] * w_y[j] + w_z[j] * w_z[j];
+        }
+        elem::sqrt_each(r0);
+        for (int j = 0; j < K; ++j) {
+            // t (normalised; −m where refraction fails, which into the denser side is
+            // rounding), and G1's root at −t·m.
+            const T inv = T(1) / r0[j];
+            const bool ok = sin2_t[j] < T(1);
+            e.t_x[j] = select(ok, w_x[j] * inv, -m_x[j]);
+            e.t_y[j] = select(ok, w_y[j] * inv, -m_y[j]);
+            e.t_z[j] = select(ok, w_z[j] * inv, -m_z[j]);
+            const T cw = -(e.t_x[j] * m_x[j] + e.t_y[j] * m_y[j] + e.t_z[j] * m_z[j]);
+            r2[j] = select(cw > T(0), select(cw < T(1), cw, T(1)), T(0));
+            r1[j] = a2 * (T(1) - r2[j]) * (T(1) + r2[j]) + r2[j] * r2[j];
+        }
+        elem::sqrt_each(r1);
+        for (int j = 0; j < K; ++j) {
+            const T g1 = select(r2[j] > T(0), T(2) * r2[j] * (T(1) / (r2[j] + r1[j])), T(0));
+            const T y = beam[j] / cg[j] * (T(1) - f[j]) * g1;
+            e.y[j] = select((beam[j] > T(0)) & (cos_v[j] > T(0)), y, T(0));
+        }
+        // The tables' lookups (gain, row) branch: a loop of their own.
+        for (int j = 0; j < K; ++j) {
+            e.y[j] *= mat_->entry_gain(cos_v[j]);
+            e.row[j] = mat_->entry_row(d_v[j]);
+        }
+    }
+
+    // The paths into the fiber, a block of kEntryLanes TT points at a time: the entries,
+    // the chords, the exits' mesonormals and the internal reflections' normals are computed
+    // across the block's points (the lane forms above), the rest per path in order: the
+    // exit (TT) and its reflected share E_in split over the path's m internal normals ∝ F,
+    // then per normal the second chord, the exit (TRT) and the residual's series.
     template <typename Visit> HAIRSCATTER_HD void walk_paths(const Outgoing& o, RuleTotals& s, Visit&& visit) const {
         if (!o.visible) return;
-        const T inv_eta = T(1) / mat_->params().eta;
-        const int m = mat_->trt_per_tt();
-        for (int i = 0; i < mat_->tt_points(); ++i) {
-            Hit g;
-            V3 t;
-            T y;
-            int row;
-            if (!enter(o, mat_->tt_point(i), g, t, y, row)) continue;
-            const T alpha = mat_->exit_row_roughness(row);
-            s.norm += y;
-            const auto chord = mat_->section().chord(g.c, V2(t.y, t.z));
-            if (!chord.ok) {
-                s.residual += V3(y);
-                continue;
+        constexpr int K = kEntryLanes;
+        const T inv_eta = T(1) / mat_->params().eta, inv_eta2 = inv_eta * inv_eta;
+        const int m = mat_->trt_per_tt(), n = mat_->tt_points();
+        EntryLanes e;
+        T ex[K], ey[K], len[K], mx[K], my[K], mz[K], ns[K], vx[K], vy[K], vz[K], sx[K], sy[K], sz[K];
+        T wx[K], wy[K], wz[K], cu[K], su[K], u2[K], hx[K], hy[K], hz[K];
+        // Per internal normal l: the reflected direction, its Fresnel factor (before the
+        // share; 0 where it points outward); the second chord and the TRT exit's mesonormal
+        // and cosine.
+        T rx[Material::kMaxTrtPerTT][kEntryLanes], ry[Material::kMaxTrtPerTT][kEntryLanes], rz[Material::kMaxTrtPerTT][kEntryLanes], fr[Material::kMaxTrtPerTT][kEntryLanes], ex2[Material::kMaxTrtPerTT][kEntryLanes], ey2[Material::kMaxTrtPerTT][kEntryLanes], len2[Material::kMaxTrtPerTT][kEntryLanes];
+        T mx3[Material::kMaxTrtPerTT][kEntryLanes], my3[Material::kMaxTrtPerTT][kEntryLanes], mz3[Material::kMaxTrtPerTT][kEntryLanes], cos3[Material::kMaxTrtPerTT][kEntryLanes], e3[Material::kMaxTrtPerTT][kEntryLanes], g1_3[Material::kMaxTrtPerTT][kEntryLanes];
+        for (int first = 0; first < n; first += K) {
+            enter_lanes(o, first, e);
+            for (int j = 0; j < K; ++j) {
+                vx[j] = -e.t_x[j];
+                vy[j] = -e.t_y[j];
+                vz[j] = -e.t_z[j];
             }
-            const V3 a1 = transmittance(chord.length);
-            const V3 at_exit = y * a1;
-            const V3 m_in = -mesonormal(chord.c);
-            const V3 v2 = -t;
-            const T cos2 = glm::dot(v2, m_in);
-            if (!(cos2 > T(0))) {
-                s.residual += at_exit;
-                continue;
+            chord_lanes(e.c_x, e.c_y, e.t_y, e.t_z, ex, ey, len);
+            mesonormal_lanes(ex, ey, mx, my, mz, ns);
+            for (int j = 0; j < K; ++j) {
+                mx[j] = -mx[j];  // the exit's mesonormal, inward
+                my[j] = -my[j];
+                mz[j] = -mz[j];
             }
-            const T e_in = mat_->total_reflectance_inside(cos2);
-            const T g1_2 = mat_->ggx().g1(cos2);
-            visit(End{1, at_exit, at_exit * (T(1) - e_in), v2, m_in, cos2, mat_->exit_gain(cos2, row), g1_2, alpha});
+            // The exit's cosine and its tables.
+            T cos2[K], e_in[K], e_mean[K], g1_2[K];
+            for (int j = 0; j < K; ++j) cos2[j] = vx[j] * mx[j] + vy[j] * my[j] + vz[j] * mz[j];
+            mat_->reflectance_inside(cos2, e_mean);
+            mat_->total_reflectance_inside(cos2, e_in);
+            g1_lanes(cos2, g1_2);
+            // The internal reflections: v2 = −t in the frame of the inward mesonormal.
+            frame_lanes(mx, my, mz, vx, vy, vz, sx, sy, sz, wx, wy, wz);
+            for (int l = 0; l < m; ++l) {
+                for (int j = 0; j < K; ++j) {
+                    const int i = first + j < n ? first + j : n - 1;
+                    const typename Material::NormalPoint& q = mat_->reflect_point(i, l);
+                    cu[j] = q.cos_u1;
+                    su[j] = q.sin_u1;
+                    u2[j] = q.u2;
+                }
+                visible_normal_lanes(mx, my, mz, sx, sy, sz, wx, wy, wz, cu, su, u2, hx, hy, hz);
+                T r[K], root[K];
+                for (int j = 0; j < K; ++j) {
+                    const T vh = vx[j] * hx[j] + vy[j] * hy[j] + vz[j] * hz[j];
+                    rx[l][j] = T(2) * vh * hx[j] - vx[j];  // reflect_about, then normalised
+                    ry[l][j] = T(2) * vh * hy[j] - vy[j];
+                    rz[l][j] = T(2) * vh * hz[j] - vz[j];
+                    r[j] = rx[l][j] * rx[l][j] + ry[l][j] * ry[l][j] + rz[l][j] * rz[l][j];
+                    root[j] = fresnel_root_arg(vh, inv_eta2);
+                    fr[l][j] = vh;
+                }
+                elem::sqrt_each(r);
+                elem::sqrt_each(root);
+                for (int j = 0; j < K; ++j) {
+                    const T inv = T(1) / r[j];
+                    rx[l][j] *= inv;
+                    ry[l][j] *= inv;
+                    rz[l][j] *= inv;
+                    const bool inward = rx[l][j] * mx[j] + ry[l][j] * my[j] + rz[l][j] * mz[j] > T(0);
+                    fr[l][j] = select(inward, fresnel_from_root(fr[l][j], inv_eta2, root[j]), T(0));
+                }
+                chord_lanes(ex, ey, ry[l], rz[l], ex2[l], ey2[l], len2[l]);
+                mesonormal_lanes(ex2[l], ey2[l], mx3[l], my3[l], mz3[l], ns);
+                for (int j = 0; j < K; ++j) {
+                    mx3[l][j] = -mx3[l][j];
+                    my3[l][j] = -my3[l][j];
+                    mz3[l][j] = -mz3[l][j];
+                    cos3[l][j] = -(rx[l][j] * mx3[l][j] + ry[l][j] * my3[l][j] + rz[l][j] * mz3[l][j]);
+                }
+                mat_->total_reflectance_inside(cos3[l], e3[l]);
+                g1_lanes(cos3[l], g1_3[l]);
+            }
+            const int count = n - first < K ? n - first : K;
+            for (int j = 0; j < count; ++j) {
+                const T y = e.y[j];
+                if (!(y > T(0))) continue;
+                const int row = e.row[j];
+                const T alpha = mat_->exit_row_roughness(row);
+                s.norm += y;
+                if (!(len[j] > T(0))) {
+                    s.residual += V3(y);
+                    continue;
+                }
+                const V3 a1 = transmittance(len[j]);
+                const V3 at_exit = y * a1;
+                const V3 m_in(mx[j], my[j], mz[j]);
+                const V3 v2(vx[j], vy[j], vz[j]);
+                const T c2 = cos2[j];
+                if (!(c2 > T(0))) {
+                    s.residual += at_exit;
+                    continue;
+                }
+                const T e2 = e_in[j];
+                visit(End{1, at_exit, at_exit * (T(1) - e2), v2, m_in, c2, mat_->exit_gain(c2, row), g1_2[j], alpha});
 
-            // The internal reflection at m normals of the path, each carrying F / (m E) of
-            // the interface's total e_in, E the mean reflectance of one event: a share
-            // unbiased whatever m is (a ratio F / ΣF over the path's own few normals made
-            // TRT 40 % too bright against the physical fiber). The reflected direction is
-            // not weighted by its masking, which measured further from the physical fiber
-            // (docs/theory.md §3.6).
-            V3 r_dir[Material::kMaxTrtPerTT];
-            T f[Material::kMaxTrtPerTT], sum = T(0);
-            const T e_mean = mat_->reflectance_inside(cos2);
-            const T share = e_mean > T(0) ? e_in / (T(m) * e_mean) : T(0);
-            // The path's m normals share one frame and one stretched v2.
-            const TangentFrame<T> frame(m_in, v2);
-            const V3 v2_stretched = mat_->ggx().stretch(frame.to_local(v2));
-            for (int l = 0; l < m; ++l) {
-                const typename Material::NormalPoint& q = mat_->reflect_point(i, l);
-                const V3 h = frame.to_world(mat_->ggx().sample_visible_stretched(v2_stretched, q.cos_u1, q.sin_u1, q.u2));
-                r_dir[l] = glm::normalize(reflect_about(v2, h));
-                f[l] = glm::dot(r_dir[l], m_in) > T(0) ? share * fresnel_any(glm::dot(v2, h), inv_eta) : T(0);
-                sum += f[l];
-            }
-            // What the normals leave over (or overdraw) crosses a chord like the first and
-            // leaves by the residual's series: energy kept exactly when lossless, and
-            // absorbed like the light it stands for.
-            {
-                V3 onward;
-                for (int ch = 0; ch < 3; ++ch) {
-                    const T den = T(1) - a1[ch] * e_in;
-                    onward[ch] = den > T(1e-6) ? a1[ch] * (T(1) - e_in) / den : T(1);
+                // The internal reflection at m normals of the path, each carrying F / (m E) of
+                // the interface's total e_in, E the mean reflectance of one event: a share
+                // unbiased whatever m is (a ratio F / ΣF over the path's own few normals made
+                // TRT 40 % too bright against the physical fiber). The reflected direction is
+                // not weighted by its masking, which measured further from the physical fiber
+                // (docs/theory.md §3.6).
+                T f[Material::kMaxTrtPerTT], sum = T(0);
+                const T share = e_mean[j] > T(0) ? e2 / (T(m) * e_mean[j]) : T(0);
+                for (int l = 0; l < m; ++l) {
+                    f[l] = share * fr[l][j];
+                    sum += f[l];
                 }
-                s.residual += at_exit * (e_in - sum) * onward;
-            }
-            for (int l = 0; l < m; ++l) {
-                if (!(f[l] > T(0))) continue;
-                const V3 in2 = at_exit * f[l];
-                const V3& r = r_dir[l];
-                const auto chord2 = mat_->section().chord(chord.c, V2(r.y, r.z));
-                if (!chord2.ok) {
-                    s.residual += in2;
-                    continue;
+                // What the normals leave over (or overdraw) crosses a chord like the first and
+                // leaves by the residual's series: energy kept exactly when lossless, and
+                // absorbed like the light it stands for.
+                {
+                    V3 onward;
+                    for (int ch = 0; ch < 3; ++ch) {
+                        const T den = T(1) - a1[ch] * e2;
+                        onward[ch] = den > T(1e-6) ? a1[ch] * (T(1) - e2) / den : T(1);
+                    }
+                    s.residual += at_exit * (e2 - sum) * onward;
                 }
-                const SecondChord a = second_chord(a1, chord.length, chord2.length);
-                const V3 at_exit2 = in2 * a.a2;
-                const V3 m3 = -mesonormal(chord2.c);
-                const T cos3 = -glm::dot(r, m3);
-                if (!(cos3 > T(0))) {
-                    s.residual += at_exit2;
-                    continue;
+                for (int l = 0; l < m; ++l) {
+                    if (!(f[l] > T(0))) continue;
+                    const V3 in2 = at_exit * f[l];
+                    if (!(len2[l][j] > T(0))) {
+                        s.residual += in2;
+                        continue;
+                    }
+                    const SecondChord a = second_chord(a1, len[j], len2[l][j]);
+                    const V3 at_exit2 = in2 * a.a2;
+                    const T c3 = cos3[l][j];
+                    if (!(c3 > T(0))) {
+                        s.residual += at_exit2;
+                        continue;
+                    }
+                    const T r_bar = e3[l][j];
+                    visit(End{2, at_exit2, at_exit2 * (T(1) - r_bar), -V3(rx[l][j], ry[l][j], rz[l][j]),
+                              V3(mx3[l][j], my3[l][j], mz3[l][j]), c3, mat_->exit_gain(c3, row), g1_3[l][j], alpha});
+                    // Orders past TRT: A_3 Σ (A_3 R̄)^n (1 - R̄), every later interface reflecting
+                    // R̄ = the total internal reflectance at this one's angle; its limit 1 where
+                    // A_3 R̄ → 1.
+                    V3 series;
+                    for (int ch = 0; ch < 3; ++ch) {
+                        const T den = T(1) - a.a3[ch] * r_bar;
+                        series[ch] = den > T(1e-6) ? a.a3[ch] * (T(1) - r_bar) / den : T(1);
+                    }
+                    s.residual += at_exit2 * r_bar * series;
                 }
-                const T e3 = mat_->total_reflectance_inside(cos3);
-                visit(End{2, at_exit2, at_exit2 * (T(1) - e3), -r, m3, cos3, mat_->exit_gain(cos3, row), mat_->ggx().g1(cos3),
-                          alpha});
-                // Orders past TRT: A_3 Σ (A_3 R̄)^n (1 - R̄), every later interface reflecting
-                // R̄ = the total internal reflectance at this one's angle; its limit 1 where
-                // A_3 R̄ → 1.
-                const T r_bar = e3;
-                V3 series;
-                for (int ch = 0; ch < 3; ++ch) {
-                    const T den = T(1) - a.a3[ch] * r_bar;
-                    series[ch] = den > T(1e-6) ? a.a3[ch] * (T(1) - r_bar) / den : T(1);
-                }
-                s.residual += at_exit2 * e3 * series;
             }
         }
     }
