@@ -240,7 +240,7 @@ ASAN_SKIPPED_TESTS+="|PhysicalFur"
 # samples; gcc runs them, clang the sweeps) and its comparison with the physical fur (11 s):
 # the contract suite drives the same code under ASan/UBSan.
 ASAN_SKIPPED_TESTS+="|FurFiber.ChiSquare|FurFiber.FiniteAtExtremes|FurPhysical"
-# The tables' build-time bounds (2 s and 1 s in Release, where gcc and clang check them): a
+# The tables' build-time bounds (2 s each in Release, where gcc and clang check them): a
 # clock under the sanitizers, beside the example build, measures the sanitizers.
 ASAN_SKIPPED_TESTS+="|DualTables.BuildTime|FurDual.BuildTime"
 
