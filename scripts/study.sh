@@ -91,6 +91,8 @@ if [[ $tiny == 1 ]]; then
     tte=(--reference-spp 64 --dual-max-spp 8 --path-max-spp 16)
     tte_fur=(--hairs 2000)
     tte_size=(--width 32 --height 24)
+    tte_large=(--reference-spp 32 --dual-max-spp 4 --path-max-spp 8)
+    tte_large_size=(--width 40 --height 30)
     scale_blocks=(1500 3000)
     scale_scalps=()
     scale_size=(--width 64 --height 48 --spp 1)
@@ -113,6 +115,10 @@ else
     tte=(--reference-spp 8192 --dual-max-spp 1024 --path-max-spp 4096)
     tte_fur=(--hairs 20000)
     tte_size=(--width 48 --height 36)
+    # The same at a size where the dual setup (tables, grid, count field, glow volume: a fixed
+    # cost per frame) weighs as it does in a real render, field counts only (the default).
+    tte_large=(--reference-spp 8192 --dual-max-spp 1024 --path-max-spp 4096)
+    tte_large_size=(--width 160 --height 120)
     scale_blocks=(1500 6000 12000)
     scale_scalps=(25000 100000)
     scale_size=(--width 320 --height 240 --spp 8)
@@ -150,6 +156,11 @@ run "$STUDY" furnace --scenes "${furnace_scenes[@]}" "${size[@]}" "${furnace_spp
 run "$STUDY" time-to-error --no-ground --colour blond --hairs 1500 --lighting both "${tte_size[@]}" "${tte[@]}" --out "$out"
 run "$STUDY" time-to-error --scene fur-shell --no-ground --colour blond "${tte_fur[@]}" --lighting both "${tte_size[@]}" \
     "${tte[@]}" --out "$out"
+large_suffix="_${tte_large_size[1]}x${tte_large_size[3]}"
+run "$STUDY" time-to-error --no-ground --colour blond --hairs 1500 --lighting both "${tte_large_size[@]}" "${tte_large[@]}" \
+    --formulations two-stream-field --tag-suffix "$large_suffix" --out "$out"
+run "$STUDY" time-to-error --scene fur-shell --no-ground --colour blond "${tte_fur[@]}" --lighting both \
+    "${tte_large_size[@]}" "${tte_large[@]}" --formulations two-stream-field --tag-suffix "$large_suffix" --out "$out"
 
 # ---- 6: scale --------------------------------------------------------------------------
 scale_csv="$out/scale.csv"
@@ -251,18 +262,22 @@ table() {  # csv → markdown table
 # With a noise column (5 per pixel, 7 after 4×4 blocks), the error against the truth instead:
 # √(e² − e_ref²), the reference's own noise removed (the image and the reference are
 # independent, so their squared errors add).
-reach() {  # csv integrator target [error column: 4 per pixel (default), 6 after 4×4 blocks] [noise column]
-    awk -F, -v n="$2" -v t="$3" -v c="${4:-4}" -v r="${5:-0}" '
-        $1 == n { e = $c; if (r > 0) { v = e * e - $r * $r; e = v > 0 ? sqrt(v) : 1e-9 }
+# A time column (default 3, the wall-clock seconds; 9 the CPU seconds) reads that clock.
+reach() {  # csv integrator target [error column: 4 per pixel (default), 6 after 4×4 blocks] [noise column] [time column]
+    awk -F, -v n="$2" -v t="$3" -v c="${4:-4}" -v r="${5:-0}" -v k="${6:-3}" '
+        $1 == n { seen = 1; e = $c; if (r > 0) { v = e * e - $r * $r; e = v > 0 ? sqrt(v) : 1e-9 }
                   if (prev != "" && e <= t && pe > t) { f = (log(pe) - log(t)) / (log(pe) - log(e));
-                      printf "%.3g", exp(log(ps) + f * (log($3) - log(ps))); done = 1; exit }
-                  if (e <= t && prev == "") { printf "%.3g", $3; done = 1; exit }
-                  prev = 1; pe = e; ps = $3 }
-        END { if (!done) printf "not reached" }' "$1"
+                      printf "%.3g", exp(log(ps) + f * (log($k) - log(ps))); done = 1; exit }
+                  if (e <= t && prev == "") { printf "%.3g", $k; done = 1; exit }
+                  prev = 1; pe = e; ps = $k }
+        END { if (!done) printf (seen ? "not reached" : "–") }' "$1"
 }
+# How many times sooner the path tracer's time is than another integrator's (a ratio of two reach
+# outputs; "–" when either is missing).
+sooner() { awk -v p="$1" -v d="$2" 'BEGIN { if (p + 0 > 0 && d + 0 > 0) printf "%.1f×", p / d; else printf "–" }'; }
 floor_of() {  # csv integrator column [noise column]: the error at the largest spp
-    awk -F, -v n="$2" -v c="$3" -v r="${4:-0}" '$1 == n { e = $c; if (r > 0) { v = e * e - $r * $r; e = v > 0 ? sqrt(v) : 0 } }
-        END { printf "%.3f", e }' "$1"
+    awk -F, -v n="$2" -v c="$3" -v r="${4:-0}" '$1 == n { seen = 1; e = $c; if (r > 0) { v = e * e - $r * $r; e = v > 0 ? sqrt(v) : 0 } }
+        END { if (seen) printf "%.3f", e; else printf "–" }' "$1"
 }
 {
     echo "# Results of the origin study's measurements"
@@ -369,7 +384,8 @@ floor_of() {  # csv integrator column [noise column]: the error at the largest s
     echo
     echo "## 5. Time to equal error"
     echo
-    echo "Blond hair without ground, ${tte_size[*]}, MIS for both, dual = the two-stream integrator;"
+    echo "Blond hair without ground, ${tte_size[*]} (and ${tte_large_size[*]}, the tables whose names end"
+    echo "in ${large_suffix}, field counts only), MIS for both, dual = the two-stream integrator;"
     echo "relative RMSE = √(mean (x − ref)²) / mean ref over the hair pixels against the path-traced"
     echo "reference of the --reference-spp above (its own relative RMSE in the reference columns);"
     echo "after 4×4 blocks: each 4 × 4 block's hair pixels averaged first, which removes most noise"
@@ -378,7 +394,11 @@ floor_of() {  # csv integrator column [noise column]: the error at the largest s
     echo "errors add), which estimates the error against a converged reference. Seconds are the"
     echo "render's plus, for dual scattering, its setup (setup_seconds: the tables, the density grid"
     echo "and the count field, which the path tracer does not need); the render's own seconds hold the"
-    echo "glow volume's build."
+    echo "glow volume's build. The setup is a fixed cost per frame, so it weighs more the fewer pixels"
+    echo "an image has: at ${tte_size[*]} it is most of dual scattering's time to 10 %, at"
+    echo "${tte_large_size[*]} a small part. CPU seconds (cpu_seconds, setup_cpu_seconds) are the process's"
+    echo "CPU time for the same work, every thread's: unlike the wall clock they do not grow when other"
+    echo "jobs share the machine, so they are the figures to compare between runs."
     echo
     for t in "$out"/time_to_error_*.csv; do
         tag="$(basename "$t" .csv)"; tag="${tag#time_to_error_}"
@@ -403,6 +423,12 @@ floor_of() {  # csv integrator column [noise column]: the error at the largest s
         done
         echo "| floor per pixel (largest spp) | $(floor_of "$t" dual 4 5) | $(floor_of "$t" dual_field 4 5) | $(floor_of "$t" path 4 5) |"
         echo "| floor after 4×4 blocks | $(floor_of "$t" dual 6 7) | $(floor_of "$t" dual_field 6 7) | $(floor_of "$t" path 6 7) |"
+        echo "| *CPU seconds, against the truth:* | | | |"
+        for e in 0.20 0.10; do
+            echo "| ${e} per pixel | $(reach "$t" dual "$e" 4 5 9) | $(reach "$t" dual_field "$e" 4 5 9) | $(reach "$t" path "$e" 4 5 9) |"
+        done
+        local_p="$(reach "$t" path 0.10 4 5 9)"
+        echo "| path ÷ dual at 0.10 per pixel (CPU, truth) | $(sooner "$local_p" "$(reach "$t" dual 0.10 4 5 9)") | $(sooner "$local_p" "$(reach "$t" dual_field 0.10 4 5 9)") | |"
         echo
         [[ -f "$out/time_to_error_$tag.png" ]] && echo "![relative RMSE against seconds](time_to_error_$tag.png)" && echo
         table "$t"

@@ -46,18 +46,20 @@ plot dir."/scale.csv" skip 1 using 2:($7*isint("dual")) with linespoints pt 7 ti
      ''               skip 1 using 2:($8*isint("dual")) with linespoints pt 5 title "Embree (BVH + buffers)", \
      ''               skip 1 using 2:($9*isint("dual")) with linespoints pt 6 title "density grid"
 
-# time_to_error_<scene>.csv: integrator,spp,seconds,rel_rmse,reference_rel_rmse
+# time_to_error_<tag>.csv: integrator,spp,seconds,rel_rmse,reference_rel_rmse,...,cpu_seconds (9)
 set key top right
-set xlabel "render seconds"
+set xlabel "CPU seconds (render and setup, every thread)"
 set ylabel "relative RMSE"
-do for [t in "block_blond_1500 fur-shell_blond_20000 fur-shell_blond_2000"] {
+# every time_to_error_<tag>.csv in dir (the study's small and large sizes, --tiny's)
+tags = system("cd ".dir." && ls time_to_error_*.csv 2>/dev/null | sed 's/^time_to_error_//; s/[.]csv$//'")
+do for [t in tags] {
     f = dir."/time_to_error_".t.".csv"
     if (system("test -s ".f." && echo 1") eq "1") {
         set output dir."/time_to_error_".t.".png"
         set title "time to equal error, ".t.": relative RMSE over hair pixels against the converged reference"
-        plot f skip 1 using 3:($4*sel("dual")) with linespoints pt 7 title "dual scattering (two-stream)", \
-             '' skip 1 using 3:($4*sel("dual_field")) with linespoints pt 9 title "dual scattering, field counts", \
-             '' skip 1 using 3:($4*sel("path")) with linespoints pt 5 title "path tracing", \
+        plot f skip 1 using 9:($4*sel("dual")) with linespoints pt 7 title "dual scattering (two-stream)", \
+             '' skip 1 using 9:($4*sel("dual_field")) with linespoints pt 9 title "dual scattering, field counts", \
+             '' skip 1 using 9:($4*sel("path")) with linespoints pt 5 title "path tracing", \
              0.1 with lines dt 2 lc rgb "#888888" title "10 %", 0.05 with lines dt 3 lc rgb "#888888" title "5 %"
     }
 }

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <map>
 #include <stdexcept>
@@ -434,8 +435,12 @@ int furnace(const Common& c, const std::vector<std::string>& scenes, const std::
 // Seconds for dual scattering (the two-stream integrator) and the path tracer, both with MIS, to
 // reach each relative RMSE over the hair pixels against a converged path-traced reference
 // (rendered as two independent halves: their difference states its own RMSE).
+// The process's CPU seconds so far (every thread's): unlike the wall clock, it does not grow
+// when other processes share the cores, so runs on a busy machine still compare.
+double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+
 int time_to_error(const Common& c, const std::string& kind, int reference_spp, int dual_max_spp, int path_max_spp,
-                  const std::vector<std::string>& formulations) {
+                  const std::vector<std::string>& formulations, const std::string& tag_suffix) {
     const render::Scene scene(block_scene(c.hairs, c.lighting, c.ground, kind));
     const render::ShadingSetup shading(scene, shading_options(c.colour));
     const HalvedReference halves = path_reference(c, scene, shading, reference_spp, 1000003, 2000003);
@@ -445,20 +450,25 @@ int time_to_error(const Common& c, const std::string& kind, int reference_spp, i
     const double mean_ref = (mref.x + mref.y + mref.z) / 3;
     // The reference's own relative RMSE: that of each half against the other, / 2.
     const double ref_rmse = std::sqrt(roi.mse(ra.rgb, rb.rgb).first) / 2 / mean_ref;
-    const std::string tag = kind + "_" + c.colour + "_" + std::to_string(c.hairs);
+    const std::string tag = kind + "_" + c.colour + "_" + std::to_string(c.hairs) + tag_suffix;
     write_images(c.out + "/tte_" + tag + "_reference", ref, 1.0f);
     std::ofstream csv(c.out + "/time_to_error_" + tag + ".csv");
-    csv << "integrator,spp,seconds,rel_rmse,reference_rel_rmse,rel_rmse_4x4,reference_rel_rmse_4x4,setup_seconds\n";
+    csv << "integrator,spp,seconds,rel_rmse,reference_rel_rmse,rel_rmse_4x4,reference_rel_rmse_4x4,setup_seconds,"
+           "cpu_seconds,setup_cpu_seconds\n";
     const double ref_rmse_4x4 = std::sqrt(roi.block_mse(ra.rgb, rb.rgb, 4)) / 2 / mean_ref;
     // Each formulation's rows (dual: the two-stream estimator with exact counts; dual_field:
     // with field counts; dual_<formulation> otherwise), then the path tracer's.
     std::vector<std::unique_ptr<render::ShadingSetup>> setups;
     // seconds: the render's, plus for dual scattering its setup (the tables, the density grid and
     // the count field: ShadingSetup's build, which the path tracer does not need); the
-    // render's own part holds the glow volume's build.
+    // render's own part holds the glow volume's build. cpu_seconds: the same in the process's
+    // CPU time (both threads' work, whatever else runs on the machine).
     std::vector<std::tuple<std::string, render::Integrator, int, const render::ShadingSetup*>> runs;
+    std::map<const render::ShadingSetup*, double> setup_cpu;
     for (const std::string& f : formulations) {
+        const double cpu0 = cpu_seconds();
         setups.push_back(std::make_unique<render::ShadingSetup>(scene, shading_options(c.colour, f)));
+        setup_cpu[setups.back().get()] = cpu_seconds() - cpu0;
         std::string name = f == "two-stream" ? "dual" : f == "two-stream-field" ? "dual_field" : "dual_" + f;
         std::replace(name.begin(), name.end(), '-', '_');
         runs.emplace_back(name, render::Integrator::kDual, dual_max_spp, setups.back().get());
@@ -466,14 +476,18 @@ int time_to_error(const Common& c, const std::string& kind, int reference_spp, i
     runs.emplace_back("path", render::Integrator::kPath, path_max_spp, &shading);
     for (const auto& [name, integrator, max_spp, setup] : runs) {
         for (int spp = 1; spp <= max_spp; spp *= 2) {
+            const double cpu0 = cpu_seconds();
             const render::RenderResult r =
                 render::render(scene, *setup, options(c, integrator, render::Sampling::kMis, spp, 17));
-            const double setup_s = integrator == render::Integrator::kDual ? setup->stats().seconds : 0.0;
+            const double render_cpu = cpu_seconds() - cpu0;
+            const bool dual = integrator == render::Integrator::kDual;
+            const double setup_s = dual ? setup->stats().seconds : 0.0;
+            const double setup_cpu_s = dual ? setup_cpu.at(setup) : 0.0;
             const double seconds = r.seconds + setup_s;
             const double rel = std::sqrt(roi.mse(r.rgb, ref.rgb).first) / mean_ref;
             const double rel_4x4 = std::sqrt(roi.block_mse(r.rgb, ref.rgb, 4)) / mean_ref;
             csv << name << ',' << spp << ',' << seconds << ',' << rel << ',' << ref_rmse << ',' << rel_4x4 << ','
-                << ref_rmse_4x4 << ',' << setup_s << '\n';
+                << ref_rmse_4x4 << ',' << setup_s << ',' << render_cpu + setup_cpu_s << ',' << setup_cpu_s << '\n';
             csv.flush();
             std::fprintf(stderr, "study: %-5s %5d spp %8.2f s  relative RMSE %.4f (reference %.4f)\n", name.c_str(), spp, seconds,
                          rel, ref_rmse);
@@ -605,6 +619,8 @@ int main(int argc, char** argv) {
     std::vector<std::string> tte_formulations{"two-stream", "two-stream-field"};
     tte->add_option("--formulations", tte_formulations, "dual-scattering formulations (as dual-vs-path's)")
         ->capture_default_str();
+    std::string tte_suffix;
+    tte->add_option("--tag-suffix", tte_suffix, "appended to the files' names (time_to_error_<scene>_<colour>_<hairs><suffix>)");
 
     CLI::App* arr = app.add_subcommand("arrivals", "the dual estimator's arrivals against the path tracer's, binned");
     common(arr);
@@ -631,7 +647,7 @@ int main(int argc, char** argv) {
         }
         if (tte->parsed()) {
             c.ground = !tte_no_ground;
-            return time_to_error(c, tte_kind, tte_ref, tte_dual, tte_path, tte_formulations);
+            return time_to_error(c, tte_kind, tte_ref, tte_dual, tte_path, tte_formulations, tte_suffix);
         }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "study: %s\n", e.what());
