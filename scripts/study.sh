@@ -85,6 +85,7 @@ if [[ $tiny == 1 ]]; then
     scalp_counts=(2000)
     fur_counts=(2000)
     fur_shell_counts=(2000)
+    fur_variants=(fur-short)
     slab_depths=(5)
     furnace_scenes=(block:1500 fur-shell:2000 slab:5)
     furnace_spp=(--dual-spp 4 --path-spp 8)
@@ -108,9 +109,12 @@ else
     # A shell as dense as a real pelt (50,000 short radial strands, the geometry of public fur
     # models) beside the study's 20,000: the deep regime where straight stacks overestimate.
     fur_shell_counts=(20000 50000)
+    # The dense shell's variants, geometry no default was measured on (study.cpp's block_scene):
+    # a short pelt, long fur, fur combed flat, fibers twice as thick.
+    fur_variants=(fur-short fur-long fur-flat fur-coarse)
     slab_depths=(5 10)
     furnace_scenes=(block:400 block:1500 block:6000 block:12000 scalp:20000 fur:20000 fur-shell:20000 fur-shell:50000
-        slab:1 slab:5 slab:10 slab:40)
+        fur-short:50000 fur-long:50000 slab:1 slab:5 slab:10 slab:40)
     furnace_spp=(--dual-spp 32 --path-spp 64)
     tte=(--reference-spp 8192 --dual-max-spp 1024 --path-max-spp 4096)
     tte_fur=(--hairs 20000)
@@ -146,6 +150,10 @@ run "$STUDY" dual-vs-path --scene fur-shell --lighting both --no-ground "${size[
 # The dense shell on the ground plane (what the renderer gives a loaded .hair file by default).
 run "$STUDY" dual-vs-path --scene fur-shell --lighting both "${size[@]}" "${dvp_spp[@]}" \
     --hair-counts "${fur_shell_counts[@]: -1}" --colours "${dvp_all_colours[@]}" --out "$out"
+for variant in "${fur_variants[@]}"; do
+    run "$STUDY" dual-vs-path --scene "$variant" --lighting both --no-ground "${size[@]}" "${dvp_spp[@]}" \
+        --hair-counts "${fur_shell_counts[@]: -1}" --colours white blond --out "$out"
+done
 run "$STUDY" dual-vs-path --scene slab --lighting both "${size[@]}" "${dvp_spp[@]}" --hair-counts "${slab_depths[@]}" \
     --colours blond brown --out "$out"
 
@@ -327,6 +335,10 @@ floor_of() {  # csv integrator column [noise column]: the error at the largest s
     echo "same estimator with counts looked up in the directional count field (the renderer's default);"
     echo "dual_improved and dual_zinke are the dual-scattering BCSDF in the improved formulation and"
     echo "as Zinke et al. 2008 wrote it, which see other surfaces only as shadow casters (theory.md §5)."
+    echo "Scenes: blocks of straight strands, a scalp, fur on a diffuse body (fur), the same strands as"
+    echo "a hollow shell (fur-shell) and the shell's variants, on which no default was measured: a pelt"
+    echo "a quarter as long (fur-short), twice as long (fur-long), combed flat (fur-flat: 70° from the"
+    echo "normal instead of 30°) and of fibers twice as thick (fur-coarse); slab: a slab lit from behind."
     echo
     echo "### Every row at a glance"
     echo

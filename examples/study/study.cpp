@@ -82,10 +82,19 @@ render::SceneDescription block_scene(int hairs, const std::string& light, bool g
         d = render::make_scalp_scene(scalp, lighting);
     } else if (kind == "block") {
         d = render::make_block_scene(block, lighting);
-    } else if (kind == "fur" || kind == "fur-shell") {
+    } else if (kind == "fur" || kind == "fur-shell" || kind == "fur-short" || kind == "fur-long" || kind == "fur-flat" ||
+               kind == "fur-coarse") {
+        // fur: strands on a body; fur-shell: the same strands with nothing inside. The shell's
+        // variants, geometry no default was measured on: a short pelt (a quarter of the
+        // length: the shell one or two density-grid cells thick), long fur (twice the length),
+        // fur combed flat (70° from the normal instead of 30°) and fibers twice as thick.
         render::FurOptions fur;
         fur.count = hairs;
         fur.body = kind == "fur";
+        if (kind == "fur-short") fur.length = 0.25f * fur.length;
+        if (kind == "fur-long") fur.length = 2.0f * fur.length;
+        if (kind == "fur-flat") fur.tilt_deg = 70.0f;
+        if (kind == "fur-coarse") fur.radius = 2.0f * fur.radius;
         d = render::make_fur_scene(fur, lighting);
     } else if (kind == "slab") {
         render::SlabOptions slab;
@@ -93,7 +102,8 @@ render::SceneDescription block_scene(int hairs, const std::string& light, bool g
         slab.back_lit = true;
         d = render::make_slab_scene(slab, lighting);
     } else {
-        throw std::invalid_argument("study: unknown scene '" + kind + "' (block | scalp | fur | fur-shell | slab)");
+        throw std::invalid_argument("study: unknown scene '" + kind +
+                                    "' (block | scalp | fur | fur-shell | fur-short | fur-long | fur-flat | fur-coarse | slab)");
     }
     // Without ground: the ground plane goes; a body or a head stays (it is part of the hair's
     // geometry, and the light it bounces onto the hair is part of what dual scattering must carry).
@@ -588,7 +598,7 @@ int main(int argc, char** argv) {
                     "-point: sources read at the shading point), improved, zinke")
         ->capture_default_str();
     dvp->add_option("--scene", kind,
-                    "block | scalp | fur | fur-shell | slab (--hair-counts: strands; the slab's depth in fibers)")
+                    "block | scalp | fur | fur-shell | fur-short | fur-long | fur-flat | fur-coarse | slab (--hair-counts: strands; the slab's depth in fibers)")
         ->capture_default_str();
     dvp->add_option("--dual-spp", dual_spp, "spp of the dual and single scattering images")->capture_default_str();
     dvp->add_option("--path-spp", path_spp, "spp of the path-traced reference")->capture_default_str();
@@ -599,7 +609,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> furnace_formulations{"two-stream", "two-stream-grid", "two-stream-field", "improved",
                                                   "zinke"};
     int furnace_dual_spp = 32, furnace_path_spp = 64;
-    furn->add_option("--scenes", furnace_scenes, "kind:hairs (block, scalp, fur, fur-shell, slab: its depth)")
+    furn->add_option("--scenes", furnace_scenes, "kind:hairs (block, scalp, fur, fur-shell and its variants fur-short, fur-long, fur-flat, fur-coarse; slab: its depth)")
         ->capture_default_str();
     furn->add_option("--formulations", furnace_formulations, "dual-scattering formulations")->capture_default_str();
     furn->add_option("--dual-spp", furnace_dual_spp, "spp of the dual images")->capture_default_str();
@@ -615,7 +625,7 @@ int main(int argc, char** argv) {
     tte->add_option("--path-max-spp", tte_path, "largest path-tracing spp level")->capture_default_str();
     tte->add_flag("--no-ground", tte_no_ground, "remove the ground plane");
     std::string tte_kind = "block";
-    tte->add_option("--scene", tte_kind, "block | scalp | fur | fur-shell | slab")->capture_default_str();
+    tte->add_option("--scene", tte_kind, "block | scalp | fur | fur-shell | fur-short | fur-long | fur-flat | fur-coarse | slab")->capture_default_str();
     std::vector<std::string> tte_formulations{"two-stream", "two-stream-field"};
     tte->add_option("--formulations", tte_formulations, "dual-scattering formulations (as dual-vs-path's)")
         ->capture_default_str();
@@ -627,7 +637,7 @@ int main(int argc, char** argv) {
     std::string arr_kind = "slab", arr_formulation = "two-stream-field";
     int arr_points = 2000, arr_dual = 16, arr_path = 64;
     bool arr_no_ground = false;
-    arr->add_option("--scene", arr_kind, "block | scalp | fur | fur-shell | slab")->capture_default_str();
+    arr->add_option("--scene", arr_kind, "block | scalp | fur | fur-shell | fur-short | fur-long | fur-flat | fur-coarse | slab")->capture_default_str();
     arr->add_option("--colour", c.colour, io::colour_preset_names())->capture_default_str();
     arr->add_option("--formulation", arr_formulation, "two-stream, two-stream-grid or two-stream-field")->capture_default_str();
     arr->add_option("--points", arr_points, "hair points seen by the camera")->capture_default_str();
