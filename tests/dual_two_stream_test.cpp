@@ -50,6 +50,10 @@ double turned(const hs::DualScatteringEntry<double>& e, double n) {
     return std::min(hs::dual_turned_depth(std::min(n, hs::kDeepStack<double>), mu_f), hs::kDeepStack<double>);
 }
 
+// A stack's layer albedos: the entry's with its rho_b applied (the backscatter that does not
+// travel back along an inclined stack passes on; hs::dual_stack_entry).
+template <typename T> hs::DualScatteringEntry<T> layer(const hs::DualScatteringEntry<T>& e) { return hs::dual_stack_entry(e); }
+
 TEST(DualTwoStream, LosslessStacksPassOrReturnEverything) {
     // c_f + c_b = (T_n + R_n T_m) / (1 - R_n R_m) = 1 when T_k + R_k = 1: what keeps the
     // furnace. Checked against layered_stack, at fractional, huge and unbounded depths
@@ -63,8 +67,8 @@ TEST(DualTwoStream, LosslessStacksPassOrReturnEverything) {
                 const auto s = hs::dual_streams(e, n, m);
                 for (int c = 0; c < 3; ++c) {
                     EXPECT_NEAR(s.forward[c] + s.back[c], 1.0, 2e-6) << theta << " " << n << " " << m;
-                    const auto sn = hs::layered_stack(e.a_f[c], e.a_b[c], turned(e, n));
-                    const auto sm = hs::layered_stack(e.a_f[c], e.a_b[c], turned(e, m));
+                    const auto sn = hs::layered_stack(layer(e).a_f[c], layer(e).a_b[c], turned(e, n));
+                    const auto sm = hs::layered_stack(layer(e).a_f[c], layer(e).a_b[c], turned(e, m));
                     const double den = 1 - sn.R * sm.R;
                     if (den > 1e-9) {
                         EXPECT_NEAR(s.forward[c], sn.T_ / den, 1e-9);
@@ -96,7 +100,7 @@ TEST(DualTwoStream, UnobstructedAndOneSidedLimits) {
     // nothing beyond: the n stack's own transmittance and reflectance
     const auto s = hs::dual_streams(e, 4.0, 0.0);
     for (int c = 0; c < 3; ++c) {
-        const auto st = hs::layered_stack(e.a_f[c], e.a_b[c], turned(e, 4.0));
+        const auto st = hs::layered_stack(layer(e).a_f[c], layer(e).a_b[c], turned(e, 4.0));
         EXPECT_NEAR(s.forward[c], st.T_, 1e-12);
         EXPECT_NEAR(s.back[c], st.R, 1e-12);
     }
@@ -132,8 +136,8 @@ TEST(DualTwoStream, CountLimitIsWhereMoreFibersStopMattering) {
                 const double n = hs::dual_count_limit(e, tol);
                 ASSERT_LT(n, hs::kDeepStack<double>) << eumelanin;
                 for (int c = 0; c < 3; ++c) {
-                    const auto s = hs::layered_stack(e.a_f[c], e.a_b[c], n);
-                    const auto deep = hs::layered_stack(e.a_f[c], e.a_b[c], 1e6);
+                    const auto s = hs::layered_stack(layer(e).a_f[c], layer(e).a_b[c], n);
+                    const auto deep = hs::layered_stack(layer(e).a_f[c], layer(e).a_b[c], 1e6);
                     EXPECT_LT(s.T_, tol) << eumelanin << " " << sin_t << " " << tol;
                     EXPECT_LT(std::abs(s.R - deep.R), tol) << eumelanin << " " << sin_t << " " << tol;
                 }
@@ -338,7 +342,7 @@ TEST(DualTwoStream, SourceGainIsTheStacksTransmissionPlusReflection) {
             const dvec3 gl = hs::dual_source_gain(el, n), gb = hs::dual_source_gain(eb, n);
             for (int c = 0; c < 3; ++c) {
                 EXPECT_NEAR(gl[c], 1.0, 2e-6) << theta << " " << n;
-                const auto st = hs::layered_stack(eb.a_f[c], eb.a_b[c], std::min(n, hs::kDeepStack<double>));
+                const auto st = hs::layered_stack(layer(eb).a_f[c], layer(eb).a_b[c], std::min(n, hs::kDeepStack<double>));
                 EXPECT_NEAR(gb[c], st.R + st.T_, 1e-9) << theta << " " << n;
                 EXPECT_LE(gb[c], previous[c] + 1e-12) << "the gain must not grow with depth";
                 EXPECT_GT(gb[c], 0.0);

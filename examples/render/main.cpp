@@ -118,12 +118,19 @@ int main(int argc, char** argv) {
     int field_side = 12;
     float field_spacing = 1.0f;
     std::string dual_depth = "shape";
+    std::string dual_stacks = "inclined";
     int dual_glow = 4;
     app.add_option("--dual-depth", dual_depth,
                    "dual two-stream: how many fibers turning light crosses per fiber of a stack, from the hair's "
                    "shape around the point (shape: the count field or the density grid, built for it with exact "
                    "counts) or a slab's (slab)")
         ->check(CLI::IsMember({"shape", "slab"}))
+        ->capture_default_str();
+    app.add_option("--dual-stacks", dual_stacks,
+                   "dual two-stream: a fiber's backscatter returns along a stack only where it travels back along it "
+                   "(inclined: the tables' rho_b, a fiber keeping the light's travel along its axis) or always "
+                   "(planar: the 1D stack of Zinke et al. 2008)")
+        ->check(CLI::IsMember({"inclined", "planar"}))
         ->capture_default_str();
     app.add_option("--dual-glow", dual_glow,
                    "dual two-stream with grid or field counts: hair points per grid cell of the glow volume (the "
@@ -258,6 +265,7 @@ int main(int argc, char** argv) {
                                              : render::DualCounts::kField;
         so.source = dual_source == "point" ? render::DualSource::kPoint : render::DualSource::kBeyondExit;
         so.shape_depth = dual_depth == "shape";
+        so.inclined_stacks = dual_stacks == "inclined";
         so.glow_points = dual_glow;
         so.traced_vertices = dual_vertices;
         so.field_side = field_side;

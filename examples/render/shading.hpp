@@ -56,6 +56,10 @@ struct ShadingOptions {
     // rays per grid cell; 0: none), through which hair along a source direction is read as
     // lit hair (docs/theory.md §5.7).
     bool shape_depth = true;
+    // Two-stream: stacks inclined to their fibers return only the backscatter that travels
+    // back along them (the tables' rho_b, hs::dual_stack_entry); false: every backward event
+    // returns, the 1D stack of Zinke et al. 2008 (hs::dual_planar_entry).
+    bool inclined_stacks = true;
     int glow_points = 4;
     // Two-stream: a path's first vertices traced as the path tracer traces them (next-event
     // estimation and the fiber's own sample to the next hit) before the estimator takes over:

@@ -20,7 +20,7 @@ template <typename T> py::array_t<T> entry_field(const DualScatteringTables<T>& 
 }
 
 constexpr const char* kFieldNames[DualScatteringEntry<float>::kFields] = {
-    "a_f", "a_b", "alpha_f", "alpha_b", "beta2_f", "beta2_b", "A_b", "delta_b", "sigma2_b", "mu_f", "mu_b"};
+    "a_f", "a_b", "alpha_f", "alpha_b", "beta2_f", "beta2_b", "A_b", "delta_b", "sigma2_b", "mu_f", "mu_b", "rho_b"};
 
 template <typename T> py::dict arrays_of(const DualScatteringTables<T>& t) {
     py::dict d;
@@ -89,7 +89,7 @@ void bind_dual(py::module_& m) {
                                })
         .def("arrays", [](const Tables& t) { return std::visit([](const auto& p) { return arrays_of(*p); }, t.tables); },
              "The tables as numpy arrays: theta (n,); a_f, a_b, alpha_f, alpha_b, beta2_f, beta2_b, A_b, delta_b, "
-             "sigma2_b (n, 3); psi (m,) and window (n, lobes, m, 3), W_p(θ, ψ).")
+             "sigma2_b, mu_f, mu_b, rho_b (n, 3); psi (m,) and window (n, lobes, m, 3), W_p(θ, ψ).")
         .def("lookup",
              [](const Tables& t, py::handle theta) {
                  return std::visit([&](const auto& p) { return lookup_of(*p, theta); }, t.tables);

@@ -166,9 +166,17 @@ class TwoStreamIntegrator final : public PixelIntegrator {
                                             float t_surface, Sampler& rng) const {
         const float tmax = std::isfinite(t_surface) ? std::max(t_surface - glm::dot(from - p, s), 0.0f) : kInf;
         if (!(tmax > 0)) return {};
-        const hs::DualScatteringEntry<float> entry = tables_.lookup(s_local.x);
+        const hs::DualScatteringEntry<float> entry = entry_at(s_local.x);
         const Stack k = fibers(from, s, tmax, kNoStrand, count_limit(entry), false, false, rng);
         return hs::dual_source_stack(entry, k.n);
+    }
+
+    // The tables' entry for a stack along a direction whose sin θ in the fiber's frame is
+    // sin_theta: as tabulated (inclined stacks), or with every backward event returning
+    // (hs::dual_planar_entry, --dual-stacks planar).
+    hs::DualScatteringEntry<float> entry_at(float sin_theta) const {
+        const hs::DualScatteringEntry<float> e = tables_.lookup(sin_theta);
+        return c_.shading.options().inclined_stacks ? e : hs::dual_planar_entry(e);
     }
 
     // The hair's mean radiance around x (trilinear between the grid's cell centres, over the
@@ -347,7 +355,7 @@ class TwoStreamIntegrator final : public PixelIntegrator {
     vec3 blocked_arrival(const ShadingPoint& sp, const vec3& a, const vec3& a_local, const Hit& source, float t_source,
                          const Lights::Sample& ls, bool open, int depth, float chosen_pdf, Sampler& rng) const {
         const Scene& scene = c_.scene;
-        const hs::DualScatteringEntry<float> entry = tables_.lookup(a_local.x);
+        const hs::DualScatteringEntry<float> entry = entry_at(a_local.x);
         const std::uint32_t limit = count_limit(entry);
         const bool beyond = c_.shading.options().source == DualSource::kBeyondExit;
         const bool exact = c_.shading.options().counts == DualCounts::kExact;
@@ -409,7 +417,7 @@ class TwoStreamIntegrator final : public PixelIntegrator {
                 // Whether hair lies along d is a ray (the field spreads the faces; §5.8).
                 const float tmax = std::isfinite(t_surface) ? t_surface : kInf;
                 if (!c_.scene.hair_occluded(sp.p, d, tmax, sp.strand)) return src;
-                const hs::DualScatteringEntry<float> e = tables_.lookup(d_local.x);
+                const hs::DualScatteringEntry<float> e = entry_at(d_local.x);
                 src.st = hs::dual_source_stack(e, fibers(sp.p, d, tmax, sp.strand, count_limit(e), true, false, rng).n);
                 return src;
             } else {
