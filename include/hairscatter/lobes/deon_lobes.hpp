@@ -43,15 +43,18 @@ template <typename T> class DeonLobes {
         const T scale[kLobes + 1] = {T(1), T(0.25), T(4), T(4)}, inv_scale[kLobes + 1] = {T(1), T(4), T(0.25), T(0.25)};
         constexpr int kExps = std::is_same<T, float>::value ? kLobes + 1 : kLobes;  // (float: a whole vector)
         T e[std::size_t(kExps)], m[std::size_t(kExps)];
+        HAIRSCATTER_NO_UNROLL
         for (int p = 0; p <= kLobes; ++p) {
             v_[p] = scale[p] * v0;
             inv_v_[p] = inv_v0 * inv_scale[p];  // (exact)
         }
         // -2/v_p straight from 1/v0, the same value (every factor a power of two: exact), one
         // product sooner on the chain from β_m to norm_, which a material built per hit waits on.
+        HAIRSCATTER_NO_UNROLL
         for (int p = 0; p < kExps; ++p) e[p] = m[p] = inv_v0 * (T(-2) * inv_scale[p]);
         elem::exp_each_nonpositive(e);  // (-2/v < 0) underflows to 0 for v < 0.02 in float: harmless
         elem::expm1_each_given_exp(m, e);
+        HAIRSCATTER_NO_UNROLL
         for (int p = 0; p <= kLobes; ++p) {
             const int q = p < kExps ? p : kLobes - 1;  // (the residual: TRT's, v_3 = v_2)
             exp_m2_over_v_[p] = e[q];
