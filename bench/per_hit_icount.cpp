@@ -9,6 +9,7 @@
 //         2 fiber + eval (prebuilt material: the stateless eval)
 //         3 per_hit + at(wo) + eval + sample   4 per_hit + at(wo) + eval_pdf + sample
 //         5 per_hit_vertex (eval_pdf + sample)
+//         6 per_hit alone (the material kept whole in memory, as a caller that stores it)
 //
 // bench/results/icount_perhit_2026-12-06.txt has the commands and the counts.
 #include <cstdio>
@@ -22,7 +23,7 @@ namespace hs = hairscatter;
 
 int main(int argc, char** argv) {
     if (argc != 3) {
-        std::fprintf(stderr, "usage: per_hit_icount CALLS KIND (0 … 5: see the source)\n");
+        std::fprintf(stderr, "usage: per_hit_icount CALLS KIND (0 … 6: see the source)\n");
         return 2;
     }
     const long calls = std::atol(argv[1]);
@@ -64,6 +65,13 @@ int main(int argc, char** argv) {
             if (kind == 3) sum += at.eval(wi[i]).x;
             if (kind == 4) sum += at.eval_pdf(wi[i]).pdf;
             sum += at.sample(u[i]).pdf;
+        }
+        if (kind == 6) {
+            const auto m = hs::ChiangMaterial<float>::per_hit(params[i]);
+#if defined(__GNUC__)
+            __asm__ volatile("" : : "r"(&m) : "memory");  // (the whole material is written)
+#endif
+            sum += m.lobe_variance(0);
         }
         if (kind == 5) {
             const auto v = Fiber::per_hit_vertex(params[i], h[i], wo[i], wi[i], u[i]);

@@ -8,6 +8,7 @@
 #include "../config.hpp"
 #include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
+#include "lobe_controls.hpp"
 #include "lobe_set.hpp"
 #include "longitudinal.hpp"
 #include "tilt.hpp"
@@ -24,28 +25,36 @@ template <typename T> class DeonLobes {
     static constexpr int kLobes = 3;
 
     DeonLobes() = default;
-    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DeonLobes(T beta_m, T alpha) : DeonLobes(beta_m, CuticleTilt<T>(alpha)) {}
-    // With per-lobe tilts of their own (LobeControls::cuticle_tilt).
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DeonLobes(T beta_m, T alpha) : DeonLobes(beta_m, LobeControls<T>(), alpha) {}
+    // With per-lobe tilts of their own (LobeControls::cuticle_tilt of the fiber's α).
+    // The tilt is built in place, from the controls (not passed in built): a tilt built
+    // first and then copied in was, at GCC -O3, two 16-byte stores read back by one 32-byte
+    // load, which waits for the stores to retire (a store-forwarding stall, on the chain of
+    // a material built per hit: ChiangMaterial::per_hit).
     // The four lobes' constants as DeonLongitudinal(v_p) computes them, bit for bit, but
     // as lanes: one division (1/(v/4) = 4 (1/v) exactly, the factors being powers of two)
     // and one vector of exps in float, the expm1s taken from them, so that a material is
     // cheap enough to build per hit (ChiangMaterial::per_hit). In double, where each exp and
     // expm1 is a libm call, the residual's, whose variance is TRT's, are TRT's copied.
-    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DeonLobes(T beta_m, const CuticleTilt<T>& tilt) : tilt_(tilt) {
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DeonLobes(T beta_m, const LobeControls<T>& controls, T alpha)
+        : tilt_(controls.cuticle_tilt(alpha)) {
         const T v0 = longitudinal_variance(beta_m);
         const T inv_v0 = T(1) / v0;
         const T scale[kLobes + 1] = {T(1), T(0.25), T(4), T(4)}, inv_scale[kLobes + 1] = {T(1), T(4), T(0.25), T(0.25)};
         constexpr int kExps = std::is_same<T, float>::value ? kLobes + 1 : kLobes;  // (float: a whole vector)
         T e[std::size_t(kExps)], m[std::size_t(kExps)];
+        HAIRSCATTER_NO_UNROLL
         for (int p = 0; p <= kLobes; ++p) {
             v_[p] = scale[p] * v0;
             inv_v_[p] = inv_v0 * inv_scale[p];  // (exact)
         }
         // -2/v_p straight from 1/v0, the same value (every factor a power of two: exact), one
         // product sooner on the chain from β_m to norm_, which a material built per hit waits on.
+        HAIRSCATTER_NO_UNROLL
         for (int p = 0; p < kExps; ++p) e[p] = m[p] = inv_v0 * (T(-2) * inv_scale[p]);
         elem::exp_each_nonpositive(e);  // (-2/v < 0) underflows to 0 for v < 0.02 in float: harmless
         elem::expm1_each_given_exp(m, e);
+        HAIRSCATTER_NO_UNROLL
         for (int p = 0; p <= kLobes; ++p) {
             const int q = p < kExps ? p : kLobes - 1;  // (the residual: TRT's, v_3 = v_2)
             exp_m2_over_v_[p] = e[q];

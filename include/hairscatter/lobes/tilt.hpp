@@ -36,6 +36,7 @@ template <typename T> class CuticleTilt {
             // sin α and then cos α by a square root and 2α, 4α by two doublings: that chain
             // is what the first θi terms of a material built per hit wait for.
             T sn[kLobes], cs[kLobes];
+            HAIRSCATTER_NO_UNROLL  // (a vector loop at GCC -O3 too: config.hpp)
             for (int k = 0; k < kLobes; ++k) {
                 const T x = angle_[k], z = x * x;
                 sn[k] = x + x * z *

@@ -569,6 +569,7 @@ template <typename T, std::size_t N>
 HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void expm1_each_given_exp(T (&x)[N], const T (&e)[N]) {
 #if HAIRSCATTER_HAS_VECTOR_EXT && !defined(__CUDA_ARCH__)
     if constexpr (std::is_same<T, float>::value) {
+        HAIRSCATTER_NO_UNROLL
         for (int k = 0; k < int(N); ++k) x[k] = select(std::fabs(x[k]) < 0.5f, detail::expm1_series(x[k]), e[k] - 1.0f);
         return;
     }

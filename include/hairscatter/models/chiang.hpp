@@ -81,7 +81,7 @@ template <typename T> class ChiangMaterial : public DeonLobes<T> {
     struct Unchecked {};
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE ChiangMaterial(Unchecked, const FiberParams<T>& params,
                                                       const LobeControls<T>& controls)
-        : DeonLobes<T>(params.beta_m, controls.cuticle_tilt(params.alpha)), params_(params), controls_(controls),
+        : DeonLobes<T>(params.beta_m, controls, params.alpha), params_(params), controls_(controls),
           n_(logistic_scale(params.beta_n)), weights_(controls) {
         HAIRSCATTER_DCHECK(detail::params_in_range(params) && detail::controls_in_range(controls));
         // Written whole (elem::store4), as the fiber reads it; the padding 0.

@@ -51,7 +51,7 @@ template <typename T> class DeonFarFieldMaterial : public DeonLobes<T>, public F
     // auto_nodes(β_n) (the cost of eval, pdf and sample is linear in it).
     explicit DeonFarFieldMaterial(const FiberParams<T>& params, int nodes = kAutoNodes,
                                   const LobeControls<T>& controls = LobeControls<T>())
-        : DeonLobes<T>(validated(params).beta_m, validated(controls).cuticle_tilt(params.alpha)),
+        : DeonLobes<T>(validated(params).beta_m, validated(controls), params.alpha),
           Quadrature(checked_nodes(nodes, params.beta_n)), params_(params), controls_(controls),
           n_(azimuthal_gaussian_width(params.beta_n)), weights_(controls) {}
     DeonFarFieldMaterial(const FiberParams<T>& params, const LobeControls<T>& controls)

@@ -1047,7 +1047,7 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
   private:
     // (params and controls validated by the caller.)
     FurMaterial(const FurParams<T>& params, const FurControls<T>& controls, const MedullaTables<T>& tables)
-        : DeonLobes<T>(params.cortex.beta_m, controls.lobes.cuticle_tilt(params.cortex.alpha)), params_(params),
+        : DeonLobes<T>(params.cortex.beta_m, controls.lobes, params.cortex.alpha), params_(params),
           controls_(controls), weights_(controls.lobes), weight_s_(controls.weight_s()),
           any_weight_(weights_.any() || weight_s_ != glm::vec<3, T>(T(1))), n_(logistic_scale(params.cortex.beta_n)),
           tables_(tables) {

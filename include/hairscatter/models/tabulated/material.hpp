@@ -57,7 +57,7 @@ template <typename T> class TabulatedMaterial {
         const int n = options.phi_samples, rows = options.theta_samples;
 
         // M_p and the tilt in T, the same ingredients as the far-field material's.
-        static_cast<DeonLobes<T>&>(view_) = DeonLobes<T>(params.beta_m, controls.cuticle_tilt(params.alpha));
+        static_cast<DeonLobes<T>&>(view_) = DeonLobes<T>(params.beta_m, controls, params.alpha);
         view_.n_phi_ = n;
         view_.n_theta_ = rows;
         view_.phi_step_ = T(kPi<double> / (n - 1));
