@@ -17,13 +17,29 @@
 // same (the lobe scaled to the reference's energy first).
 // The model's facets are those its β implies (FurParams::facet_alpha 0), as in the test, or
 // with --facet-alpha A GGX of roughness A (the reference's own: 0.17).
+// With --tt-exits, instead of the cases: TT's longitudinal shape, per θo (0°, 30°, 75°) and
+// per band of |h|. The reference's cortex (no medulla: TT's directions are the cortex's) is
+// met at offsets in the band, and the light that enters and leaves at the next meeting (TT)
+// is kept with its weight; of its sin θi: the quartiles, the median's shift from the model's
+// TT centre −sin(θo + α) (Chiang's tilt), the interquartile range (IQR), Bowley's quartile
+// skewness (q3 + q1 − 2 q2)/(q3 − q1), the share beyond 1.5 IQR of the median (the tails),
+// and the variance of the d'Eon lobe with the same quartiles over v(β_m) (deon_lobe_from_
+// quartiles); then the same for the model's M_TT (the lobe of variance v/4 about θo + α) from
+// its cdf, and K(c) = √(η² − 1 + c²) − c at the band's middle, c = cos θo cos γ: to first
+// order a facet of slope a along the fibre at entry and b at exit move TT's sin θi by
+// −K(c)(a + b) (docs/fur_breakdown.md).
 //
 //   fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals] [--split] [--facet-alpha A]
+//   fur_breakdown_tool --tt-exits [--rays N]
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <hairscatter/models/fur.hpp>
@@ -78,29 +94,136 @@ void print_marginals(const phys_fur::FurCase& fc, const phys_fur::Histogram& h, 
     std::fflush(stdout);
 }
 
+// sin θi at which the d'Eon lobe of variance v about inclination θc has cdf p (bisection).
+double deon_lobe_quantile(double p, double v, double theta_c) {
+    double lo = -1, hi = 1;
+    for (int i = 0; i < 40; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (hs::detail::deon_lobe_cdf(mid, v, std::sin(theta_c), std::cos(theta_c)) < p ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+// The cdf of s = a + b for two independent slopes along one axis of a GGX microsurface of
+// roughness 1: each has the marginal of GGX's slope density 1/(π (1 + x² + y²)²), the density
+// (1 + x²)^(−3/2) / 2 (Student's t with 2 degrees of freedom over √2), of cdf
+// F(x) = (1 + x/√(1 + x²)) / 2. With a = tan t, whose density is cos t / 2 in t,
+// P(s ≤ x) = ∫ F(x − tan t) cos t / 2 dt over (−π/2, π/2) (midpoint rule, 4,096 points: the
+// integrand is smooth).
+double ggx_slope_pair_cdf(double x) {
+    constexpr int kN = 4096;
+    const double pi = phys_fiber::kPi;
+    double p = 0;
+    for (int i = 0; i < kN; ++i) {
+        const double t = -pi / 2 + (i + 0.5) * pi / kN, y = x - std::tan(t);
+        p += 0.5 * (1 + y / std::sqrt(1 + y * y)) * std::cos(t) / 2;
+    }
+    return p * pi / kN;
+}
+double ggx_slope_pair_quantile(double p) {
+    double lo = -100, hi = 100;
+    for (int i = 0; i < 60; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (ggx_slope_pair_cdf(mid) < p ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+// --tt-exits: TT's exits in sin θi, the reference's per band of |h| against the model's M_TT.
+void print_tt_exits(long long rays) {
+    const double beta_m = 0.3, v = hs::longitudinal_variance(beta_m), kPi = phys_fiber::kPi;
+    std::printf("# fur_breakdown_tool --tt-exits --rays %lld: TT's exits in sin θi (lossless, no medulla), v(β_m 0.3) = %.4f\n\n",
+                rays, v);
+    // To first order TT's sin θi moves by −K(c)(a + b) (a, b the facets' slopes along the fibre
+    // at entry and exit): the first-order IQR is K(c) α IQR(a + b), and its share beyond 1.5 IQR
+    // of the median that of a + b.
+    const double iqr_pair = ggx_slope_pair_quantile(0.75) - ggx_slope_pair_quantile(0.25);
+    const double beyond_pair = 2 * ggx_slope_pair_cdf(-1.5 * iqr_pair);
+    std::printf("First order (two GGX slopes summed): IQR(a + b) = %.3f α, %.1f %% beyond 1.5 IQR.\n\n", iqr_pair,
+                100 * beyond_pair);
+    std::printf("| θo | \\|h\\| | TT share | q1, q2, q3 | q2 − model's centre | IQR | first-order IQR | Bowley skew |"
+                " beyond 1.5 IQR | quartile v / v | K(c) |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+    constexpr int kBands = 5;
+    for (double theta_deg : {0.0, 30.0, 75.0}) {
+        phys_fur::FurCase fc{0.0, 0, 0, theta_deg};
+        const phys_fiber::Fiber cortex = fc.fur().cortex;
+        const double eta = cortex.eta, theta = theta_deg * kPi / 180, alpha = fc.tilt_deg * kPi / 180;
+        const glm::dvec3 d(-std::sin(theta), 0, -std::cos(theta));
+        const glm::dvec2 d2 = glm::normalize(glm::dvec2(d.y, d.z)), e(-d2.y, d2.x);
+        const double centre = -std::sin(theta + alpha);
+        for (int band = 0; band <= kBands; ++band) {  // the last: every |h|
+            phys_fiber::Rng rng(0x77E5u + std::uint64_t(band) + std::uint64_t(theta_deg) * 16u);
+            std::vector<std::pair<double, double>> exits;
+            double total = 0;
+            for (long long r = 0; r < rays; ++r) {
+                const double u = rng.uniform(), h = band < kBands ? (band + u) / kBands : u;
+                glm::dvec2 p = h * e - std::sqrt(std::max(0.0, 1 - h * h)) * d2;
+                const std::optional<phys_fiber::Scatter> in = phys_fiber::boundary_event(d, glm::dvec3(0, p), false, cortex, rng);
+                if (!in || !in->transmitted) continue;
+                const glm::dvec2 t2(in->dir.y, in->dir.z);
+                double a0 = 0, a1 = 0;
+                if (!(glm::length(t2) > 1e-12) || !phys_fur::circle_hit(p, glm::normalize(t2), 1.0, a0, a1)) continue;
+                p = glm::normalize(p + a1 * glm::normalize(t2));
+                const std::optional<phys_fiber::Scatter> out = phys_fiber::boundary_event(in->dir, glm::dvec3(0, p), true, cortex, rng);
+                if (!out || !out->transmitted) continue;
+                exits.emplace_back(out->dir.x, in->weight * out->weight);
+                total += in->weight * out->weight;
+            }
+            const std::array<double, 3> q = hs::detail::weighted_quartiles(exits);
+            const double iqr = q[2] - q[0];
+            double tail = 0;
+            for (const auto& x : exits)
+                if (std::fabs(x.first - q[1]) > 1.5 * iqr) tail += x.second;
+            const hs::detail::DeonLobeFit fit = hs::detail::deon_lobe_from_quartiles(q[0], q[1], q[2]);
+            const double hm = band < kBands ? (band + 0.5) / kBands : 0.5;  // (all: the middle of [0, 1])
+            const double c = std::cos(theta) * std::sqrt(1 - hm * hm), k = std::sqrt(eta * eta - 1 + c * c) - c;
+            char label[16] = "all";
+            if (band < kBands) std::snprintf(label, sizeof(label), "%.1f–%.1f", double(band) / kBands, double(band + 1) / kBands);
+            std::printf("| %.0f° | %s | %.3f | %.3f, %.3f, %.3f | %+.3f | %.3f | %.3f | %+.2f | %.1f %% | %.2f | %.2f |\n",
+                        theta_deg, label, total / double(rays), q[0], q[1], q[2], q[1] - centre, iqr, k * cortex.roughness * iqr_pair,
+                        (q[2] + q[0] - 2 * q[1]) / iqr, 100 * tail / total, fit.v / v, k);
+        }
+        // The model's M_TT: Chiang's lobe of variance v/4 about θo + α.
+        const double vt = v / 4, tc = -(theta + alpha);
+        const double m1 = deon_lobe_quantile(0.25, vt, tc), m2 = deon_lobe_quantile(0.5, vt, tc), m3 = deon_lobe_quantile(0.75, vt, tc);
+        const double miqr = m3 - m1;
+        const double lo = m2 - 1.5 * miqr, hi = m2 + 1.5 * miqr;
+        const double beyond = hs::detail::deon_lobe_cdf(lo, vt, std::sin(tc), std::cos(tc)) +
+                              1 - hs::detail::deon_lobe_cdf(hi, vt, std::sin(tc), std::cos(tc));
+        std::printf("| %.0f° | model M_TT | — | %.3f, %.3f, %.3f | %+.3f | %.3f | — | %+.2f | %.1f %% | 0.25 | — |\n", theta_deg, m1,
+                    m2, m3, m2 - centre, miqr, (m3 + m1 - 2 * m2) / miqr, 100 * beyond);
+        std::fflush(stdout);
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     long long rays = 1000000;
     int threads = 2;
     std::string only;
-    bool marginals = false, split = false;
+    bool marginals = false, split = false, tt_exits = false;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--rays") && i + 1 < argc) rays = std::atoll(argv[++i]);
         else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
         else if (!std::strcmp(argv[i], "--marginals")) marginals = true;
         else if (!std::strcmp(argv[i], "--split")) split = true;
+        else if (!std::strcmp(argv[i], "--tt-exits")) tt_exits = true;
         else if (!std::strcmp(argv[i], "--facet-alpha") && i + 1 < argc) g_facet_alpha = std::atof(argv[++i]);
         else {
             std::fprintf(stderr, "usage: fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals]"
-                                 " [--split] [--facet-alpha A]\n");
+                                 " [--split] [--facet-alpha A] [--tt-exits]\n");
             return 2;
         }
     }
     if (rays < 2 || threads < 1) {
         std::fprintf(stderr, "fur_breakdown_tool: bad arguments\n");
         return 2;
+    }
+    if (tt_exits) {
+        print_tt_exits(rays);
+        return 0;
     }
     const glm::dvec3 blond(phys_fiber::kBlond[0], phys_fiber::kBlond[1], phys_fiber::kBlond[2]);
     const double dw = (2.0 / kNu) * (2 * phys_fiber::kPi / kNphi);
