@@ -20,6 +20,13 @@
 #else
 #define HAIRSCATTER_HAS_SSE_SQRT 0
 #endif
+// And SSE2's SQRTPD for doubles (part of x86-64 too).
+#if !defined(__CUDA_ARCH__) && (defined(__SSE2__) || defined(_M_X64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2))
+#include <emmintrin.h>
+#define HAIRSCATTER_HAS_SSE2_SQRT 1
+#else
+#define HAIRSCATTER_HAS_SSE2_SQRT 0
+#endif
 // GCC's and Clang's vector extensions (exp_each's groups of four): host code only, and not
 // under nvcc, whose front end need not know __builtin_convertvector.
 #if !defined(__CUDACC__) && (defined(__GNUC__) || defined(__clang__))
@@ -156,6 +163,49 @@ template <typename F, typename I, bool kClampHigh = true> HAIRSCATTER_FORCE_INLI
     // The ranges are selected in the factor, which is ready long before p: 2^n in range,
     // 0 below (p > 0), x itself for NaN. The polynomial's result then needs one product.
     return p * select_lanes<F, I>(in_range, scale, select_lanes<F, I>(below, splat<F>(0.0f), x));
+}
+
+// e^x of two or four doubles (F64x2, F64x4; I the integer vector) for x ≤ 0 (NaN and -Inf allowed), the form of exp_float_lanes in
+// double: x = n ln2 + r with ln2 in two parts (the high one's 21 trailing zero bits keep
+// n·ln2_hi exact), |r| ≤ ln2/2, the Taylor polynomial of e^r to r¹³ (truncation 4e-18
+// relative) and 2^n written into the exponent bits. Below -708.39 it returns 0, as exp<double>
+// does (the results would be subnormal), NaN stays NaN. Within 2 ulp of libm's exp
+// (tests/math_test.cpp); reassociating flags (-ffast-math) may fold the two-part reduction
+// into one product, which costs about |x|·3e-17 relative (2e-14 at x = -674, measured).
+typedef double F64x2 __attribute__((vector_size(16)));
+typedef std::int64_t I64x2 __attribute__((vector_size(16)));
+typedef double F64x4 __attribute__((vector_size(32)));
+typedef std::int64_t I64x4 __attribute__((vector_size(32)));
+template <typename F64x4, typename I64x4> HAIRSCATTER_FORCE_INLINE F64x4 exp_double_lanes(F64x4 x) {
+    const F64x4 lo = splat<F64x4>(-708.39);
+    const I64x4 in_range = x > lo;
+    const F64x4 xc = select_lanes<F64x4, I64x4>(in_range, x, lo);
+#if HAIRSCATTER_EXP_SHIFTER
+    // n = round(x log2 e) by the shifter 1.5·2⁵², as exp_float_lanes
+    const F64x4 t = xc * splat<F64x4>(1.4426950408889634074) + splat<F64x4>(6755399441055744.0);
+    const F64x4 n = t - splat<F64x4>(6755399441055744.0);
+    const I64x4 ni = reinterpret_cast<I64x4>(t) - splat<I64x4>(std::int64_t(0x4338000000000000));
+#else
+    const F64x4 y = xc * splat<F64x4>(1.4426950408889634074);
+    const I64x4 sign = reinterpret_cast<I64x4>(y) & splat<I64x4>(std::int64_t(0x8000000000000000u));
+    const I64x4 ni = __builtin_convertvector(y + reinterpret_cast<F64x4>(sign | reinterpret_cast<I64x4>(splat<F64x4>(0.5))), I64x4);
+    const F64x4 n = __builtin_convertvector(ni, F64x4);
+#endif
+    const F64x4 r = (xc - n * splat<F64x4>(0.693147180369123816490)) - n * splat<F64x4>(1.90821492927058770002e-10);
+    // 1 + r + r²/2 + … + r¹³/13!: the terms from r² on by Estrin's scheme, the last two
+    // steps as Horner's
+    const F64x4 r2 = r * r, r4 = r2 * r2;
+    const F64x4 c0 = splat<F64x4>(1.0 / 2) + r * splat<F64x4>(1.0 / 6);
+    const F64x4 c1 = splat<F64x4>(1.0 / 24) + r * splat<F64x4>(1.0 / 120);
+    const F64x4 c2 = splat<F64x4>(1.0 / 720) + r * splat<F64x4>(1.0 / 5040);
+    const F64x4 c3 = splat<F64x4>(1.0 / 40320) + r * splat<F64x4>(1.0 / 362880);
+    const F64x4 c4 = splat<F64x4>(1.0 / 3628800) + r * splat<F64x4>(1.0 / 39916800);
+    const F64x4 c5 = splat<F64x4>(1.0 / 479001600) + r * splat<F64x4>(1.0 / 6227020800);
+    const F64x4 q = (c0 + r2 * c1) + r4 * ((c2 + r2 * c3) + r4 * (c4 + r2 * c5));
+    const F64x4 p = splat<F64x4>(1.0) + r * (splat<F64x4>(1.0) + r * q);
+    const F64x4 scale = reinterpret_cast<F64x4>((ni + splat<I64x4>(std::int64_t(1023))) << 52);
+    const I64x4 below = x <= lo;  // (NaN: neither, and stays NaN)
+    return p * select_lanes<F64x4, I64x4>(in_range, scale, select_lanes<F64x4, I64x4>(below, splat<F64x4>(0.0), x));
 }
 
 // The other lane functions the same way: each the scalar lane form's operations in the same
@@ -434,6 +484,35 @@ template <typename T, std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE voi
     exp_each(x);
 }
 
+// exp_each_nonpositive, and in double on the host with GCC's and Clang's vector extensions
+// four lanes at a time (two without AVX) by detail::exp_double_lanes instead of one libm call per element
+// (within 2 ulp of it; a remainder that does not fill a vector by exp<double>).
+// For batches of transmittances (HuangFiber's walk).
+template <typename T, std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void exp_lanes_nonpositive(T (&x)[N]) {
+#if HAIRSCATTER_HAS_VECTOR_EXT && !defined(__CUDA_ARCH__)
+    if constexpr (std::is_same<T, double>::value) {
+#if defined(__AVX__)
+        using F = detail::F64x4;
+        using I = detail::I64x4;
+#else
+        using F = detail::F64x2;
+        using I = detail::I64x2;
+#endif
+        constexpr int kLanes = int(sizeof(F) / sizeof(double));
+        int k = 0;
+        for (; k + kLanes <= int(N); k += kLanes) {
+            F v;
+            std::memcpy(&v, x + k, sizeof v);
+            v = detail::exp_double_lanes<F, I>(v);
+            std::memcpy(x + k, &v, sizeof v);
+        }
+        for (; k < int(N); ++k) x[k] = exp(x[k]);
+        return;
+    }
+#endif
+    exp_each_nonpositive(x);
+}
+
 // Writes {a, b, c, d} to out[0..3] as one store where it can (float with GCC and Clang: the
 // vector is built in a register). Four lanes stored one by one and then read as one vector
 // stall the load until the stores reach the cache.
@@ -665,11 +744,22 @@ template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void pow_each(f
 
 // √x of every element (x ≥ 0, or NaN). A loop of std::sqrt stays scalar, with a compare
 // and a branch per element, because each sqrt may set errno (unless -fno-math-errno); x86
-// has a vector square root that never does, so there four lanes are one SQRTPS (the one
-// intrinsic of the library, with this loop as the portable form everywhere else).
+// has a vector square root that never does, so there four floats are one SQRTPS and two
+// doubles one SQRTPD (the library's only intrinsics, with this loop as the portable form
+// everywhere else; the square root is correctly rounded either way, so the results are the
+// same).
 template <typename T, std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sqrt_each(T (&x)[N]) {
     using std::sqrt;
     for (int k = 0; k < int(N); ++k) x[k] = sqrt(x[k]);
+}
+template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sqrt_each(double (&x)[N]) {
+#if HAIRSCATTER_HAS_SSE2_SQRT
+    if constexpr (N % 2 == 0) {
+        for (int k = 0; k < int(N); k += 2) _mm_storeu_pd(x + k, _mm_sqrt_pd(_mm_loadu_pd(x + k)));
+        return;
+    }
+#endif
+    for (int k = 0; k < int(N); ++k) x[k] = std::sqrt(x[k]);
 }
 template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sqrt_each(float (&x)[N]) {
 #if HAIRSCATTER_HAS_SSE_SQRT

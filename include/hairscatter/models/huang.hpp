@@ -233,6 +233,7 @@ template <typename T> class HuangMaterial {
         // the limits at α ≤ 1 count, since α stops at 1.
         const double beta2 = double(params.roughness) * double(params.roughness);
         row_limits_ = 0;
+        for (int k = 0; k + 1 < kWidths; ++k) row_limit_[k] = std::numeric_limits<T>::max();
         for (int k = 0; k + 1 < kWidths; ++k) {
             const double a2 = beta2 * std::pow(kWidthStep, 2.0 * k + 1);
             if (a2 > 1) break;
@@ -394,7 +395,7 @@ template <typename T> class HuangMaterial {
     // the shape of its unshadowed single scattering (total / single), the transmission lobe
     // leaving the fiber its total transmittance (1 − total_in) / transmit_single.
     HAIRSCATTER_HD T reflection_gain_outside(T c) const { return lookup(gain_r_out_, c); }
-    HAIRSCATTER_HD T exit_gain(T c) const { return lookup(gain_t_in_, c); }
+    HAIRSCATTER_HD T exit_gain(T c) const { return lookup(exit_gains_, c); }
     // Exit lobes wider than β (TT's kernel, HuangFiber): the roughness α_j = min(1, β
     // kWidthStep^j) of the row j nearest to `alpha` in log α (j < kWidths), and row j's gain
     // (1 − total_in(c)) / transmit_single(c, α_j), tabulated at kWideSize cosines, so that a
@@ -416,11 +417,42 @@ template <typename T> class HuangMaterial {
         for (int k = 0; k < row_limits_; ++k) j += entry_cell_ >= row_limit_[k] * d ? 1 : 0;
         return j;
     }
+    // entry_row of N values of D_v at once, in a loop that vectorises: every limit compared
+    // (those past row_limits_ are the largest T, passed only by a subnormal d, which the
+    // last select caps): the same rows.
+    template <std::size_t N>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void entry_row(const T (&d)[N], int (&row)[N]) const {
+        for (int j = 0; j < int(N); ++j) {
+            int r = 0;
+            for (int k = 0; k < kWidths - 1; ++k) r += entry_cell_ >= row_limit_[k] * d[j] ? 1 : 0;
+            row[j] = ((d[j] > T(0)) & (r < row_limits_)) ? r : row_limits_;
+        }
+    }
     HAIRSCATTER_HD T exit_row_roughness(int j) const { return wide_alpha_[j]; }
-    HAIRSCATTER_HD T exit_gain(T c, int j) const { return j == 0 ? exit_gain(c) : lookup<kWideSize>(gain_wide_[j], c); }
+    HAIRSCATTER_HD T exit_gain(T c, int j) const {
+        return j == 0 ? exit_gain(c) : lookup<kWideSize>(exit_gains_ + wide_offset(j), c);
+    }
+    // exit_gain(c[k], row[k]) of N exits at once, in a loop that vectorises (the row's table
+    // and cell found by selects, the entries gathered): the same values.
+    template <std::size_t N>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void exit_gain(const T (&c)[N], const int (&row)[N], T (&g)[N]) const {
+        for (int k = 0; k < int(N); ++k) {
+            const bool wide = row[k] > 0;
+            const int base = wide ? wide_offset(row[k]) : 0;
+            const T top = select(wide, T(kWideSize - 1), T(kTableSize - 1)), last = top - T(1);
+            const T above = select(c[k] < T(0), T(0), c[k]);
+            const T x = select(above > T(1), T(1), above) * top;
+            const int i = base + int(select(x > T(0), select(x < last, x, last), T(0)));
+            const T f = x - T(i - base);
+            g[k] = exit_gains_[i] + f * (exit_gains_[i + 1] - exit_gains_[i]);
+        }
+    }
     // The same for the light entering: (1 − total_out) / transmit_single, so that each
     // offset passes its own total into the fiber (s_TT only corrects the rules' error).
     HAIRSCATTER_HD T entry_gain(T c) const { return lookup(gain_t_out_, c); }
+    template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void entry_gain(const T (&c)[N], T (&g)[N]) const {
+        for (int j = 0; j < int(N); ++j) g[j] = lookup_lane(gain_t_out_, c[j]);
+    }
 
     // For the dual-scattering tables (dual/tables.hpp): lobe p peaks near θi = lobe_shift(p)
     // - θo, the first-order shifts of a tilted mesonormal (R 2α, TT -α, TRT -4α, as
@@ -591,12 +623,12 @@ template <typename T> class HuangMaterial {
             gain_r_out_[i] = T(o.reflect_single > 0 ? o.reflect_total / o.reflect_single : 1.0);
             // At grazing c nothing transmits singly; the gain of the nearest cosine that does.
             if (n.transmit_single > 1e-4) last_gain_t = (1 - n.reflect_total) / n.transmit_single;
-            gain_t_in_[i] = T(last_gain_t);
+            exit_gains_[i] = T(last_gain_t);
             if (o.transmit_single > 1e-4) last_gain_in = (1 - o.reflect_total) / o.transmit_single;
             gain_t_out_[i] = T(last_gain_in);
         }
         // The widened exits: the same total over a rougher interface's single transmission
-        // (its G1 and its D_v), by the tables' rule; row 0 is gain_t_in_.
+        // (its G1 and its D_v), by the tables' rule; row 0 is the interface's own.
         wide_alpha_[0] = params_.roughness;
         for (int j = 1; j < kWidths; ++j) {
             const double a = std::min(1.0, rough * std::pow(kWidthStep, double(j)));
@@ -613,16 +645,18 @@ template <typename T> class HuangMaterial {
                     if (t.ok) single += w * (1 - f) * wide.g1(-t.o.z);
                 });
                 if (single > 1e-4) last = (1 - double(lookup(total_in_, T(c)))) / single;
-                gain_wide_[j][i] = T(last);
+                exit_gains_[wide_offset(j) + i] = T(last);
             }
         }
     }
 
     T outside_[kTableSize] = {}, inside_[kTableSize] = {};
     T total_out_[kTableSize] = {}, total_in_[kTableSize] = {};
-    T gain_r_out_[kTableSize] = {}, gain_t_in_[kTableSize] = {}, gain_t_out_[kTableSize] = {};
-    // exit_gain(c, j) at kWideSize cosines (row 0 unused: gain_t_in_) and the rows' α_j.
-    T gain_wide_[kWidths][kWideSize] = {};
+    T gain_r_out_[kTableSize] = {}, gain_t_out_[kTableSize] = {};
+    // exit_gain(c, j), one table after the other: row 0 at kTableSize cosines, rows 1 … at
+    // kWideSize from wide_offset(j); and the rows' α_j.
+    HAIRSCATTER_HD static constexpr int wide_offset(int j) { return kTableSize + (j - 1) * kWideSize; }
+    T exit_gains_[kTableSize + (kWidths - 1) * kWideSize] = {};
     T wide_alpha_[kWidths] = {};
 };
 
@@ -1030,47 +1064,29 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         return V3(mat_->sin_tilt(), mat_->cos_tilt() * n.x, mat_->cos_tilt() * n.y);
     }
 
-    // Whether the exps of several lanes are one vector operation (float on the host, through
-    // GCC's and Clang's vector extensions), where a padding lane costs nothing; elsewhere
-    // every lane is a call of its own.
-    static constexpr bool kVectorExp = HAIRSCATTER_HAS_VECTOR_EXT && std::is_same<T, float>::value;
+    // Whether a batch of exps is vector operations (on the host with GCC's and Clang's
+    // vector extensions, elem::exp_lanes_nonpositive: float and double), where more lanes
+    // cost little; elsewhere (nvcc) every exp is a call of its own.
+    static constexpr bool kVectorExp = HAIRSCATTER_HAS_VECTOR_EXT != 0;
 
-    // The three channels' transmittances e^(−σ ℓ): one vector in float, its lanes written as
-    // one store (elem::store4: four scalar stores read back as one vector stall the load);
-    // three exps in double.
-    HAIRSCATTER_HD V3 transmittance(T length) const {
-        const V3& s = mat_->params().sigma_a;
+    // A block's TRT second chords: x holds −σ ℓ₂ (its first N lanes, channel by channel as
+    // a1) and −σ (ℓ₁ + ℓ₂)/2 (the last N); on return A_2 and the residual's mean chord A_3 =
+    // sqrt(A_1 A_2). With vector exps A_3 is e^(−σ (ℓ₁ + ℓ₂)/2), in the same batch as A_2;
+    // elsewhere square roots are cheaper than more exps.
+    template <std::size_t N>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void second_chords(const T (&a1)[N], T (&x)[2 * N]) const {
         if constexpr (kVectorExp) {
-            T x[4];
-            elem::store4(x, -s.x * length, -s.y * length, -s.z * length, T(0));
-            elem::exp_each_nonpositive(x);
-            return V3(x[0], x[1], x[2]);
+            elem::exp_lanes_nonpositive(x);
         } else {
-            T x[3] = {-s.x * length, -s.y * length, -s.z * length};
-            elem::exp_each_nonpositive(x);
-            return V3(x[0], x[1], x[2]);
-        }
-    }
-    // A TRT path's second chord, of length `second` after a first of `first` (transmittance
-    // a1): its transmittance A_2 and the residual's mean chord A_3 = sqrt(A_1 A_2). With
-    // vector exps A_3 is e^(−σ (ℓ_1 + ℓ_2) / 2), in the same 8-lane batch as A_2 (one vector
-    // with AVX) instead of three square roots; elsewhere the square roots are cheaper than
-    // three more exps.
-    struct SecondChord {
-        V3 a2, a3;
-    };
-    HAIRSCATTER_HD SecondChord second_chord(const V3& a1, T first, T second) const {
-        if constexpr (kVectorExp) {
-            const V3& s = mat_->params().sigma_a;
-            const T mid = T(0.5) * (first + second);
-            T x[8];
-            elem::store8(x, -s.x * second, -s.y * second, -s.z * second, -s.x * mid, -s.y * mid, -s.z * mid, T(0), T(0));
-            elem::exp_each_nonpositive(x);
-            return {V3(x[0], x[1], x[2]), V3(x[3], x[4], x[5])};
-        } else {
-            (void)first;
-            const V3 a2 = transmittance(second);
-            return {a2, glm::sqrt(a1 * a2)};
+            T a2[N], a3[N];
+            for (int k = 0; k < int(N); ++k) a2[k] = x[k];
+            elem::exp_each_nonpositive(a2);
+            for (int k = 0; k < int(N); ++k) a3[k] = a1[k] * a2[k];
+            elem::sqrt_each(a3);
+            for (int k = 0; k < int(N); ++k) {
+                x[k] = a2[k];
+                x[N + k] = a3[k];
+            }
         }
     }
 
@@ -1382,18 +1398,18 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
             const T y = beam[j] / cg[j] * (T(1) - f[j]) * g1;
             e.y[j] = select((beam[j] > T(0)) & (cos_v[j] > T(0)), y, T(0));
         }
-        // The tables' lookups (gain, row) branch: a loop of their own.
-        for (int j = 0; j < K; ++j) {
-            e.y[j] *= mat_->entry_gain(cos_v[j]);
-            e.row[j] = mat_->entry_row(d_v[j]);
-        }
+        // The tables' lookups (gain, row) across the block too.
+        mat_->entry_gain(cos_v, r0);
+        mat_->entry_row(d_v, e.row);
+        for (int j = 0; j < K; ++j) e.y[j] *= r0[j];
     }
 
-    // The paths into the fiber, a block of kEntryLanes TT points at a time: the entries,
-    // the chords, the exits' mesonormals and the internal reflections' normals are computed
-    // across the block's points (the lane forms above), the rest per path in order: the
-    // exit (TT) and its reflected share E_in split over the path's m internal normals ∝ F,
-    // then per normal the second chord, the exit (TRT) and the residual's series.
+    // The paths into the fiber, a block of kEntryLanes TT points at a time, every step
+    // computed across the block's points (the lane forms above): the entries, the chords,
+    // the exits' mesonormals and the internal reflections' normals, then the transmittances,
+    // the exit (TT) and its reflected share E_in split over the path's m internal normals
+    // ∝ F, per normal the second chord, the exit (TRT) and the residual's series. The ends
+    // are handed to `visit` path by path, in that order.
     template <typename Visit> HAIRSCATTER_HD void walk_paths(const Outgoing& o, RuleTotals& s, Visit&& visit) const {
         if (!o.visible) return;
         constexpr int K = kEntryLanes;
@@ -1469,78 +1485,84 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                 mat_->total_reflectance_inside(cos3[l], e3[l]);
                 g1_lanes(cos3[l], g1_3[l]);
             }
+            // The rest across the block too, each lane's residual in its own sum (selects
+            // where the one-path form branched): A_1 of every path as one batch of exps, the
+            // exit gains, each internal normal's share (F_l E_in / (m E), a share unbiased
+            // whatever m is: a ratio F / ΣF over the path's own few normals made TRT 40 % too
+            // bright against the physical fiber; the reflected direction is not weighted by
+            // its masking, which measured further from it, docs/theory.md §3.6), then per
+            // normal A_2 and the residual's mean chord A_3 as another batch. The ends are then
+            // handed on path by path, in the one-path order.
             const int count = n - first < K ? n - first : K;
+            const V3& sigma_a = mat_->params().sigma_a;
+            const T sigma[3] = {sigma_a.x, sigma_a.y, sigma_a.z};
+            T a1[3 * K], res[3 * K], gain2[K], sum[K];
+            for (int ch = 0; ch < 3; ++ch)
+                for (int j = 0; j < K; ++j) a1[ch * K + j] = -sigma[ch] * len[j];
+            elem::exp_lanes_nonpositive(a1);
+            mat_->exit_gain(cos2, e.row, gain2);
+            T share[K];
+            for (int j = 0; j < K; ++j) {
+                share[j] = select(e_mean[j] > T(0), e_in[j] / (T(m) * e_mean[j]), T(0));
+                sum[j] = T(0);
+            }
+            for (int l = 0; l < m; ++l)
+                for (int j = 0; j < K; ++j) {
+                    fr[l][j] *= share[j];  // now the normal's share f_l
+                    sum[j] += fr[l][j];
+                }
+            // What the normals leave over (or overdraw) crosses a chord like the first and
+            // leaves by the residual's series: energy kept exactly when lossless, and absorbed
+            // like the light it stands for. A chord that does not enter, or an exit met from
+            // behind its mesonormal, sends its light to the residual.
+            for (int ch = 0; ch < 3; ++ch)
+                for (int j = 0; j < K; ++j) {
+                    const T a = a1[ch * K + j], e2 = e_in[j], at_exit = e.y[j] * a;
+                    const T den = T(1) - a * e2;
+                    const T onward = select(den > T(1e-6), a * (T(1) - e2) / den, T(1));
+                    res[ch * K + j] =
+                        select(len[j] > T(0), select(cos2[j] > T(0), at_exit * (e2 - sum[j]) * onward, at_exit), e.y[j]);
+                }
+            // Per internal normal: the light reaching the TRT exit, and the orders past TRT,
+            // A_3 Σ (A_3 R̄)^n (1 - R̄) with every later interface reflecting R̄ = the total
+            // internal reflectance at this one's angle (its limit 1 where A_3 R̄ → 1).
+            T at_exit2[Material::kMaxTrtPerTT][3 * K], gain3[Material::kMaxTrtPerTT][K];
+            for (int l = 0; l < m; ++l) {
+                T x[6 * K];  // A_2, then A_3
+                for (int ch = 0; ch < 3; ++ch)
+                    for (int j = 0; j < K; ++j) {
+                        x[ch * K + j] = -sigma[ch] * len2[l][j];
+                        x[(3 + ch) * K + j] = -sigma[ch] * (T(0.5) * (len[j] + len2[l][j]));
+                    }
+                second_chords(a1, x);
+                mat_->exit_gain(cos3[l], e.row, gain3[l]);
+                for (int ch = 0; ch < 3; ++ch)
+                    for (int j = 0; j < K; ++j) {
+                        const T in2 = e.y[j] * a1[ch * K + j] * fr[l][j];
+                        const T out = in2 * x[ch * K + j], a3 = x[(3 + ch) * K + j], r_bar = e3[l][j];
+                        const T den = T(1) - a3 * r_bar;
+                        const T series = select(den > T(1e-6), a3 * (T(1) - r_bar) / den, T(1));
+                        const T later = select(len2[l][j] > T(0), select(cos3[l][j] > T(0), out * r_bar * series, out), in2);
+                        const bool on = (len[j] > T(0)) & (cos2[j] > T(0)) & (fr[l][j] > T(0));
+                        res[ch * K + j] += select(on, later, T(0));
+                        at_exit2[l][ch * K + j] = out;
+                    }
+            }
             for (int j = 0; j < count; ++j) {
                 const T y = e.y[j];
                 if (!(y > T(0))) continue;
-                const int row = e.row[j];
-                const T alpha = mat_->exit_row_roughness(row);
                 s.norm += y;
-                if (!(len[j] > T(0))) {
-                    s.residual += V3(y);
-                    continue;
-                }
-                const V3 a1 = transmittance(len[j]);
-                const V3 at_exit = y * a1;
-                const V3 m_in(mx[j], my[j], mz[j]);
-                const V3 v2(vx[j], vy[j], vz[j]);
-                const T c2 = cos2[j];
-                if (!(c2 > T(0))) {
-                    s.residual += at_exit;
-                    continue;
-                }
-                const T e2 = e_in[j];
-                visit(End{1, at_exit, at_exit * (T(1) - e2), v2, m_in, c2, mat_->exit_gain(c2, row), g1_2[j], alpha});
-
-                // The internal reflection at m normals of the path, each carrying F / (m E) of
-                // the interface's total e_in, E the mean reflectance of one event: a share
-                // unbiased whatever m is (a ratio F / ΣF over the path's own few normals made
-                // TRT 40 % too bright against the physical fiber). The reflected direction is
-                // not weighted by its masking, which measured further from the physical fiber
-                // (docs/theory.md §3.6).
-                T f[Material::kMaxTrtPerTT], sum = T(0);
-                const T share = e_mean[j] > T(0) ? e2 / (T(m) * e_mean[j]) : T(0);
+                s.residual += V3(res[j], res[K + j], res[2 * K + j]);
+                if (!(len[j] > T(0)) || !(cos2[j] > T(0))) continue;
+                const T alpha = mat_->exit_row_roughness(e.row[j]);
+                const V3 at_exit = y * V3(a1[j], a1[K + j], a1[2 * K + j]);
+                visit(End{1, at_exit, at_exit * (T(1) - e_in[j]), V3(vx[j], vy[j], vz[j]), V3(mx[j], my[j], mz[j]), cos2[j],
+                          gain2[j], g1_2[j], alpha});
                 for (int l = 0; l < m; ++l) {
-                    f[l] = share * fr[l][j];
-                    sum += f[l];
-                }
-                // What the normals leave over (or overdraw) crosses a chord like the first and
-                // leaves by the residual's series: energy kept exactly when lossless, and
-                // absorbed like the light it stands for.
-                {
-                    V3 onward;
-                    for (int ch = 0; ch < 3; ++ch) {
-                        const T den = T(1) - a1[ch] * e2;
-                        onward[ch] = den > T(1e-6) ? a1[ch] * (T(1) - e2) / den : T(1);
-                    }
-                    s.residual += at_exit * (e2 - sum) * onward;
-                }
-                for (int l = 0; l < m; ++l) {
-                    if (!(f[l] > T(0))) continue;
-                    const V3 in2 = at_exit * f[l];
-                    if (!(len2[l][j] > T(0))) {
-                        s.residual += in2;
-                        continue;
-                    }
-                    const SecondChord a = second_chord(a1, len[j], len2[l][j]);
-                    const V3 at_exit2 = in2 * a.a2;
-                    const T c3 = cos3[l][j];
-                    if (!(c3 > T(0))) {
-                        s.residual += at_exit2;
-                        continue;
-                    }
-                    const T r_bar = e3[l][j];
-                    visit(End{2, at_exit2, at_exit2 * (T(1) - r_bar), -V3(rx[l][j], ry[l][j], rz[l][j]),
-                              V3(mx3[l][j], my3[l][j], mz3[l][j]), c3, mat_->exit_gain(c3, row), g1_3[l][j], alpha});
-                    // Orders past TRT: A_3 Σ (A_3 R̄)^n (1 - R̄), every later interface reflecting
-                    // R̄ = the total internal reflectance at this one's angle; its limit 1 where
-                    // A_3 R̄ → 1.
-                    V3 series;
-                    for (int ch = 0; ch < 3; ++ch) {
-                        const T den = T(1) - a.a3[ch] * r_bar;
-                        series[ch] = den > T(1e-6) ? a.a3[ch] * (T(1) - r_bar) / den : T(1);
-                    }
-                    s.residual += at_exit2 * r_bar * series;
+                    if (!(fr[l][j] > T(0)) || !(len2[l][j] > T(0)) || !(cos3[l][j] > T(0))) continue;
+                    const V3 out(at_exit2[l][j], at_exit2[l][K + j], at_exit2[l][2 * K + j]);
+                    visit(End{2, out, out * (T(1) - e3[l][j]), -V3(rx[l][j], ry[l][j], rz[l][j]),
+                              V3(mx3[l][j], my3[l][j], mz3[l][j]), cos3[l][j], gain3[l][j], g1_3[l][j], alpha});
                 }
             }
         }
@@ -1594,6 +1616,121 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         return r;
     }
 
+    // lobe<true, false> (f alone) of up to kLobeLanes ends of one kind at once, R's
+    // reflections or the exits' refractions: structure-of-arrays across the ends, the
+    // conditionals as selects and the square roots batched, so that the loops vectorise;
+    // the same formulas in the same order (InterfaceLobes, Ggx::d, visible_scale, g1,
+    // lambda, fresnel_any), so the same values.
+    static constexpr int kLobeLanes = kEntryLanes;
+    struct EndBatch {
+        int n = 0;
+        T vx[kLobeLanes], vy[kLobeLanes], vz[kLobeLanes], mx[kLobeLanes], my[kLobeLanes], mz[kLobeLanes];
+        T cos_v[kLobeLanes], a2[kLobeLanes], gain[kLobeLanes], g1_v[kLobeLanes];
+        int p[kLobeLanes];
+        V3 prefix[kLobeLanes];
+        HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void add(const End& e) {
+            vx[n] = e.v.x;
+            vy[n] = e.v.y;
+            vz[n] = e.v.z;
+            mx[n] = e.m.x;
+            my[n] = e.m.y;
+            mz[n] = e.m.z;
+            cos_v[n] = e.cos_v;
+            a2[n] = e.alpha * e.alpha;
+            gain[n] = e.gain;
+            g1_v[n] = e.g1_v;
+            p[n] = e.p;
+            prefix[n] = e.prefix;
+            ++n;
+        }
+        // Lanes past n repeat the first end's values.
+        HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void pad() {
+            for (int j = n; j < kLobeLanes; ++j) {
+                vx[j] = vx[0];
+                vy[j] = vy[0];
+                vz[j] = vz[0];
+                mx[j] = mx[0];
+                my[j] = my[0];
+                mz[j] = mz[0];
+                cos_v[j] = cos_v[0];
+                a2[j] = a2[0];
+                gain[j] = gain[0];
+                g1_v[j] = g1_v[0];
+            }
+        }
+    };
+    template <bool kReflect>
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void lobe_f_lanes(const EndBatch& b, const V3& wi, T (&f)[kLobeLanes]) const {
+        constexpr int K = kLobeLanes;
+        const T eta = mat_->params().eta, n_f = kReflect ? eta : T(1) / eta, n2 = n_f * n_f;
+        const T a2_mat = sqr(mat_->ggx().alpha());
+        const T(&vx)[K] = b.vx;
+        const T(&vy)[K] = b.vy;
+        const T(&vz)[K] = b.vz;
+        const T(&mx)[K] = b.mx;
+        const T(&my)[K] = b.my;
+        const T(&mz)[K] = b.mz;
+        const T(&cv)[K] = b.cos_v;
+        const T(&a2)[K] = b.a2;
+        const T(&gain)[K] = b.gain;
+        const T(&g1v)[K] = b.g1_v;
+        T sx[K], sy[K], sz[K], len2[K], root[K];
+        for (int j = 0; j < K; ++j) {
+            // h's direction: v + wi (reflection), η v + wi (refraction out, Walter et al. 2007)
+            sx[j] = (kReflect ? vx[j] : eta * vx[j]) + wi.x;
+            sy[j] = (kReflect ? vy[j] : eta * vy[j]) + wi.y;
+            sz[j] = (kReflect ? vz[j] : eta * vz[j]) + wi.z;
+            len2[j] = sx[j] * sx[j] + sy[j] * sy[j] + sz[j] * sz[j];
+            root[j] = len2[j];
+        }
+        elem::sqrt_each(root);
+        T cos_h[K], vh[K], odh[K], inv_len[K], cos_o[K], c[K], r1[K], r2[K], r3[K];
+        for (int j = 0; j < K; ++j) {
+            T hx, hy, hz;
+            if (kReflect) {
+                hx = sx[j] / root[j];
+                hy = sy[j] / root[j];
+                hz = sz[j] / root[j];
+            } else {
+                inv_len[j] = T(1) / root[j];
+                hx = sx[j] * inv_len[j];
+                hy = sy[j] * inv_len[j];
+                hz = sz[j] * inv_len[j];
+            }
+            cos_h[j] = hx * mx[j] + hy * my[j] + hz * mz[j];
+            odh[j] = wi.x * hx + wi.y * hy + wi.z * hz;
+            vh[j] = vx[j] * hx + vy[j] * hy + vz[j] * hz;
+            cos_o[j] = wi.x * mx[j] + wi.y * my[j] + wi.z * mz[j];
+            r1[j] = a2[j] * (T(1) - cv[j]) * (T(1) + cv[j]) + cv[j] * cv[j];
+            r2[j] = fresnel_root_arg(vh[j], n2);
+            // R: λ(wi·m) of the material's roughness; the exits: G1(−wi·m) of the end's.
+            c[j] = kReflect ? select(cos_o[j] < T(1), cos_o[j], T(1)) : select(-cos_o[j] < T(1), -cos_o[j], T(1));
+            r3[j] = (kReflect ? a2_mat : a2[j]) * (T(1) - c[j]) * (T(1) + c[j]) + c[j] * c[j];
+        }
+        elem::sqrt_each(r1);
+        elem::sqrt_each(r2);
+        elem::sqrt_each(r3);
+        for (int j = 0; j < K; ++j) {
+            const T d = a2[j] * kInvPi<T> / sqr((T(1) - cos_h[j]) * (T(1) + cos_h[j]) + a2[j] * (cos_h[j] * cos_h[j]));
+            const T scale = T(1) / (cv[j] + r1[j]);
+            T q, shadow;
+            bool ok;
+            if (kReflect) {
+                ok = (len2[j] > T(1e-20)) & (cos_h[j] > T(0)) & (cos_o[j] > T(0));
+                q = T(0.5) * d * scale;
+                const T lambda = select(cos_o[j] > T(1e-30), T(0.5) * (r3[j] / c[j] - T(1)), T(1e30));
+                shadow = T(1) / (T(1) + lambda * g1v[j]);
+            } else {
+                ok = (len2[j] > T(1e-20)) & (cos_h[j] > T(0)) & (odh[j] < T(0)) & (vh[j] > T(0)) & (cos_o[j] < T(0));
+                q = T(2) * vh[j] * d * scale * (-odh[j]) * inv_len[j] * inv_len[j];
+                shadow = T(2) * c[j] * (T(1) / (c[j] + r3[j]));
+            }
+            const T fr = fresnel_from_root(vh[j], n2, r2[j]);
+            const T value = (kReflect ? fr : T(1) - fr) * q * gain[j] * shadow;
+            f[j] = select(ok & (q > T(0)), value, T(0));
+        }
+    }
+
     // Per lobe p (3 the residual) at wi (section frame; sin_i its inclination), with the
     // rules' scales and the controls applied: f, the energy-weighted sampling density
     // Σ energy·q, and the energy. kF, kPdf: whether f and the density are wanted (neither:
@@ -1609,16 +1746,45 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         const Outgoing& o = walk.outgoing();
         V3 f[std::size_t(kLobes)], q[std::size_t(kLobes)], energy[std::size_t(kLobes)];
         for (int p = 0; p < kLobes; ++p) f[p] = q[p] = energy[p] = V3(T(0));
-        const auto add = [&](const End& e) {
-            energy[e.p] += e.energy;
-            if (!(kF || kPdf)) return;
-            const LobeValue x = lobe<kF, kPdf>(e, w);
-            if (kF) f[e.p] += x.f * e.prefix;
-            if (kPdf) q[e.p] += x.q * e.energy;
-        };
         RuleTotals r, paths;
-        walk.r(r, add);
-        walk.paths(paths, add);
+        if constexpr (kF && !kPdf) {
+            // f alone: the ends that face wi in batches of one kind (R's, the exits'), each
+            // batch's lobes in lanes and added in the ends' order, as one by one.
+            EndBatch reflected, exits;
+            const auto flush = [&](EndBatch& b, auto reflect) {
+                T x[kLobeLanes];
+                b.pad();
+                lobe_f_lanes<decltype(reflect)::value>(b, w, x);
+                for (int k = 0; k < b.n; ++k) f[b.p[k]] += x[k] * b.prefix[k];
+                b.n = 0;
+            };
+            const auto add = [&](const End& e) {
+                energy[e.p] += e.energy;
+                // lobe()'s side test first: an end whose shadowing is 0 at wi adds exactly 0
+                // (a branch: the one-end form's, and faster than batching every end).
+                const T side = glm::dot(w, e.m);
+                if (!(e.p == 0 ? side > T(0) : side < T(0))) return;
+                EndBatch& b = e.p == 0 ? reflected : exits;
+                b.add(e);
+                if (b.n < kLobeLanes) return;
+                if (e.p == 0) flush(b, std::true_type());
+                else flush(b, std::false_type());
+            };
+            walk.r(r, add);
+            walk.paths(paths, add);
+            if (reflected.n > 0) flush(reflected, std::true_type());
+            if (exits.n > 0) flush(exits, std::false_type());
+        } else {
+            const auto add = [&](const End& e) {
+                energy[e.p] += e.energy;
+                if (!(kF || kPdf)) return;
+                const LobeValue x = lobe<kF, kPdf>(e, w);
+                if (kF) f[e.p] += x.f * e.prefix;
+                if (kPdf) q[e.p] += x.q * e.energy;
+            };
+            walk.r(r, add);
+            walk.paths(paths, add);
+        }
         Lobes out;
         out.scales = scales(r, paths);
         for (int p = 0; p < kLobes; ++p) {
