@@ -50,10 +50,6 @@ double turned(const hs::DualScatteringEntry<double>& e, double n) {
     return std::min(hs::dual_turned_depth(std::min(n, hs::kDeepStack<double>), mu_f), hs::kDeepStack<double>);
 }
 
-// A stack's layer albedos: the entry's with its rho_b applied (the backscatter that does not
-// travel back along an inclined stack passes on; hs::dual_stack_entry).
-template <typename T> hs::DualScatteringEntry<T> layer(const hs::DualScatteringEntry<T>& e) { return hs::dual_stack_entry(e); }
-
 TEST(DualTwoStream, LosslessStacksPassOrReturnEverything) {
     // c_f + c_b = (T_n + R_n T_m) / (1 - R_n R_m) = 1 when T_k + R_k = 1: what keeps the
     // furnace. Checked against layered_stack, at fractional, huge and unbounded depths
@@ -67,8 +63,8 @@ TEST(DualTwoStream, LosslessStacksPassOrReturnEverything) {
                 const auto s = hs::dual_streams(e, n, m);
                 for (int c = 0; c < 3; ++c) {
                     EXPECT_NEAR(s.forward[c] + s.back[c], 1.0, 2e-6) << theta << " " << n << " " << m;
-                    const auto sn = hs::layered_stack(layer(e).a_f[c], layer(e).a_b[c], turned(e, n));
-                    const auto sm = hs::layered_stack(layer(e).a_f[c], layer(e).a_b[c], turned(e, m));
+                    const auto sn = hs::layered_stack(e.a_f[c], e.a_b[c], turned(e, n));
+                    const auto sm = hs::layered_stack(e.a_f[c], e.a_b[c], turned(e, m));
                     const double den = 1 - sn.R * sm.R;
                     if (den > 1e-9) {
                         EXPECT_NEAR(s.forward[c], sn.T_ / den, 1e-9);
@@ -88,6 +84,42 @@ TEST(DualTwoStream, LosslessStacksPassOrReturnEverything) {
     }
 }
 
+// Stacks inclined to their fibers (hs::dual_stack_entry): the layers return a_b·rho_b and
+// pass the rest on, a_f + a_b kept. A lossless stack then still passes or returns everything
+// (the furnace), and the entry's own albedos and the 1D stack come back where rho_b is 1.
+TEST(DualTwoStream, InclinedStacksKeepTheFurnace) {
+    const auto lossless = tables_of<double>(-1);
+    const auto blond = tables_of<double>(0.3);
+    for (double theta : {0.0, 30.0, 45.0, 60.0, -70.0}) {
+        const double sin_t = std::sin(theta * hs::kPi<double> / 180);
+        const auto el = hs::dual_stack_entry(lossless.lookup(sin_t)), eb = hs::dual_stack_entry(blond.lookup(sin_t));
+        const auto rb = blond.lookup(sin_t);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(eb.a_f[c] + eb.a_b[c], rb.a_f[c] + rb.a_b[c], 1e-15) << theta;
+            EXPECT_NEAR(eb.a_b[c], rb.a_b[c] * rb.rho_b[c], 1e-15) << theta;
+            EXPECT_EQ(eb.rho_b[c], 1.0);
+        }
+        if (std::abs(theta) >= 45) {
+            EXPECT_LT(eb.a_b.g, 0.6 * rb.a_b.g) << theta;  // most passes on
+        }
+        for (double n : {1.0, 5.0, 40.0, hs::kUnbounded<double>}) {
+            for (double m : {0.0, 3.0, hs::kUnbounded<double>}) {
+                const auto s = hs::dual_streams(el, n, m);
+                for (int c = 0; c < 3; ++c) {
+                    EXPECT_NEAR(s.forward[c] + s.back[c], 1.0, 2e-6) << theta << " " << n << " " << m;
+                }
+            }
+        }
+    }
+    // NaN rho_b is the 1D stack; out-of-range values are clamped
+    auto e = blond.lookup(0.5);
+    e.rho_b = glm::dvec3(std::numeric_limits<double>::quiet_NaN(), -2.0, 7.0);
+    const auto s = hs::dual_stack_entry(e);
+    EXPECT_EQ(s.a_b.x, e.a_b.x);
+    EXPECT_EQ(s.a_b.y, 0.0);
+    EXPECT_EQ(s.a_b.z, e.a_b.z);
+}
+
 TEST(DualTwoStream, UnobstructedAndOneSidedLimits) {
     const auto tables = tables_of<double>(0.3);
     const auto e = tables.lookup(0.2);
@@ -100,7 +132,7 @@ TEST(DualTwoStream, UnobstructedAndOneSidedLimits) {
     // nothing beyond: the n stack's own transmittance and reflectance
     const auto s = hs::dual_streams(e, 4.0, 0.0);
     for (int c = 0; c < 3; ++c) {
-        const auto st = hs::layered_stack(layer(e).a_f[c], layer(e).a_b[c], turned(e, 4.0));
+        const auto st = hs::layered_stack(e.a_f[c], e.a_b[c], turned(e, 4.0));
         EXPECT_NEAR(s.forward[c], st.T_, 1e-12);
         EXPECT_NEAR(s.back[c], st.R, 1e-12);
     }
@@ -136,8 +168,8 @@ TEST(DualTwoStream, CountLimitIsWhereMoreFibersStopMattering) {
                 const double n = hs::dual_count_limit(e, tol);
                 ASSERT_LT(n, hs::kDeepStack<double>) << eumelanin;
                 for (int c = 0; c < 3; ++c) {
-                    const auto s = hs::layered_stack(layer(e).a_f[c], layer(e).a_b[c], n);
-                    const auto deep = hs::layered_stack(layer(e).a_f[c], layer(e).a_b[c], 1e6);
+                    const auto s = hs::layered_stack(e.a_f[c], e.a_b[c], n);
+                    const auto deep = hs::layered_stack(e.a_f[c], e.a_b[c], 1e6);
                     EXPECT_LT(s.T_, tol) << eumelanin << " " << sin_t << " " << tol;
                     EXPECT_LT(std::abs(s.R - deep.R), tol) << eumelanin << " " << sin_t << " " << tol;
                 }
@@ -342,7 +374,7 @@ TEST(DualTwoStream, SourceGainIsTheStacksTransmissionPlusReflection) {
             const dvec3 gl = hs::dual_source_gain(el, n), gb = hs::dual_source_gain(eb, n);
             for (int c = 0; c < 3; ++c) {
                 EXPECT_NEAR(gl[c], 1.0, 2e-6) << theta << " " << n;
-                const auto st = hs::layered_stack(layer(eb).a_f[c], layer(eb).a_b[c], std::min(n, hs::kDeepStack<double>));
+                const auto st = hs::layered_stack(eb.a_f[c], eb.a_b[c], std::min(n, hs::kDeepStack<double>));
                 EXPECT_NEAR(gb[c], st.R + st.T_, 1e-9) << theta << " " << n;
                 EXPECT_LE(gb[c], previous[c] + 1e-12) << "the gain must not grow with depth";
                 EXPECT_GT(gb[c], 0.0);

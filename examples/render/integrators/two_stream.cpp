@@ -172,11 +172,11 @@ class TwoStreamIntegrator final : public PixelIntegrator {
     }
 
     // The tables' entry for a stack along a direction whose sin θ in the fiber's frame is
-    // sin_theta: as tabulated (inclined stacks), or with every backward event returning
-    // (hs::dual_planar_entry, --dual-stacks planar).
+    // sin_theta: the 1D stack's (every backward event returns), or with --dual-stacks
+    // inclined the share of the backscatter that travels back along it (hs::dual_stack_entry).
     hs::DualScatteringEntry<float> entry_at(float sin_theta) const {
         const hs::DualScatteringEntry<float> e = tables_.lookup(sin_theta);
-        return c_.shading.options().inclined_stacks ? e : hs::dual_planar_entry(e);
+        return c_.shading.options().inclined_stacks ? hs::dual_stack_entry(e) : e;
     }
 
     // The hair's mean radiance around x (trilinear between the grid's cell centres, over the

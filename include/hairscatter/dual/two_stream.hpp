@@ -73,35 +73,23 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T dual_stack_depth
     return count > T(0) ? (count < kDeepStack<T> ? count : kDeepStack<T>) : T(0);
 }
 
-namespace detail {
-// The layer albedos of a stack (docs/theory.md §5.7, "Stacks inclined to the fibers"): the
-// fiber returns the share rho_b of its backward half and passes the rest on with the forward
-// half (a fiber keeps the component of the light's travel along its axis, so at a stack
-// inclined to it much of its backscatter still travels on). a_f + a_b is kept, so a lossless
-// stack still passes or returns everything. rho_b = 1 (or NaN) is the 1D stack.
-template <typename T>
-HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void stack_albedos(const DualScatteringEntry<T>& e, glm::vec<3, T>& a_f,
-                                                          glm::vec<3, T>& a_b) {
-    for (int k = 0; k < 3; ++k) {
-        const T r = e.rho_b[k] >= T(0) ? (e.rho_b[k] < T(1) ? e.rho_b[k] : T(1)) : (e.rho_b[k] < T(0) ? T(0) : T(1));
-        a_b[k] = e.a_b[k] * r;
-        a_f[k] = e.a_f[k] + (e.a_b[k] - a_b[k]);
-    }
-}
-}  // namespace detail
-
-// The entry whose a_f and a_b are its stacks' layer albedos (rho_b applied, rho_b then 1):
-// what dual_streams, dual_source_stack and dual_count_limit use. dual_planar_entry sets
-// rho_b to 1 instead: every backward event returns, the 1D stack of Zinke et al. 2008.
+// A stack inclined to its fibers (docs/theory.md §5.7, "Stacks inclined to the fibers"):
+// the entry whose layers return only the share rho_b of their backscatter, the share whose
+// travel runs back along the stack (a fiber keeps the component of the light's travel along
+// its axis), and pass the rest on with the forward light. a_f + a_b is kept, so a lossless
+// stack still passes or returns everything. dual_streams, dual_source_stack and
+// dual_count_limit use an entry's a_f and a_b as they are: the 1D stack of Zinke et al. 2008,
+// where every backward event returns, unless the caller passes them this entry instead
+// (the example renderer's --dual-stacks inclined; not its default: docs/dual.md).
+// rho_b is clamped to [0, 1]; NaN gives 1.
 template <typename T> HAIRSCATTER_HD DualScatteringEntry<T> dual_stack_entry(const DualScatteringEntry<T>& e) {
     DualScatteringEntry<T> r = e;
-    detail::stack_albedos(e, r.a_f, r.a_b);
-    r.rho_b = glm::vec<3, T>(T(1));
-    return r;
-}
-template <typename T> HAIRSCATTER_HD DualScatteringEntry<T> dual_planar_entry(const DualScatteringEntry<T>& e) {
-    DualScatteringEntry<T> r = e;
-    r.rho_b = glm::vec<3, T>(T(1));
+    for (int k = 0; k < 3; ++k) {
+        const T rho = e.rho_b[k] >= T(0) ? (e.rho_b[k] < T(1) ? e.rho_b[k] : T(1)) : (e.rho_b[k] < T(0) ? T(0) : T(1));
+        r.a_b[k] = e.a_b[k] * rho;
+        r.a_f[k] = e.a_f[k] + (e.a_b[k] - r.a_b[k]);
+        r.rho_b[k] = T(1);
+    }
     return r;
 }
 
@@ -112,11 +100,9 @@ template <typename T> HAIRSCATTER_HD DualScatteringEntry<T> dual_planar_entry(co
 // (κ = 0) fall only as 1/N: kDeepStack.
 template <typename T> HAIRSCATTER_HD T dual_count_limit(const DualScatteringEntry<T>& e, T tolerance) {
     const T tol = tolerance > T(1e-12) ? (tolerance < T(0.5) ? tolerance : T(0.5)) : T(1e-12);
-    glm::vec<3, T> a_f, a_b;
-    detail::stack_albedos(e, a_f, a_b);
     LayerLanes<T, 4> c;
-    elem::store4(c.a_f, a_f.x, a_f.y, a_f.z, T(0));
-    elem::store4(c.a_b, a_b.x, a_b.y, a_b.z, T(0));
+    elem::store4(c.a_f, e.a_f.x, e.a_f.y, e.a_f.z, T(0));
+    elem::store4(c.a_b, e.a_b.x, e.a_b.y, e.a_b.z, T(0));
     layer_lanes(c);
     T limit = T(1);
     for (int k = 0; k < 3; ++k) {
@@ -311,12 +297,10 @@ HAIRSCATTER_HD DualStreams<T> dual_streams(const DualScatteringEntry<T>& e, T n_
     const T m = dual_stack_depth(dual_turned_depth(dual_stack_depth(m_fibers), mf, limit_m));
     // Lanes 0–2: the channels; lane 3: the channel mean, whose albedos give the events below.
     // The same four layers n deep (lanes 0–3) and m deep (4–7), as one batch.
-    glm::vec<3, T> a_f, a_b;
-    detail::stack_albedos(e, a_f, a_b);
-    const T af = (a_f.x + a_f.y + a_f.z) * T(1.0 / 3.0), ab = (a_b.x + a_b.y + a_b.z) * T(1.0 / 3.0);
+    const T af = (e.a_f.x + e.a_f.y + e.a_f.z) * T(1.0 / 3.0), ab = (e.a_b.x + e.a_b.y + e.a_b.z) * T(1.0 / 3.0);
     LayerLanes<T, 4> layer;
-    elem::store4(layer.a_f, a_f.x, a_f.y, a_f.z, af);
-    elem::store4(layer.a_b, a_b.x, a_b.y, a_b.z, ab);
+    elem::store4(layer.a_f, e.a_f.x, e.a_f.y, e.a_f.z, af);
+    elem::store4(layer.a_b, e.a_b.x, e.a_b.y, e.a_b.z, ab);
     layer_lanes(layer);
     LayerLanes<T, 8> c;
     repeat_lanes(layer, c);
@@ -380,11 +364,9 @@ HAIRSCATTER_HD DualSourceStack<T> dual_source_stack(const DualScatteringEntry<T>
     DualSourceStack<T> st;
     const T n = dual_stack_depth(count);
     if (!(n > T(0))) return st;
-    glm::vec<3, T> a_f, a_b;
-    detail::stack_albedos(e, a_f, a_b);
     LayerLanes<T, 4> layer;
-    elem::store4(layer.a_f, a_f.x, a_f.y, a_f.z, T(0));
-    elem::store4(layer.a_b, a_b.x, a_b.y, a_b.z, T(0));
+    elem::store4(layer.a_f, e.a_f.x, e.a_f.y, e.a_f.z, T(0));
+    elem::store4(layer.a_b, e.a_b.x, e.a_b.y, e.a_b.z, T(0));
     layer_lanes(layer);
     const T depth[4] = {n, n, n, n};
     T R[4], T_[4];
