@@ -52,10 +52,17 @@ TEST(SpectralDualTables, GridWavelengthsAreTheRgbTablesInAnyChannel) {
     for (int i = 0; i < direct.size(); ++i) {
         const double theta = direct.theta_of(i);
         const auto e = t.lookup(theta, lambda), d = direct.entry(i);
+        // Every field computed channel by channel is the same to rounding. rho_b is drawn
+        // through the fiber's sampler, whose choice of lobe follows the three channels
+        // together, so a wavelength's rho_b depends on which wavelengths share its table:
+        // the same within the draw's own noise (DualTables.BackReturnAgreesWithMonteCarlo-
+        // OfTheFiber: 0.03 against Monte Carlo), which is what is checked for it.
         for (int f = 0; f < hs::DualScatteringEntry<double>::kFields; ++f)
-            for (int c = 0; c < 3; ++c)
-                EXPECT_NEAR(e.fields()[f][c], d.fields()[f][c], 1e-12 * (1 + std::abs(d.fields()[f][c])))
+            for (int c = 0; c < 3; ++c) {
+                const bool sampled = &e.fields()[f] == &e.rho_b;
+                EXPECT_NEAR(e.fields()[f][c], d.fields()[f][c], sampled ? 0.03 : 1e-12 * (1 + std::abs(d.fields()[f][c])))
                     << "field " << f << " channel " << c << " theta " << theta;
+            }
     }
 }
 
