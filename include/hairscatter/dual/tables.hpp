@@ -670,7 +670,7 @@ template <typename T> class DualScatteringTables {
     }
 
   private:
-    // Entry::mu_f, mu_b and rho_b at wo: the fiber's f over the sphere of wi, averaged over the
+    // Entry::mu_f and mu_b at wo: the fiber's f over the sphere of wi, averaged over the
     // fibers' h with their weights: Gauss–Legendre in sin θi (dω = d sin θi dφ) times the
     // trapezoid rule of the periodic φ. 8 × 32 nodes resolve the h-averaged lobes at the
     // shipped roughness (against Monte Carlo of the fiber over the whole sphere within 0.01,
@@ -724,11 +724,11 @@ template <typename T> class DualScatteringTables {
         const int points = int(std::min<std::size_t>(1024, std::max<std::size_t>(32, 4096 / std::max<std::size_t>(1, fibers.size()))));
         // R₄: 1/g, 1/g², 1/g³, 1/g⁴ with g the real root of x⁵ = x + 1.
         constexpr double g = 1.1673039782614187, a1 = 1 / g, a2 = a1 / g, a3 = a2 / g, a4 = a3 / g;
+        const auto frac = [](double v) { return v - std::floor(v); };
         V3 back(T(0)), returned(T(0));
         for (std::size_t k = 0; k < fibers.size(); ++k) {
             for (int i = 0; i < points; ++i) {
                 const double x = 0.5 + double(k * std::size_t(points) + std::size_t(i));  // each fiber its own points
-                const auto frac = [](double v) { return v - std::floor(v); };
                 const glm::vec<4, T> u(T(frac(x * a1)), T(frac(x * a2)), T(frac(x * a3)), T(frac(x * a4)));
                 const auto s = fibers[k].sample(wo, u);
                 if (!(s.pdf > T(0)) || !(s.wi.y >= T(0))) continue;  // none, or the forward half
