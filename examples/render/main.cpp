@@ -118,7 +118,7 @@ int main(int argc, char** argv) {
     int field_side = 12;
     float field_spacing = 1.0f;
     std::string dual_depth = "shape";
-    std::string dual_stacks = "planar";
+    std::string dual_stacks = "inclined";
     int dual_glow = 4;
     app.add_option("--dual-depth", dual_depth,
                    "dual two-stream: how many fibers turning light crosses per fiber of a stack, from the hair's "
@@ -127,10 +127,10 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"shape", "slab"}))
         ->capture_default_str();
     app.add_option("--dual-stacks", dual_stacks,
-                   "dual two-stream: a fiber's backscatter returns along a stack always (planar: the 1D stack of "
-                   "Zinke et al. 2008, the default) or only where it travels back along it (inclined: the tables' "
-                   "rho_b, a fiber keeping the light's travel along its axis; dense white fur within 1 % of the "
-                   "path tracer, docs/dual.md)")
+                   "dual two-stream: a fiber's backscatter returns along a stack only where it travels back "
+                   "along it (inclined, the default: the tables' rho_b, a fiber keeping the light's travel along "
+                   "its axis; dense white fur within 1 % of the path tracer, docs/dual.md) or always (planar: the "
+                   "1D stack of Zinke et al. 2008)")
         ->check(CLI::IsMember({"inclined", "planar"}))
         ->capture_default_str();
     app.add_option("--dual-glow", dual_glow,

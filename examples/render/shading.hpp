@@ -57,11 +57,10 @@ struct ShadingOptions {
     // lit hair (docs/theory.md §5.7).
     bool shape_depth = true;
     // Two-stream: stacks inclined to their fibers return only the backscatter that travels
-    // back along them (the tables' rho_b, hs::dual_stack_entry); false (the default): every
+    // back along them (the tables' rho_b, hs::dual_stack_entry; the default); false: every
     // backward event returns, the 1D stack of Zinke et al. 2008. Inclined stacks bring dense
-    // white fur from +9…+12 % to within 1 % of the path tracer but the dense blond block
-    // from −6.1 to −6.8 % (docs/dual.md): not the default until that is understood.
-    bool inclined_stacks = false;
+    // white fur from +9…+12 % to within 1 % of the path tracer (docs/dual.md).
+    bool inclined_stacks = true;
     int glow_points = 4;
     // Two-stream: a path's first vertices traced as the path tracer traces them (next-event
     // estimation and the fiber's own sample to the next hit) before the estimator takes over:

@@ -133,13 +133,13 @@ render::ShadingOptions shading_options(const std::string& colour, const std::str
         o.glow_points = std::stoi(formulation.substr(g + 2));
         formulation = formulation.substr(0, g);
     }
-    // An "-inclined" suffix returns along the stacks only the backscatter that travels back
-    // along them (--dual-stacks inclined).
-    const std::string inclined = "-inclined";
-    if (formulation.size() > inclined.size() &&
-        formulation.compare(formulation.size() - inclined.size(), inclined.size(), inclined) == 0) {
-        o.inclined_stacks = true;
-        formulation = formulation.substr(0, formulation.size() - inclined.size());
+    // A "-planar" suffix returns every backward event along the stacks (--dual-stacks planar,
+    // the 1D stack of Zinke et al. 2008); without it the stacks are inclined (the default).
+    const std::string planar = "-planar";
+    if (formulation.size() > planar.size() &&
+        formulation.compare(formulation.size() - planar.size(), planar.size(), planar) == 0) {
+        o.inclined_stacks = false;
+        formulation = formulation.substr(0, formulation.size() - planar.size());
     }
     // A "-point" suffix reads the stacks' sources at the shading point (DualSource::kPoint).
     const std::string point = "-point";
@@ -158,7 +158,7 @@ render::ShadingOptions shading_options(const std::string& colour, const std::str
     else if (formulation == "improved") o.dual = hairscatter::DualScatteringSettings<float>::improved();
     else if (!o.two_stream)
         throw std::invalid_argument("study: unknown formulation '" + formulation +
-                                    "' (two-stream | two-stream-grid | two-stream-field, each optionally with -point, -inclined, -gN, -vN | "
+                                    "' (two-stream | two-stream-grid | two-stream-field, each optionally with -point, -planar, -gN, -vN | "
                                     "improved | zinke)");
     return o;
 }
