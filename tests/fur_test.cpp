@@ -274,14 +274,22 @@ TEST(FurFiber, RoughCortexTurnsRTowardTheLight) {
 // symmetry, within the walk's noise) and grows toward the rim, where the facets wo sees lean
 // toward it and refract the light less far round; and the fibre's TT lobe is centred on
 // Φ(1, h) + sign(h) ψ_TT.
+// The rough cortex on nearly smooth, untilted facets (GGX 0.002, no cuticle tilt): its walk
+// should give back the smooth cylinder's geometry.
+namespace {
+hs::FurParams<double> nearly_smooth_facets(double kappa, double sigma_s) {
+    hs::FurParams<double> p = fur_params<double>(kappa, sigma_s, 0, glm::dvec3(0), true);
+    p.cortex.alpha = 0;
+    p.facet_alpha = 0.002;
+    return p;
+}
+}  // namespace
+
 TEST(FurFiber, RoughCortexTurnsTTByItsFacets) {
     constexpr int kTheta = hs::detail::RoughCortexTables<double>::kTheta, kH = hs::detail::RoughCortexTables<double>::kH;
     constexpr int kMid = kTheta / 2;
     const double deg = 180 / kPi;
-    hs::FurParams<double> smooth_p = fur_params<double>(0, 0, 0, glm::dvec3(0), true);
-    smooth_p.cortex.alpha = 0;
-    smooth_p.facet_alpha = 0.002;
-    const hs::FurMaterial<double> smooth(smooth_p), rough(fur_params<double>(0, 0, 0, glm::dvec3(0), true));
+    const hs::FurMaterial<double> smooth(nearly_smooth_facets(0, 0)), rough(fur_params<double>(0, 0, 0, glm::dvec3(0), true));
     for (int i = 0; i < kTheta; ++i) {
         const double theta = (2.0 * i / (kTheta - 1) - 1) * 1.5;
         std::printf("[ fur ] node θo %5.1f°: ψ_TT over γ, smooth facets / default =", theta * deg);
@@ -319,6 +327,30 @@ TEST(FurFiber, RoughCortexTurnsTTByItsFacets) {
                     smooth_phi * deg, expected * deg);
         EXPECT_NEAR(std::remainder(best_phi - expected, 2 * kPi) * deg, 0.0, 0.2) << h;
     }
+}
+
+// The rough entry's path to the medulla (RoughCortexTables' k: the walk's first chords that
+// meet the medulla, their mean 3D path through the cortex to it over the smooth chord's at h).
+// Nearly smooth, untilted facets give back the smooth cylinder (k within 0.02 of 1 wherever
+// the smooth chord meets the medulla, up to θo 60° and γ 67.5°); the facets β implies leave
+// it within 0.05 of 1 on the axis at θo 0° and lengthen it toward grazing light, where the
+// visible facets lean toward wo and refract the light across the section: by over 15 % on the
+// axis at θo ±71.6° (κ 0.6; docs/fur_breakdown.md, fur_breakdown_tool --first-chord).
+TEST(FurFiber, RoughEntryLengthensThePathToTheMedulla) {
+    constexpr int kTheta = hs::detail::RoughCortexTables<double>::kTheta, kH = hs::detail::RoughCortexTables<double>::kH;
+    constexpr int kMid = kTheta / 2;
+    const hs::FurMaterial<double> smooth(nearly_smooth_facets(0.6, 1)), rough(fur_params<double>(0.6, 1, 0, glm::dvec3(0), true));
+    for (int i = 0; i < kTheta; ++i) {
+        const double theta = (2.0 * i / (kTheta - 1) - 1) * 1.5;
+        std::printf("[ fur ] node θo %5.1f°: k over γ, smooth facets / default =", theta * 180 / kPi);
+        for (int j = 0; j < kH; ++j) std::printf(" %.3f/%.3f", smooth.rough_cortex().share[i][j][9], rough.rough_cortex().share[i][j][9]);
+        std::printf("\n");
+        if (std::fabs(theta) > kPi / 3) continue;
+        for (int j = 0; j < kH - 2; ++j) EXPECT_NEAR(smooth.rough_cortex().share[i][j][9], 1.0, 0.02) << i << " " << j;
+    }
+    EXPECT_NEAR(rough.rough_cortex().share[kMid][0][9], 1.0, 0.05);
+    EXPECT_GT(rough.rough_cortex().share[kMid + 5][0][9], 1.15);
+    EXPECT_GT(rough.rough_cortex().share[kMid - 5][0][9], 1.15);
 }
 
 // The default facets (FurParams::facet_alpha 0) are the GGX whose reflections give R the
@@ -739,7 +771,8 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     std::printf("[ physical ] rough cortex: f worst %.1f %%, mean %.1f %% lossless, %.1f %% blond; scattered worst %.1f %%,"
                 " mean %.1f %%\n", 100 * worst_all, 100 * mean_all[0], 100 * mean_all[1], 100 * worst[0], 100 * mean[0]);
     std::printf("[ physical ] smooth cortex: scattered worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst[1], 100 * mean[1]);
-    // Measured: 13.8 %, mean 7.7 % lossless and 8.5 % blond; scattered 22.2 %, 8.1 % (15.3 %,
+    // Measured: 13.8 %, mean 7.7 % lossless and 8.25 % blond; scattered 15.4 %, 7.1 % (8.5 % blond,
+    // scattered 22.2 % and 8.1 % before the rough entry's longer path to the medulla, k; 15.3 %,
     // 8.6 %, 9.3 % before TT's azimuth turned by its facets, ψ_TT; 17.7 %,
     // 8.6 %, 9.9 %; 22.5 %, 8.2 % before R's azimuth turned toward wo, ψ_R; 16.4 %, 8.4 %,
     // 9.7 %; 22.0 %, 8.2 % given the reference's GGX 0.17; 23.2 %, 10.2 %, 12.9 %; 22.8 %
@@ -751,9 +784,9 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     // cortex's orders); 6.3 %, 4.8 % (the reference's noise: 1–3 %).
     EXPECT_LT(worst_all, 0.145);
     EXPECT_LT(mean_all[0], 0.08);
-    EXPECT_LT(mean_all[1], 0.09);
-    EXPECT_LT(worst[0], 0.23);
-    EXPECT_LT(mean[0], 0.085);
+    EXPECT_LT(mean_all[1], 0.085);
+    EXPECT_LT(worst[0], 0.16);
+    EXPECT_LT(mean[0], 0.075);
     EXPECT_LT(worst[1], 0.07);
     EXPECT_LT(mean[1], 0.052);
 }

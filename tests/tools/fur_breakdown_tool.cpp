@@ -28,9 +28,18 @@
 // its cdf, and K(c) = √(η² − 1 + c²) − c at the band's middle, c = cos θo cos γ: to first
 // order a facet of slope a along the fibre at entry and b at exit move TT's sin θi by
 // −K(c)(a + b) (docs/fur_breakdown.md).
+// With --first-chord, instead of the cases: where the light that enters goes on its first
+// chord, per θo (0°, 30°, 75°) and κ (0.3, 0.6, 0.9), over a beam uniform in h, through the
+// smooth cortex (Snell's law, weighted by 1 − F) and through the rough one (the model's walk over its
+// facets, RoughFacets, of --facet-alpha A or from β): the share of the entered light whose
+// first chord meets the medulla (in the section the chord leaves the entry at γ' to the normal
+// and meets the medulla where |sin γ'| < κ), and of those the mean 3D path through the cortex
+// to the medulla, (cos γ' − √(κ² − sin²γ')) over the chord's in-section share, and the mean
+// transmittance along it at the blond cortex's green σa^c.
 //
 //   fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals] [--split] [--facet-alpha A]
 //   fur_breakdown_tool --tt-exits [--rays N]
+//   fur_breakdown_tool --first-chord [--rays N] [--facet-alpha A]
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -196,13 +205,61 @@ void print_tt_exits(long long rays) {
     }
 }
 
+// --first-chord (see the top).
+void print_first_chord(long long rays) {
+    constexpr double kEta = 1.55, kBeta = 0.3;
+    const double tilt = 2 * phys_fiber::kPi / 180, sigma = phys_fiber::kBlond[1];
+    const hs::detail::RoughFacets facets = hs::detail::RoughFacets::of(kEta, tilt, kBeta, g_facet_alpha);
+    std::printf("# fur_breakdown_tool --first-chord --rays %lld --facet-alpha %g (GGX %.3f, tilt 2°)\n\n", rays, g_facet_alpha,
+                facets.ggx);
+    std::printf("| θo | κ | smooth: meets the medulla | path to it | transmittance | rough: meets the medulla | path to it |"
+                " transmittance |\n|---|---|---|---|---|---|---|---|\n");
+    for (double theta_deg : {0.0, 30.0, 75.0})
+        for (double kappa : {0.3, 0.6, 0.9}) {
+            const double theta = theta_deg * phys_fiber::kPi / 180;
+            hs::detail::FurRng rng(0xF1257C40u);
+            double entered[2] = {0, 0}, hits[2] = {0, 0}, path[2] = {0, 0}, kept[2] = {0, 0};
+            for (long long k = 0; k < rays; ++k) {
+                const double h = 2 * rng.uniform() - 1;
+                // Toward the light in the entry point's frame (axis, normal, tangent), as
+                // build_rough_cortex meets it.
+                const glm::dvec3 out(std::sin(theta), std::cos(theta) * std::sqrt(1 - h * h), -std::cos(theta) * h);
+                for (int rough = 0; rough < 2; ++rough) {
+                    glm::dvec3 d;
+                    double w = 1;  // (the smooth boundary's transmitted share; the walk's light enters or not)
+                    if (rough) {
+                        const double h1 = facets.next_height(-out, 2, rng.uniform());
+                        const hs::detail::RoughFacets::Event e = facets.event(-out, true, kEta, rng);
+                        const hs::detail::RoughFacets::Exit x = facets.walk_from(e.dir, e.outside, h1, kEta, rng);
+                        if (x.outside) continue;
+                        d = x.dir;
+                    } else {
+                        const double ci = out.y, ct = std::sqrt(1 - (1 - ci * ci) / (kEta * kEta));
+                        d = -out / kEta + (ci / kEta - ct) * glm::dvec3(0, 1, 0);
+                        w = 1 - hs::detail::fur_fresnel(ci, kEta);
+                    }
+                    entered[rough] += w;
+                    const double in_plane = std::sqrt(d.y * d.y + d.z * d.z), cos_g = std::fabs(d.y) / in_plane, sin_g = d.z / in_plane;
+                    if (!(std::fabs(sin_g) < kappa)) continue;
+                    const double l = (cos_g - std::sqrt(kappa * kappa - sin_g * sin_g)) / in_plane;
+                    hits[rough] += w, path[rough] += w * l, kept[rough] += w * std::exp(-sigma * l);
+                }
+            }
+            std::printf("| %g° | %g |", theta_deg, kappa);
+            for (int r = 0; r < 2; ++r)
+                std::printf(" %.3f | %.3f | %.3f |", hits[r] / entered[r], path[r] / hits[r], kept[r] / hits[r]);
+            std::printf("\n");
+            std::fflush(stdout);
+        }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     long long rays = 1000000;
     int threads = 2;
     std::string only;
-    bool marginals = false, split = false, tt_exits = false;
+    bool marginals = false, split = false, tt_exits = false, first_chord = false;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--rays") && i + 1 < argc) rays = std::atoll(argv[++i]);
         else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
@@ -210,10 +267,11 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[i], "--marginals")) marginals = true;
         else if (!std::strcmp(argv[i], "--split")) split = true;
         else if (!std::strcmp(argv[i], "--tt-exits")) tt_exits = true;
+        else if (!std::strcmp(argv[i], "--first-chord")) first_chord = true;
         else if (!std::strcmp(argv[i], "--facet-alpha") && i + 1 < argc) g_facet_alpha = std::atof(argv[++i]);
         else {
             std::fprintf(stderr, "usage: fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals]"
-                                 " [--split] [--facet-alpha A] [--tt-exits]\n");
+                                 " [--split] [--facet-alpha A] [--tt-exits] [--first-chord]\n");
             return 2;
         }
     }
@@ -223,6 +281,10 @@ int main(int argc, char** argv) {
     }
     if (tt_exits) {
         print_tt_exits(rays);
+        return 0;
+    }
+    if (first_chord) {
+        print_first_chord(rays);
         return 0;
     }
     const glm::dvec3 blond(phys_fiber::kBlond[0], phys_fiber::kBlond[1], phys_fiber::kBlond[2]);

@@ -226,18 +226,21 @@ namespace detail {
 //   first_c  = exp(−σa^c (ℓ − ℓ_m)/2) · σs/σt_c · (1 − exp(−σt_c ℓ_m))
 // (first_c: the light of one pass that scatters in the medulla; the cortex's first half is
 // crossed before it). σs (1 − e^(−σt ℓ))/σt is written σs ℓ · (−expm1(−x)/x), finite at σt = 0.
+// cortex_scale multiplies the cortex's length ℓ − ℓ_m (the rough cortex's entry lengthens the
+// path through it: RoughCortexTables' k; 1 for the smooth cylinder).
 template <typename T> struct MedullaChord {
     T transmittance[3];
     T first_scatter[3];
 };
 
 template <typename T>
-HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurParams<T>& p, T sin_gamma_t, T chord, T chord_scale) {
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurParams<T>& p, T sin_gamma_t, T chord, T chord_scale,
+                                                                     T cortex_scale = T(1)) {
     using std::sqrt;
     const T inside = sqr(p.kappa) - sqr(sin_gamma_t);  // < 0: the chord misses the medulla
     const T half_m = inside > T(0) ? sqrt(inside) : T(0);
     const T lm = half_m * chord_scale;  // ℓ_m, 3D
-    const T lc = chord > lm ? chord - lm : T(0);
+    const T lc = (chord > lm ? chord - lm : T(0)) * cortex_scale;
     // The cortex's half chord exp(−σa^c (ℓ − ℓ_m)/2) and the medulla's expm1(−σt ℓ_m), each
     // one batch (in float one vector: math/elementary.hpp); T is the half chord squared
     // times e^(−σt ℓ_m), first_c the half chord times σs ℓ_m (1 − e^(−x))/x.
@@ -305,11 +308,19 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 // N_TT on Φ(1, h) + sign(h) ψ_TT: toward the rim the facets wo sees lean toward it, refract
 // the light less far round, and the exits turn toward the forward direction. The nodes are
 // uniform in γ = asin |h|, denser toward the rim, where F_r, v_R, ψ_R and ψ_TT change fastest.
+// And the entry's facets lengthen the first chord's path to the medulla: at grazing light the
+// facets wo sees refract the light across the section, so it crosses more cortex before the
+// medulla (docs/fur_breakdown.md, last section). A chord at γ' to the normal in the section
+// meets the concentric medulla where |sin γ'| < κ, after (cos γ' − √(κ² − sin²γ')) over its
+// in-section share in 3D; the table keeps k, the mean of that over the walk's first chords
+// that meet the medulla divided by the smooth chord's at the node's h (1 where the smooth
+// chord misses it), and the fibre scales the cortex's part of every chord by k before its
+// absorption (σa^c alone: lossless light is unchanged).
 template <typename T> struct RoughCortexTables {
     static constexpr int kTheta = 13, kH = 9;  // θo nodes over ±kThetaMax, |γ| nodes over [0, π/2]
     static constexpr double kThetaMax = 1.5;   // (beyond, the nearest node: cos θo → 0 there)
-    static constexpr int kValues = 9;
-    T share[kTheta][kH][kValues];              // TT, TRT, later, r, F_r / F, v_R, δ_R, ψ_R, ψ_TT
+    static constexpr int kValues = 10;
+    T share[kTheta][kH][kValues];              // TT, TRT, later, r, F_r / F, v_R, δ_R, ψ_R, ψ_TT, k
 
     // The values at (θo, γ), h = sin γ, bilinear between the nodes.
     HAIRSCATTER_HD void at(T theta, T gamma, T (&out)[kValues]) const {
@@ -611,7 +622,7 @@ inline std::array<double, 3> weighted_quartiles(std::vector<std::pair<double, do
 // two entries per walk, the walk's own and one more), at most 400 chords per walk (the rest counts as
 // later; a tail ratio of 0.95, the largest at β 0.3, leaves 1e-9 of it there).
 template <typename T>
-RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m, double facet_alpha) {
+RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m, double facet_alpha, double kappa = 0) {
     constexpr int kWalks = 2000, kMaxEvents = 400, kShapeDraws = 2;
     const RoughFacets facets = RoughFacets::of(eta, alpha, beta_m, facet_alpha);
     std::vector<std::pair<double, double>> reflections, turns;  // R's sin θi, its turn toward wo; weights
@@ -627,6 +638,7 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             // (cos γ, sin γ) in the section, sin γ = h, with wo's section part along (1, 0).
             const glm::dvec3 out(std::sin(theta), std::cos(theta) * std::sqrt(1 - h * h), -std::cos(theta) * h);
             double entered = 0, first = 0, second = 0, later = 0, tail_events = 0, reflected = 0;
+            double hits = 0, to_medulla = 0;  // the entered light's first chords that meet the medulla, their 3D paths to it
             reflections.clear();
             turns.clear();
             tt_turns.clear();
@@ -678,6 +690,14 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
                 }
                 entered += 1;
                 glm::dvec3 d(entry.dir.x, std::fabs(entry.dir.y), entry.dir.z);  // at the chord's far end
+                {
+                    // The first chord leaves the entry at γ' to the normal in the section; it
+                    // meets the medulla where |sin γ'| < κ, after cos γ' − √(κ² − sin²γ') in
+                    // the section, over the chord's in-section share in 3D.
+                    const double in_plane = std::max(std::sqrt(d.y * d.y + d.z * d.z), 1e-12), offset = d.z / in_plane;
+                    if (std::fabs(offset) < kappa)
+                        hits += 1, to_medulla += (d.y / in_plane - std::sqrt(kappa * kappa - offset * offset)) / in_plane;
+                }
                 const double gamma_1 = std::atan2(d.z, d.y);                   // the first chord's γ'
                 int order = 1;
                 for (; order < kMaxEvents; ++order) {
@@ -705,6 +725,13 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             tab.share[i][j][6] = T(theta - 2 * alpha + lobe.theta_c);  // δ_R: θo' = θo − 2α turned to −θc
             tab.share[i][j][7] = T(reflected > 0 ? weighted_quantile(turns, 0.5) : 0.0);  // ψ_R: the median turn
             tab.share[i][j][8] = T(tt_turns.empty() ? 0.0 : weighted_quantile(tt_turns, 0.5));  // ψ_TT: the median turn
+            {
+                // k: the rough entry's mean path to the medulla over the smooth chord's at h
+                // (1 where the smooth chord misses it, or no rough one meets it).
+                const double s_t = std::sin(gamma_t), cos_t = std::sqrt(1 - sqr(std::sin(theta)) / (eta * eta));
+                const double smooth = s_t < kappa ? (std::cos(gamma_t) - std::sqrt(kappa * kappa - s_t * s_t)) / cos_t : 0.0;
+                tab.share[i][j][9] = T(smooth > 1e-9 && hits > 0 ? to_medulla / hits / smooth : 1.0);
+            }
         }
     }
     return tab;
@@ -1053,7 +1080,7 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
           tables_(tables) {
         if (params.rough_cortex)
             rough_ = detail::build_rough_cortex<T>(double(params.cortex.eta), double(params.cortex.alpha),
-                                                   double(params.cortex.beta_m), double(params.facet_alpha));
+                                                   double(params.cortex.beta_m), double(params.facet_alpha), double(params.kappa));
     }
 
     // What the tables depend on, in the file's order: with the rough cortex also the cuticle
@@ -1187,7 +1214,14 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         const T fresnel = fresnel_dielectric(cos_o * cos_gamma_o_, prm.cortex.eta);
         const FiberRefraction<T> refraction(sin_o, cos_o, prm.cortex.eta);
         const typename FiberRefraction<T>::Path path = refraction.path(h_);
-        const detail::MedullaChord<T> chord = detail::medulla_chord(prm, path.sin_gamma_t, path.chord, refraction.chord_scale);
+        // The rough cortex's walk at (θo, γ) (RoughCortexTables; read once, here, because its
+        // entry also lengthens the chord's path through the cortex by k = e[9]).
+        T e[detail::RoughCortexTables<T>::kValues];
+        if (prm.rough_cortex) mat_->rough_cortex().at(elem::asin(sin_o), gamma_o_, e);
+        else
+            for (T& v : e) v = T(0);
+        const detail::MedullaChord<T> chord = detail::medulla_chord(prm, path.sin_gamma_t, path.chord, refraction.chord_scale,
+                                                                    prm.rough_cortex ? e[9] : T(1));
         const T gamma_t = elem::asin(path.sin_gamma_t);
         T att[std::size_t(kLobes + 1)][3];
         // The light that passes k chords unscattered, per channel: Q_k T^(k−1) summed over k
@@ -1204,8 +1238,6 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             //   A_res = (1 − F_r) e3 T³ (1 − r)/(1 − r T),
             //   Σ_k Q_k T^(k−1) = 1 + (1 − e1) T + e3 T² / (1 − r T).
             // Lossless (T = 1) every entered share leaves: Σ_p A_p = 1 as before.
-            T e[detail::RoughCortexTables<T>::kValues];
-            mat_->rough_cortex().at(elem::asin(sin_o), gamma_o_, e);
             for (int k = 0; k < 4; ++k) r_shape[k] = e[5 + k];
             entry_reflect = clamp(e[4] * fresnel, T(0), T(1));
             for (int c = 0; c < 3; ++c) {
