@@ -11,7 +11,7 @@
 //   physical_fiber_tool lattice --threads T             TT's and TRT's lattice error alone,
 //                                                       model against model (no trace)
 //   physical_fiber_tool walk --cache FILE --variant V   the residual in the θ shape of an
-//                                                       interior walk (variants a–e, below)
+//       [--walk-u N --walk-h N --walks N]               interior walk (variants a–f, below)
 //   physical_fiber_tool walk-shape --case K --rays N --variant V   that shape and R per row
 //                                                       against a fresh trace of case K
 #include <array>
@@ -371,7 +371,11 @@ int residual_shapes(long long rays, int threads) {
 //      in through a second normal with 1 − F, out by its reflection with F;
 //   f  c with the reference's own interface (Heitz et al. 2016's random walk on the
 //      microsurface, 256 walks per state): what the chain gives with the physical boundary.
-constexpr int kWalkBins = 72;  // in sin θi; a multiple of the reference's 24 rows
+constexpr int kWalkBins = 72;  // exits in sin θi; a multiple of the reference's 24 rows
+// The chain's states: u bins × h bins, and variant f's walks per state.
+struct WalkGrid {
+    int u = 72, h = 16, walks = 256;
+};
 
 // A visible normal of ggx seen from v about the mesonormal m (both unit, v·m > 0).
 glm::dvec3 visible_normal(const hs::Ggx<double>& ggx, const glm::dvec3& v, const glm::dvec3& m, double u1, double u2) {
@@ -387,12 +391,13 @@ glm::dvec3 refracted(const glm::dvec3& v, const glm::dvec3& h, double n) {
     return glm::normalize(-v / n + (c / n - std::sqrt(std::max(0.0, k))) * h);
 }
 
-std::vector<double> walk_profile(const hs::HuangParams<double>& p, double sin_o, char variant) {
-    const int nu = kWalkBins, nh = 16, nq = 8, ns = nu * nh;
+std::vector<double> walk_profile(const hs::HuangParams<double>& p, double sin_o, char variant, const WalkGrid& grid = WalkGrid()) {
+    const int nu = grid.u, nh = grid.h, nq = 8, ns = nu * nh, nx = kWalkBins;
     const double eta = p.eta;
     const hs::Ggx<double> ggx(p.roughness);
     const glm::dvec3 m_out(std::sin(p.alpha), std::cos(p.alpha), 0.0), m_in = -m_out;  // the surface normal is +y
     const auto bin = [&](double x) { return std::min(nu - 1, std::max(0, int((x + 1) * 0.5 * nu))); };
+    const auto xbin = [&](double x) { return std::min(nx - 1, std::max(0, int((x + 1) * 0.5 * nx))); };
     const auto state = [&](const glm::dvec3& x) {
         const double inplane = std::sqrt(x.y * x.y + x.z * x.z);
         return bin(x.x) * nh + std::min(nh - 1, int((inplane > 0 ? std::fabs(x.z) / inplane : 0.0) * nh));
@@ -403,13 +408,13 @@ std::vector<double> walk_profile(const hs::HuangParams<double>& p, double sin_o,
         double w;
     };
     std::vector<std::vector<Step>> reflect{std::size_t(ns)};
-    std::vector<double> leave(std::size_t(ns * nu), 0.0);
+    std::vector<double> leave(std::size_t(ns * nx), 0.0);
     phys_fiber::Fiber fiber;
     fiber.eta = eta;
     fiber.roughness = p.roughness;
     fiber.tilt = p.alpha;
     phys_fiber::Rng rng(12345);
-    constexpr int kWalks = 256;
+    const int kWalks = grid.walks;
     for (int s = 0; s < ns; ++s) {
         const double u = -1 + (s / nh + 0.5) * 2.0 / nu, hh = (s % nh + 0.5) / nh, r_u = std::sqrt(1 - u * u);
         const glm::dvec3 d(u, r_u * std::sqrt(1 - hh * hh), r_u * hh), v = -d;  // d travels to the surface
@@ -418,7 +423,7 @@ std::vector<double> walk_profile(const hs::HuangParams<double>& p, double sin_o,
             for (int k = 0; k < kWalks; ++k) {
                 const auto e = phys_fiber::boundary_event(d, glm::dvec3(0, 1, 0), true, fiber, rng);
                 if (!e) continue;
-                if (e->transmitted) leave[std::size_t(s * nu + bin(e->dir.x))] += 1.0 / kWalks;
+                if (e->transmitted) leave[std::size_t(s * nx + xbin(e->dir.x))] += 1.0 / kWalks;
                 else reflect[std::size_t(s)].push_back({state(e->dir), 1.0 / kWalks});
             }
             continue;
@@ -434,21 +439,21 @@ std::vector<double> walk_profile(const hs::HuangParams<double>& p, double sin_o,
                     const glm::dvec3 v2 = -r, h2 = visible_normal(ggx, v2, m_in, u1b, u2b);
                     const double f2 = hs::fresnel_any(glm::dot(v2, h2), 1 / eta);
                     reflect[std::size_t(s)].push_back({state(mirrored(2 * glm::dot(v2, h2) * h2 - v2)), w * f * f2});
-                    if (f2 < 1) leave[std::size_t(s * nu + bin(refracted(v2, h2, 1 / eta).x))] += w * f * (1 - f2);
+                    if (f2 < 1) leave[std::size_t(s * nx + xbin(refracted(v2, h2, 1 / eta).x))] += w * f * (1 - f2);
                 } else {
                     reflect[std::size_t(s)].push_back({state(mirrored(r)), w * f});
                 }
                 if (!(f < 1)) continue;
                 const glm::dvec3 t = refracted(v, h, 1 / eta);
                 const double g = variant == 'a' ? 1.0 : ggx.g1(glm::dot(t, m_out)), masked = w * (1 - f) * (1 - g);
-                leave[std::size_t(s * nu + bin(t.x))] += w * (1 - f) * g;
+                leave[std::size_t(s * nx + xbin(t.x))] += w * (1 - f) * g;
                 if (!(masked > 0)) continue;
                 const glm::dvec3 v2 = -t;
                 if (variant == 'e' && glm::dot(v2, m_out) > 1e-6) {
                     const glm::dvec3 h2 = visible_normal(ggx, v2, m_out, u1b, u2b);
                     const double f2 = hs::fresnel_any(glm::dot(v2, h2), eta);
                     reflect[std::size_t(s)].push_back({state(mirrored(refracted(v2, h2, eta))), masked * (1 - f2)});
-                    leave[std::size_t(s * nu + bin((2 * glm::dot(v2, h2) * h2 - v2).x))] += masked * f2;
+                    leave[std::size_t(s * nx + xbin((2 * glm::dot(v2, h2) * h2 - v2).x))] += masked * f2;
                 } else {
                     const glm::dvec3 back = variant == 'b' || variant == 'c' ? mirrored(r) : d - 2 * glm::dot(d, m_in) * m_in;
                     reflect[std::size_t(s)].push_back({state(back), masked});
@@ -456,7 +461,7 @@ std::vector<double> walk_profile(const hs::HuangParams<double>& p, double sin_o,
             }
     }
     // The light inside after the entry.
-    std::vector<double> q(std::size_t(ns), 0.0), out(std::size_t(nu), 0.0);
+    std::vector<double> q(std::size_t(ns), 0.0), out(std::size_t(nx), 0.0);
     const double cos_o = std::sqrt(1 - sin_o * sin_o), eta_p = std::sqrt(eta * eta - sin_o * sin_o) / cos_o;
     for (int k = 0; k < 32; ++k) {
         const double hh = (k + 0.5) / 32;
@@ -487,7 +492,7 @@ std::vector<double> walk_profile(const hs::HuangParams<double>& p, double sin_o,
             if (x == 0) continue;
             for (const Step& st : reflect[std::size_t(s)]) next[std::size_t(st.to)] += x * st.w;
             if (leaving)
-                for (int j = 0; j < nu; ++j) out[std::size_t(j)] += x * leave[std::size_t(s * nu + j)];
+                for (int j = 0; j < nx; ++j) out[std::size_t(j)] += x * leave[std::size_t(s * nx + j)];
         }
         q = next;
         double left = 0;
@@ -500,13 +505,13 @@ std::vector<double> walk_profile(const hs::HuangParams<double>& p, double sin_o,
     }
     double sum = 0;
     for (double x : out) sum += x;
-    for (double& x : out) x = sum > 0 ? x / sum / (2.0 / nu) : 0.0;
+    for (double& x : out) x = sum > 0 ? x / sum / (2.0 / nx) : 0.0;
     return out;
 }
 
 // Per case (cached reference), lossless and blond: the default's relative L1 with its residual
 // M(4β) and with the residual's energy in walk_profile's θ shape instead (uniform in φ).
-int walk(const std::string& cache, int threads, char variant) {
+int walk(const std::string& cache, int threads, char variant, const WalkGrid& grid) {
     const std::vector<CachedCase> cases = phys_fiber::read_cache(cache);
     std::vector<std::array<double, 4>> rows(cases.size());
     std::vector<std::thread> pool;
@@ -529,7 +534,7 @@ int walk(const std::string& cache, int threads, char variant) {
                         phys_fiber::model_bins(c, [&](const glm::dvec3&, const glm::dvec3& wi) { return b1.eval(wi); });
                     for (std::size_t b = 0; b < res.size(); ++b) with_m[b] += res[b];
                     const glm::dvec3 e_res = f1.albedo(c.c.wo());
-                    const std::vector<double> prof = walk_profile(p, c.c.wo().x, variant);
+                    const std::vector<double> prof = walk_profile(p, c.c.wo().x, variant, grid);
                     const int per = kWalkBins / c.n_u;
                     for (int iu = 0; iu < c.n_u; ++iu) {
                         double d = 0;
@@ -555,8 +560,8 @@ int walk(const std::string& cache, int threads, char variant) {
                 mean[q] += rows[k][std::size_t(2 * b + q)] / double(2 * cases.size());
             }
     }
-    std::printf("\nvariant %c: M(4β) worst %.1f %%, mean %.1f %%; walk worst %.1f %%, mean %.1f %%\n", variant, 100 * worst[0],
-                100 * mean[0], 100 * worst[1], 100 * mean[1]);
+    std::printf("\nvariant %c, %d × %d states, %d walks: M(4β) worst %.1f %%, mean %.1f %%; walk worst %.1f %%, mean %.1f %%\n", variant, grid.u, grid.h,
+                grid.walks, 100 * worst[0], 100 * mean[0], 100 * worst[1], 100 * mean[1]);
     return 0;
 }
 
@@ -683,6 +688,7 @@ int main(int argc, char** argv) {
         long long rays = 20000000;
         int threads = 2, n_u = 24, n_phi = 48, which = 0;
         char variant = 'c';
+        WalkGrid grid;
         std::string out = "physical_fiber.txt", cache = out, quadrature = "default";
         for (int i = 2; i + 1 < argc; i += 2) {
             const std::string k = argv[i], v = argv[i + 1];
@@ -695,6 +701,9 @@ int main(int argc, char** argv) {
             else if (k == "--bins-phi") n_phi = std::atoi(v.c_str());
             else if (k == "--variant") variant = v.empty() ? 'a' : v[0];
             else if (k == "--case") which = std::atoi(v.c_str());
+            else if (k == "--walk-u") grid.u = std::atoi(v.c_str());
+            else if (k == "--walk-h") grid.h = std::atoi(v.c_str());
+            else if (k == "--walks") grid.walks = std::atoi(v.c_str());
             else throw std::invalid_argument("unknown option " + k);
         }
         if (mode == "generate") return generate(rays, threads, out, n_u, n_phi);
@@ -704,7 +713,7 @@ int main(int argc, char** argv) {
         if (mode == "residual") return residual_shapes(rays, threads);
         if (mode == "breakdown") return breakdown(rays, threads);
         if (mode == "lattice") return lattice(threads);
-        if (mode == "walk") return walk(cache, threads, variant);
+        if (mode == "walk") return walk(cache, threads, variant, grid);
         if (mode == "walk-shape") return walk_shape(rays, threads, which, variant);
         throw std::invalid_argument("unknown mode " + mode);
     } catch (const std::exception& e) {
