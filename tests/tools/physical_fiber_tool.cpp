@@ -269,7 +269,7 @@ phys_fiber::Histogram traced(const phys_fiber::Case& c, long long rays, int thre
 
 // The residual's longitudinal shape against the reference's orders ≥ TRRT, traced afresh
 // with the classes apart: per case and channel (lossless, blond G), the model's residual
-// energy times M(v; θi | θo)/2π for several variances v (the model's 4β and a wider 8β; the sum over
+// energy times M(v; θi | θo)/2π for several variances v (4β, the model's before its chain profile, and a wider 8β; the sum over
 // orders of a variance that grows per interface, β²(1/2 + 3/2 (2 + r̄/(1 − r̄))) with r̄ the
 // mean internal reflectance, two refractions at β²/4 and each internal reflection at
 // 3β²/2 as the TT and TRT lobes' β²/2 and 2β²; and k β²), the relative L1 of that lobe
