@@ -3,7 +3,7 @@
 // scripts/physical-reference.sh; the tests read the cache.
 //
 //   physical_fiber_tool generate --rays N --threads T --out FILE
-//   physical_fiber_tool report --cache FILE [--quadrature default|fine]
+//   physical_fiber_tool report --cache FILE [--quadrature default|fine|fast|cycles]
 //   physical_fiber_tool residual --rays N --threads T   the residual's θ shape against the
 //                                                       reference's orders ≥ TRRT
 //   physical_fiber_tool breakdown --rays N --threads T  each lobe's share of each case's
@@ -48,7 +48,10 @@ Row report_row(const CachedCase& c, const std::string& quadrature) {
     Row row;
     for (int blond = 0; blond < 2; ++blond) {
         const hs::HuangParams<double> p = phys_fiber::huang_params(c.c, blond != 0);
-        const hs::HuangQuadrature q = quadrature == "fine" ? hs::huang_scaled_quadrature(p.roughness) : hs::HuangQuadrature();
+        const hs::HuangQuadrature q = quadrature == "fine"     ? hs::huang_scaled_quadrature(p.roughness)
+                                      : quadrature == "fast"   ? hs::huang_fast_quadrature(p.roughness)
+                                      : quadrature == "cycles" ? hs::huang_cycles_class_quadrature(p.roughness)
+                                                               : hs::HuangQuadrature();
         const hs::HuangMaterial<double> mat(p, q);
         const hs::HuangFiber<double> fiber(mat);
         // Each case binds its wo once (at(wo): the same values as eval, a fraction of the time).
