@@ -187,6 +187,13 @@ std::vector<Result>& results() {
 }
 
 ref_huang::Params huang_reference_params() { return ref_huang::params_of(huang_params(study_params(false))); }
+// The reference with the model's residual profile (reference_huang.hpp, residual_density).
+ref_huang::Reference huang_reference() {
+    ref_huang::Reference r{huang_reference_params()};
+    const auto mat = std::make_shared<const hs::HuangMaterial<double>>(huang_params(study_params(false)));
+    r.residual_density = [mat](double sin_i, double sin_o) { return double(mat->residual_density(sin_o, sin_i)); };
+    return r;
+}
 
 // Reference values of f at the inputs, once per family (the far-field one takes seconds).
 const std::vector<glm::dvec3>& reference(Family family) {
@@ -202,8 +209,7 @@ const std::vector<glm::dvec3>& reference(Family family) {
         const ref::FarFieldReference r{p};
         for (std::size_t i = 0; i < kPairs; ++i) f.push_back(r.f(in.wo[i], in.wi[i]));
     } else if (family == Family::kHuang) {
-        const ref_huang::Params hp = huang_reference_params();
-        const ref_huang::Reference r{hp};
+        const ref_huang::Reference r = huang_reference();
         std::mt19937_64 rng(29);
         for (std::size_t i = 0; i < kPairs; ++i)
             f.push_back(i % kHuangStride == 0 ? r.f(in.wo[i], in.wi[i], kHuangPaths, rng) : glm::dvec3(0.0));
@@ -433,7 +439,7 @@ template <typename T> void add_huang(int nodes, int tt, int per_tt, bool quick) 
 double huang_noise_floor() {
     const Inputs& in = inputs();
     const std::vector<glm::dvec3>& a = reference(Family::kHuang);
-    const ref_huang::Reference r{huang_reference_params()};
+    const ref_huang::Reference r = huang_reference();
     std::mt19937_64 rng(31);
     double num = 0, den = 0;
     for (std::size_t i = 0; i < kPairs; i += kHuangStride) {

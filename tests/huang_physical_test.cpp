@@ -93,13 +93,14 @@ TEST(HuangPhysical, ReflectionEnergyMatchesTheFiber) {
 
 // f against the physical fiber over the sphere (relative L1 of bin averages, 24 cases,
 // lossless and blond, default quadrature): the figures of docs/huang_physical.md, printed.
-// The goal is 5 %; the model is not there (measured worst 19.1 %, mean 10.9 %: the lattices'
-// shape at the default, the residual's shape and R near grazing; docs/models.md has the
-// per-lobe breakdown). The bounds guard what is reached: worst 19.5 %, mean 11.5 % (the
+// The goal is 5 %; the model is not there (measured worst 17.6 %, mean 10.0 %: the lattices'
+// shape at the default, TRT's shape at b/a 0.5 and R near grazing; docs/models.md has the
+// per-lobe breakdown). The bounds guard what is reached: worst 18 %, mean 10.5 % (the
 // model before this reference: 38 % and 19 %; before the unbiased internal reflection:
 // 21.1 % and 13.2 %; with TT's paths uniform in γ rather than in h: 20.4 % and 12.8 %;
-// without the exit kernel of the paths' entry cells: 19.4 % and 12.0 %). Each case
-// binds its wo once (at(wo), the same values as eval).
+// without the exit kernel of the paths' entry cells: 19.4 % and 12.0 %; with the
+// residual's θ profile d'Eon's M of variance 4β rather than the interior chain's: 19.2 %
+// and 11.0 %). Each case binds its wo once (at(wo), the same values as eval).
 TEST(HuangPhysical, AgainstThePhysicalFiber) {
     const std::vector<pf::CachedCase>& cases = cache();
     std::vector<double> lossless(cases.size()), blond(cases.size());
@@ -128,8 +129,8 @@ TEST(HuangPhysical, AgainstThePhysicalFiber) {
         mean += (lossless[k] + blond[k]) / (2.0 * double(cases.size()));
     }
     std::printf("[ physical ] worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst, 100 * mean);
-    EXPECT_LT(worst, 0.195);
-    EXPECT_LT(mean, 0.115);
+    EXPECT_LT(worst, 0.18);
+    EXPECT_LT(mean, 0.105);
 }
 
 // The shadowing terms over extreme inputs (NaN, infinities, cosines outside [0, 1], every

@@ -3,13 +3,17 @@
 // scripts/physical-reference.sh; the tests read the cache.
 //
 //   physical_fiber_tool generate --rays N --threads T --out FILE
-//   physical_fiber_tool report --cache FILE [--quadrature default|fine]
+//   physical_fiber_tool report --cache FILE [--quadrature default|fine|fast|cycles]
 //   physical_fiber_tool residual --rays N --threads T   the residual's θ shape against the
 //                                                       reference's orders ≥ TRRT
 //   physical_fiber_tool breakdown --rays N --threads T  each lobe's share of each case's
 //                                                       error, and the lattices' part in it
 //   physical_fiber_tool lattice --threads T             TT's and TRT's lattice error alone,
 //                                                       model against model (no trace)
+//   physical_fiber_tool walk --cache FILE --variant V   the residual in the θ shape of an
+//       [--walk-u N --walk-h N --walks N]               interior walk (variants a–f, below)
+//   physical_fiber_tool walk-shape --case K --rays N --variant V   that shape and R per row
+//                                                       against a fresh trace of case K
 #include <array>
 #include <chrono>
 #include <cstdio>
@@ -44,7 +48,10 @@ Row report_row(const CachedCase& c, const std::string& quadrature) {
     Row row;
     for (int blond = 0; blond < 2; ++blond) {
         const hs::HuangParams<double> p = phys_fiber::huang_params(c.c, blond != 0);
-        const hs::HuangQuadrature q = quadrature == "fine" ? hs::huang_scaled_quadrature(p.roughness) : hs::HuangQuadrature();
+        const hs::HuangQuadrature q = quadrature == "fine"     ? hs::huang_scaled_quadrature(p.roughness)
+                                      : quadrature == "fast"   ? hs::huang_fast_quadrature(p.roughness)
+                                      : quadrature == "cycles" ? hs::huang_cycles_class_quadrature(p.roughness)
+                                                               : hs::HuangQuadrature();
         const hs::HuangMaterial<double> mat(p, q);
         const hs::HuangFiber<double> fiber(mat);
         // Each case binds its wo once (at(wo): the same values as eval, a fraction of the time).
@@ -250,9 +257,22 @@ int breakdown(long long rays, int threads) {
     return 0;
 }
 
+// The reference's histogram of case c, traced afresh with the classes apart.
+phys_fiber::Histogram traced(const phys_fiber::Case& c, long long rays, int threads, int nu, int nphi) {
+    const phys_fiber::Tracer tracer(c.fiber());
+    std::vector<phys_fiber::Histogram> parts(std::size_t(threads), phys_fiber::Histogram(nu, nphi));
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t)
+        pool.emplace_back([&, t] { tracer.trace(c.wo(), rays / threads, 77 + std::uint64_t(t), parts[std::size_t(t)]); });
+    for (auto& th : pool) th.join();
+    phys_fiber::Histogram h(nu, nphi);
+    for (const auto& q : parts) h.add(q);
+    return h;
+}
+
 // The residual's longitudinal shape against the reference's orders ≥ TRRT, traced afresh
 // with the classes apart: per case and channel (lossless, blond G), the model's residual
-// energy times M(v; θi | θo)/2π for several variances v (the model's 4β and a wider 8β; the sum over
+// energy times M(v; θi | θo)/2π for several variances v (4β, the model's before its chain profile, and a wider 8β; the sum over
 // orders of a variance that grows per interface, β²(1/2 + 3/2 (2 + r̄/(1 − r̄))) with r̄ the
 // mean internal reflectance, two refractions at β²/4 and each internal reflection at
 // 3β²/2 as the TT and TRT lobes' β²/2 and 2β²; and k β²), the relative L1 of that lobe
@@ -267,14 +287,7 @@ int residual_shapes(long long rays, int threads) {
     int rows = 0;
     std::printf("| case | ch | floor | 4β: residual / total | per-order | 2β² | 4β² | 6β² | 8β |\n|---|---|---|---|---|---|---|---|---|\n");
     for (const phys_fiber::Case& c : phys_fiber::physical_cases()) {
-        const phys_fiber::Tracer tracer(c.fiber());
-        std::vector<phys_fiber::Histogram> parts(std::size_t(threads), phys_fiber::Histogram(nu, nphi));
-        std::vector<std::thread> pool;
-        for (int t = 0; t < threads; ++t)
-            pool.emplace_back([&, t] { tracer.trace(c.wo(), rays / threads, 77 + std::uint64_t(t), parts[std::size_t(t)]); });
-        for (auto& th : pool) th.join();
-        phys_fiber::Histogram h(nu, nphi);
-        for (const auto& p : parts) h.add(p);
+        const phys_fiber::Histogram h = traced(c, rays, threads, nu, nphi);
         const CachedCase cc = grid_of(c, nu, nphi);
         const double dw = h.bin_solid_angle();
         const glm::dvec3 wo = c.wo();
@@ -339,6 +352,274 @@ int residual_shapes(long long rays, int threads) {
     for (int k = 0; k < kKinds; ++k)
         std::printf("%s: residual lobe mean %.1f %%, total mean %.1f %%, worst %.1f %%\n", names[k], 100 * lobe_sum[k] / rows,
                     100 * total_sum[k] / rows, 100 * total_worst[k]);
+    return 0;
+}
+
+
+// The residual's θ profile from a walk of the light that stays inside (measured against the
+// physical fiber and not kept: docs/models.md, "Tried and not kept"). The interior light of
+// a round fiber is a Markov chain over (u, h): u the axial component of its direction, h its
+// chord's offset, which a smooth round section conserves. At each interface the model's own
+// microfacet events (an 8 × 8 rule over D_v at the tilted mesonormal) reflect it into another
+// state or let it out, at sin θi = the refracted direction's axial component. TRT's two
+// internal events come first (their reflected part only), then the chain runs until 1e-6 of
+// the light is left. The variants differ in the start and in what masked light does:
+//   a  the light starts at u = −sin θo/η, offsets h/η' uniform (η' Bravais' index); a
+//      reflection behind the mesonormal is mirrored about it; exits are not masked;
+//   b  a, but a reflection behind the mesonormal meets a second visible normal, and an exit
+//      is masked by its G1, the masked part going on as that facet's reflection;
+//   c  b, the beam entering through the entry's visible normals at 32 offsets;
+//   d  c, a masked exit staying in its state (as if reflected by the mesonormal);
+//   e  c, a masked exit meeting the surface again from outside (the two-event rule): back
+//      in through a second normal with 1 − F, out by its reflection with F;
+//   f  c with the reference's own interface (Heitz et al. 2016's random walk on the
+//      microsurface, 256 walks per state): what the chain gives with the physical boundary.
+constexpr int kWalkBins = 72;  // exits in sin θi; a multiple of the reference's 24 rows
+// The chain's states: u bins × h bins, and variant f's walks per state.
+struct WalkGrid {
+    int u = 72, h = 16, walks = 256;
+};
+
+// A visible normal of ggx seen from v about the mesonormal m (both unit, v·m > 0).
+glm::dvec3 visible_normal(const hs::Ggx<double>& ggx, const glm::dvec3& v, const glm::dvec3& m, double u1, double u2) {
+    const double c = glm::dot(v, m);
+    const glm::dvec3 e1 = glm::normalize(v - c * m), e2 = glm::cross(m, e1);
+    const glm::dvec3 h = ggx.sample_visible_local(glm::dvec3(glm::dot(v, e1), glm::dot(v, e2), c), u1, u2);
+    return h.x * e1 + h.y * e2 + h.z * m;
+}
+// The direction refracted from v (pointing back where the light came from) through the
+// facet h, n = η_t / η_i; only where the light is not totally reflected.
+glm::dvec3 refracted(const glm::dvec3& v, const glm::dvec3& h, double n) {
+    const double c = glm::dot(v, h), k = 1 - (1 - c * c) / (n * n);
+    return glm::normalize(-v / n + (c / n - std::sqrt(std::max(0.0, k))) * h);
+}
+
+std::vector<double> walk_profile(const hs::HuangParams<double>& p, double sin_o, char variant, const WalkGrid& grid = WalkGrid()) {
+    const int nu = grid.u, nh = grid.h, nq = 8, ns = nu * nh, nx = kWalkBins;
+    const double eta = p.eta;
+    const hs::Ggx<double> ggx(p.roughness);
+    const glm::dvec3 m_out(std::sin(p.alpha), std::cos(p.alpha), 0.0), m_in = -m_out;  // the surface normal is +y
+    const auto bin = [&](double x) { return std::min(nu - 1, std::max(0, int((x + 1) * 0.5 * nu))); };
+    const auto xbin = [&](double x) { return std::min(nx - 1, std::max(0, int((x + 1) * 0.5 * nx))); };
+    const auto state = [&](const glm::dvec3& x) {
+        const double inplane = std::sqrt(x.y * x.y + x.z * x.z);
+        return bin(x.x) * nh + std::min(nh - 1, int((inplane > 0 ? std::fabs(x.z) / inplane : 0.0) * nh));
+    };
+    const auto mirrored = [&](const glm::dvec3& x) { return x - std::min(0.0, 2 * glm::dot(x, m_in)) * m_in; };
+    struct Step {
+        int to;
+        double w;
+    };
+    std::vector<std::vector<Step>> reflect{std::size_t(ns)};
+    std::vector<double> leave(std::size_t(ns * nx), 0.0);
+    phys_fiber::Fiber fiber;
+    fiber.eta = eta;
+    fiber.roughness = p.roughness;
+    fiber.tilt = p.alpha;
+    phys_fiber::Rng rng(12345);
+    const int kWalks = grid.walks;
+    for (int s = 0; s < ns; ++s) {
+        const double u = -1 + (s / nh + 0.5) * 2.0 / nu, hh = (s % nh + 0.5) / nh, r_u = std::sqrt(1 - u * u);
+        const glm::dvec3 d(u, r_u * std::sqrt(1 - hh * hh), r_u * hh), v = -d;  // d travels to the surface
+        if (!(glm::dot(v, m_in) > 1e-6)) continue;
+        if (variant == 'f') {
+            for (int k = 0; k < kWalks; ++k) {
+                const auto e = phys_fiber::boundary_event(d, glm::dvec3(0, 1, 0), true, fiber, rng);
+                if (!e) continue;
+                if (e->transmitted) leave[std::size_t(s * nx + xbin(e->dir.x))] += 1.0 / kWalks;
+                else reflect[std::size_t(s)].push_back({state(e->dir), 1.0 / kWalks});
+            }
+            continue;
+        }
+        for (int a = 0; a < nq; ++a)
+            for (int b = 0; b < nq; ++b) {
+                const double u1 = (a + 0.5) / nq, u2 = (b + 0.5) / nq, w = 1.0 / (nq * nq);
+                const double u1b = std::fmod(u1 + 0.5, 1.0), u2b = std::fmod(u2 + 0.5, 1.0);  // a second normal
+                const glm::dvec3 h = visible_normal(ggx, v, m_in, u1, u2);
+                const double vh = glm::dot(v, h), f = hs::fresnel_any(vh, 1 / eta);
+                const glm::dvec3 r = 2 * vh * h - v;
+                if (variant != 'a' && glm::dot(r, m_in) < 0) {
+                    const glm::dvec3 v2 = -r, h2 = visible_normal(ggx, v2, m_in, u1b, u2b);
+                    const double f2 = hs::fresnel_any(glm::dot(v2, h2), 1 / eta);
+                    reflect[std::size_t(s)].push_back({state(mirrored(2 * glm::dot(v2, h2) * h2 - v2)), w * f * f2});
+                    if (f2 < 1) leave[std::size_t(s * nx + xbin(refracted(v2, h2, 1 / eta).x))] += w * f * (1 - f2);
+                } else {
+                    reflect[std::size_t(s)].push_back({state(mirrored(r)), w * f});
+                }
+                if (!(f < 1)) continue;
+                const glm::dvec3 t = refracted(v, h, 1 / eta);
+                const double g = variant == 'a' ? 1.0 : ggx.g1(glm::dot(t, m_out)), masked = w * (1 - f) * (1 - g);
+                leave[std::size_t(s * nx + xbin(t.x))] += w * (1 - f) * g;
+                if (!(masked > 0)) continue;
+                const glm::dvec3 v2 = -t;
+                if (variant == 'e' && glm::dot(v2, m_out) > 1e-6) {
+                    const glm::dvec3 h2 = visible_normal(ggx, v2, m_out, u1b, u2b);
+                    const double f2 = hs::fresnel_any(glm::dot(v2, h2), eta);
+                    reflect[std::size_t(s)].push_back({state(mirrored(refracted(v2, h2, eta))), masked * (1 - f2)});
+                    leave[std::size_t(s * nx + xbin((2 * glm::dot(v2, h2) * h2 - v2).x))] += masked * f2;
+                } else {
+                    const glm::dvec3 back = variant == 'b' || variant == 'c' ? mirrored(r) : d - 2 * glm::dot(d, m_in) * m_in;
+                    reflect[std::size_t(s)].push_back({state(back), masked});
+                }
+            }
+    }
+    // The light inside after the entry.
+    std::vector<double> q(std::size_t(ns), 0.0), out(std::size_t(nx), 0.0);
+    const double cos_o = std::sqrt(1 - sin_o * sin_o), eta_p = std::sqrt(eta * eta - sin_o * sin_o) / cos_o;
+    for (int k = 0; k < 32; ++k) {
+        const double hh = (k + 0.5) / 32;
+        if (variant == 'a' || variant == 'b') {
+            q[std::size_t(state(glm::dvec3(-sin_o / eta, std::sqrt(1 - hh * hh / (eta_p * eta_p)), hh / eta_p)))] += 1.0 / 32;
+            continue;
+        }
+        const glm::dvec3 v(sin_o, cos_o * std::sqrt(1 - hh * hh), -cos_o * hh);
+        if (!(glm::dot(v, m_out) > 1e-6)) continue;
+        if (variant == 'f') {
+            for (int k = 0; k < kWalks; ++k) {
+                const auto e = phys_fiber::boundary_event(-v, glm::dvec3(0, 1, 0), false, fiber, rng);
+                if (e && e->transmitted) q[std::size_t(state(e->dir))] += 1.0 / (32.0 * kWalks);
+            }
+            continue;
+        }
+        for (int a = 0; a < nq; ++a)
+            for (int b = 0; b < nq; ++b) {
+                const glm::dvec3 h = visible_normal(ggx, v, m_out, (a + 0.5) / nq, (b + 0.5) / nq);
+                const glm::dvec3 t = refracted(v, h, eta);
+                if (glm::dot(t, m_out) < 0) q[std::size_t(state(t))] += (1 - hs::fresnel_any(glm::dot(v, h), eta)) / (32.0 * nq * nq);
+            }
+    }
+    const auto step = [&](bool leaving) {
+        std::vector<double> next(std::size_t(ns), 0.0);
+        for (int s = 0; s < ns; ++s) {
+            const double x = q[std::size_t(s)];
+            if (x == 0) continue;
+            for (const Step& st : reflect[std::size_t(s)]) next[std::size_t(st.to)] += x * st.w;
+            if (leaving)
+                for (int j = 0; j < nx; ++j) out[std::size_t(j)] += x * leave[std::size_t(s * nx + j)];
+        }
+        q = next;
+        double left = 0;
+        for (double x : q) left += x;
+        return left;
+    };
+    step(false);  // TT's exit and TRT's: what they reflect
+    step(false);
+    for (int it = 0; it < 20000 && step(true) > 1e-6; ++it) {
+    }
+    double sum = 0;
+    for (double x : out) sum += x;
+    for (double& x : out) x = sum > 0 ? x / sum / (2.0 / nx) : 0.0;
+    return out;
+}
+
+// Per case (cached reference), lossless and blond: the default's relative L1 with its residual
+// M(4β) and with the residual's energy in walk_profile's θ shape instead (uniform in φ).
+int walk(const std::string& cache, int threads, char variant, const WalkGrid& grid) {
+    const std::vector<CachedCase> cases = phys_fiber::read_cache(cache);
+    std::vector<std::array<double, 4>> rows(cases.size());
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t)
+        pool.emplace_back([&, t] {
+            for (std::size_t k = std::size_t(t); k < cases.size(); k += std::size_t(threads)) {
+                const CachedCase& c = cases[k];
+                for (int blond = 0; blond < 2; ++blond) {
+                    const hs::HuangParams<double> p = phys_fiber::huang_params(c.c, blond != 0);
+                    hs::LobeControls<double> no_res, only_res;
+                    no_res.gain[3] = 0;
+                    only_res.gain[0] = only_res.gain[1] = only_res.gain[2] = 0;
+                    const hs::HuangMaterial<double> m0(p, hs::HuangQuadrature(), no_res), m1(p, hs::HuangQuadrature(), only_res);
+                    const hs::HuangFiber<double> f0(m0), f1(m1);
+                    const auto b0 = f0.at(c.c.wo()), b1 = f1.at(c.c.wo());
+                    std::vector<glm::dvec3> with_walk =
+                        phys_fiber::model_bins(c, [&](const glm::dvec3&, const glm::dvec3& wi) { return b0.eval(wi); });
+                    std::vector<glm::dvec3> with_m = with_walk;
+                    const std::vector<glm::dvec3> res =
+                        phys_fiber::model_bins(c, [&](const glm::dvec3&, const glm::dvec3& wi) { return b1.eval(wi); });
+                    for (std::size_t b = 0; b < res.size(); ++b) with_m[b] += res[b];
+                    const glm::dvec3 e_res = f1.albedo(c.c.wo());
+                    const std::vector<double> prof = walk_profile(p, c.c.wo().x, variant, grid);
+                    const int per = kWalkBins / c.n_u;
+                    for (int iu = 0; iu < c.n_u; ++iu) {
+                        double d = 0;
+                        for (int j = 0; j < per; ++j) d += prof[std::size_t(iu * per + j)] / per;
+                        for (int ip = 0; ip < c.n_phi; ++ip) with_walk[std::size_t(iu * c.n_phi + ip)] += e_res * d / (2 * phys_fiber::kPi);
+                    }
+                    for (int ch = 0; ch < (blond ? 3 : 1); ++ch) {
+                        rows[k][std::size_t(2 * blond)] += phys_fiber::compare(c, with_m, ch, blond ? ch + 1 : 0).l1 / (blond ? 3 : 1);
+                        rows[k][std::size_t(2 * blond + 1)] += phys_fiber::compare(c, with_walk, ch, blond ? ch + 1 : 0).l1 / (blond ? 3 : 1);
+                    }
+                }
+            }
+        });
+    for (auto& th : pool) th.join();
+    std::printf("| case | lossless: M(4β) → walk | blond: M(4β) → walk |\n|---|---|---|\n");
+    double worst[2] = {}, mean[2] = {};
+    for (std::size_t k = 0; k < cases.size(); ++k) {
+        std::printf("| %s | %.1f → %.1f %% | %.1f → %.1f %% |\n", cases[k].c.name().c_str(), 100 * rows[k][0], 100 * rows[k][1],
+                    100 * rows[k][2], 100 * rows[k][3]);
+        for (int q = 0; q < 2; ++q)
+            for (int b = 0; b < 2; ++b) {
+                worst[q] = std::max(worst[q], rows[k][std::size_t(2 * b + q)]);
+                mean[q] += rows[k][std::size_t(2 * b + q)] / double(2 * cases.size());
+            }
+    }
+    std::printf("\nvariant %c, %d × %d states, %d walks: M(4β) worst %.1f %%, mean %.1f %%; walk worst %.1f %%, mean %.1f %%\n", variant, grid.u, grid.h,
+                grid.walks, 100 * worst[0], 100 * mean[0], 100 * worst[1], 100 * mean[1]);
+    return 0;
+}
+
+// One case (index `which` into physical_cases), lossless, traced afresh: the reference's
+// orders ≥ TRRT averaged over φ per row of sin θi (as a density per unit sin θi) beside
+// walk_profile's, and R's energy and L1 per row, model against reference, with R's φ
+// profile in the two rows nearest θi = −90° (every other bin).
+int walk_shape(long long rays, int threads, int which, char variant) {
+    const int nu = 24, nphi = 48;
+    const phys_fiber::Case c = phys_fiber::physical_cases().at(std::size_t(which));
+    const phys_fiber::Histogram h = traced(c, rays, threads, nu, nphi);
+    const hs::HuangParams<double> p = phys_fiber::huang_params(c, false);
+    const std::vector<double> prof = walk_profile(p, c.wo().x, variant);
+    const double dw = h.bin_solid_angle();
+    double e = 0;
+    std::vector<double> row(std::size_t(nu), 0.0);
+    for (int iu = 0; iu < nu; ++iu) {
+        for (int ip = 0; ip < nphi; ++ip) row[std::size_t(iu)] += h.f(iu * nphi + ip, 0, phys_fiber::kHigher) * dw;
+        e += row[std::size_t(iu)];
+    }
+    std::printf("%s, variant %c: orders >= TRRT, energy %.4f\n| sin θi | reference | walk |\n|---|---|---|\n", c.name().c_str(), variant, e);
+    const int per = kWalkBins / nu;
+    for (int iu = 0; iu < nu; ++iu) {
+        double d = 0;
+        for (int j = 0; j < per; ++j) d += prof[std::size_t(iu * per + j)] / per;
+        std::printf("| %+.3f | %.4f | %.4f |\n", -1 + (iu + 0.5) * 2.0 / nu, row[std::size_t(iu)] / e / (2.0 / nu), d);
+    }
+    hs::LobeControls<double> only_r;
+    only_r.gain[1] = only_r.gain[2] = only_r.gain[3] = 0;
+    const hs::HuangMaterial<double> mat(p, hs::HuangQuadrature(), only_r);
+    const hs::HuangFiber<double> fiber(mat);
+    const auto bound = fiber.at(c.wo());
+    const std::vector<glm::dvec3> m =
+        phys_fiber::model_bins(grid_of(c, nu, nphi), [&](const glm::dvec3&, const glm::dvec3& wi) { return bound.eval(wi); });
+    std::printf("\nR per row of sin θi: energy model / reference, L1\n");
+    double l1 = 0, er = 0;
+    for (int iu = 0; iu < nu; ++iu) {
+        double a = 0, b = 0, d = 0;
+        for (int ip = 0; ip < nphi; ++ip) {
+            const int k = iu * nphi + ip;
+            a += m[std::size_t(k)].x * dw;
+            b += h.f(k, 0, phys_fiber::kR) * dw;
+            d += std::fabs(m[std::size_t(k)].x - h.f(k, 0, phys_fiber::kR)) * dw;
+        }
+        l1 += d;
+        er += b;
+        if (a > 1e-3 || b > 1e-3) std::printf("row %d: %.4f / %.4f, L1 %.4f\n", iu, a, b, d);
+    }
+    std::printf("R: L1 %.4f, energy %.4f (reference)\n", l1, er);
+    for (int iu = 0; iu < 2; ++iu) {
+        std::printf("row %d, f model/reference by φ:", iu);
+        for (int ip = 0; ip < nphi; ip += 2)
+            std::printf(" %.2f/%.2f", m[std::size_t(iu * nphi + ip)].x, h.f(iu * nphi + ip, 0, phys_fiber::kR));
+        std::printf("\n");
+    }
     return 0;
 }
 
@@ -408,7 +689,9 @@ int main(int argc, char** argv) {
         if (argc < 2) throw std::invalid_argument("usage: physical_fiber_tool generate|report [options]");
         const std::string mode = argv[1];
         long long rays = 20000000;
-        int threads = 2, n_u = 24, n_phi = 48;
+        int threads = 2, n_u = 24, n_phi = 48, which = 0;
+        char variant = 'c';
+        WalkGrid grid;
         std::string out = "physical_fiber.txt", cache = out, quadrature = "default";
         for (int i = 2; i + 1 < argc; i += 2) {
             const std::string k = argv[i], v = argv[i + 1];
@@ -419,6 +702,11 @@ int main(int argc, char** argv) {
             else if (k == "--quadrature") quadrature = v;
             else if (k == "--bins-u") n_u = std::atoi(v.c_str());
             else if (k == "--bins-phi") n_phi = std::atoi(v.c_str());
+            else if (k == "--variant") variant = v.empty() ? 'a' : v[0];
+            else if (k == "--case") which = std::atoi(v.c_str());
+            else if (k == "--walk-u") grid.u = std::atoi(v.c_str());
+            else if (k == "--walk-h") grid.h = std::atoi(v.c_str());
+            else if (k == "--walks") grid.walks = std::atoi(v.c_str());
             else throw std::invalid_argument("unknown option " + k);
         }
         if (mode == "generate") return generate(rays, threads, out, n_u, n_phi);
@@ -428,6 +716,8 @@ int main(int argc, char** argv) {
         if (mode == "residual") return residual_shapes(rays, threads);
         if (mode == "breakdown") return breakdown(rays, threads);
         if (mode == "lattice") return lattice(threads);
+        if (mode == "walk") return walk(cache, threads, variant, grid);
+        if (mode == "walk-shape") return walk_shape(rays, threads, which, variant);
         throw std::invalid_argument("unknown mode " + mode);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "physical_fiber_tool: %s\n", e.what());

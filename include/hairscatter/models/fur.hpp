@@ -42,6 +42,7 @@
 #include "../math/distributions.hpp"
 #include "../math/elementary.hpp"
 #include "../math/functions.hpp"
+#include "../math/splitmix.hpp"
 #include "contract.hpp"
 
 namespace hairscatter {
@@ -336,22 +337,9 @@ template <typename T> struct RoughCortexTables {
     }
 };
 
-// A small generator for the table simulation (splitmix64, Steele et al. 2014): the tables
-// are the same for the same parameters, run after run.
-class FurRng {
-  public:
-    explicit FurRng(std::uint64_t seed) : s_(seed) {}
-    double uniform() {
-        std::uint64_t z = (s_ += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        z ^= z >> 31;
-        return double(z >> 11) * (1.0 / 9007199254740992.0);
-    }
-
-  private:
-    std::uint64_t s_;
-};
+// The table simulation's generator (math/splitmix.hpp): the tables are the same for the
+// same parameters, run after run.
+using FurRng = SplitMix64;
 
 // The table simulation's budget: scattered paths per |θo| bin, medulla events per bin
 // (what bounds the build time for dense medullas) and per path (beyond it a path is dropped),

@@ -35,6 +35,7 @@
 #include "../math/functions.hpp"
 #include "../math/quadrature.hpp"
 #include "contract.hpp"
+#include "huang_residual.hpp"
 
 namespace hairscatter {
 
@@ -148,6 +149,9 @@ template <typename T> class HuangMaterial {
     static constexpr int kWideSize = 65;
     static constexpr double kWidthStep = 1.3;
     static constexpr double kInvLogWidthStep = 3.8114946867084014;  // 1 / ln 1.3
+    // The residual's profile: rows at sin θo = −1 … 1, bins in sin θi (huang_residual.hpp).
+    static constexpr int kResidualRows = 33;
+    static constexpr int kResidualBins = 72;
 
     // Offset nodes that resolve the R lobe: R's exit azimuth turns by 2 per unit γ, and the
     // rule's widest gap (at the centre) is π²/(2n) in γ: n = ⌈π²/(1.6 α)⌉ keeps neighbouring
@@ -196,10 +200,6 @@ template <typename T> class HuangMaterial {
                 std::to_string(per_tt_) + " is more than the " + std::to_string(kMaxTRTPoints) + " TRT points it holds"));
         section_ = EllipticalSection<T>(params.aspect_ratio, params.orientation);
         ggx_ = Ggx<T>(params.roughness);
-        // The residual lumps every order past TRT: a wide longitudinal lobe (variance 4β, as
-        // Blender Cycles' implementation of the model) and uniform in azimuth, as Chiang et
-        // al. 2016's residual.
-        residual_ = DeonLongitudinal<T>(T(4) * params.roughness);
         sin_tilt_ = T(std::sin(double(params.alpha)));
         cos_tilt_ = T(std::cos(double(params.alpha)));
 
@@ -240,6 +240,7 @@ template <typename T> class HuangMaterial {
             row_limit_[row_limits_++] = T(6.28318530717958647692 * (a2 - beta2));
         }
         build_interface_tables();
+        build_residual_profile();
     }
     // The lobe controls with the default quadrature.
     HuangMaterial(const HuangParams<T>& params, const LobeControls<T>& controls)
@@ -357,7 +358,35 @@ template <typename T> class HuangMaterial {
     HAIRSCATTER_HD const V3& lobe_weight(int p) const { return lobe_weight_[p]; }
     HAIRSCATTER_HD const EllipticalSection<T>& section() const { return section_; }
     HAIRSCATTER_HD const Ggx<T>& ggx() const { return ggx_; }
-    HAIRSCATTER_HD const DeonLongitudinal<T>& residual() const { return residual_; }
+    // The residual's density over sin θi at sin θo (per unit sin θi; uniform in φ, so f's
+    // share per solid angle is this over 2π): piecewise constant in kResidualBins bins, the
+    // rows at kResidualRows values of sin θo mixed linearly.
+    HAIRSCATTER_HD T residual_density(T sin_o, T sin_i) const {
+        int r;
+        const T t = residual_row(sin_o, r);
+        T y = (clamp(sin_i, T(-1), T(1)) + T(1)) * T(0.5 * kResidualBins);
+        int j = int(y);
+        j = j < 0 ? 0 : (j > kResidualBins - 1 ? kResidualBins - 1 : j);
+        return (T(1) - t) * residual_pdf_[r * kResidualBins + j] + t * residual_pdf_[(r + 1) * kResidualBins + j];
+    }
+    // sin θi drawn from residual_density(sin_o, ·): u1 picks one of the two rows, u2 inverts
+    // its CDF.
+    HAIRSCATTER_HD T sample_residual(T sin_o, T u1, T u2) const {
+        int r;
+        const T t = residual_row(sin_o, r);
+        if (!(u1 < T(1) - t)) ++r;
+        const T* cdf = residual_cdf_ + r * (kResidualBins + 1);
+        int lo = 0, hi = kResidualBins;  // cdf[lo] ≤ u2 < cdf[hi]
+        while (hi - lo > 1) {
+            const int mid = (lo + hi) / 2;
+            if (cdf[mid] <= u2) lo = mid;
+            else hi = mid;
+        }
+        const T width = cdf[lo + 1] - cdf[lo];
+        T f = width > T(0) ? (u2 - cdf[lo]) / width : T(0.5);
+        f = clamp(f, T(0), T(1));
+        return clamp(T(-1) + (T(lo) + f) * T(2.0 / kResidualBins), T(-1), T(1));
+    }
     HAIRSCATTER_HD T sin_tilt() const { return sin_tilt_; }
     HAIRSCATTER_HD T cos_tilt() const { return cos_tilt_; }
 
@@ -571,8 +600,37 @@ template <typename T> class HuangMaterial {
     V3 lobe_weight_[kLobes + 1] = {V3(T(1)), V3(T(1)), V3(T(1)), V3(T(1))};
     EllipticalSection<T> section_;
     Ggx<T> ggx_;
-    DeonLongitudinal<T> residual_;
     T sin_tilt_ = T(0), cos_tilt_ = T(1);
+    T residual_pdf_[kResidualRows * kResidualBins] = {};
+    T residual_cdf_[kResidualRows * (kResidualBins + 1)] = {};
+    // The row below sin θo and the weight of the one above.
+    HAIRSCATTER_HD T residual_row(T sin_o, int& r) const {
+        const T x = (clamp(sin_o, T(-1), T(1)) + T(1)) * T(0.5 * (kResidualRows - 1));
+        r = int(x);
+        r = r < 0 ? 0 : (r > kResidualRows - 2 ? kResidualRows - 2 : r);
+        return clamp(x - T(r), T(0), T(1));
+    }
+    // The chain of huang_residual.hpp per row; every bin keeps 10⁻⁴ of a uniform density, so
+    // that no direction the sampler can reach has density 0 at a bin's edge.
+    void build_residual_profile() {
+        const huang_residual::Chain chain(double(params_.eta), double(params_.roughness), double(params_.alpha),
+                                          kResidualBins);
+        constexpr double kFloor = 1e-4;
+        for (int r = 0; r < kResidualRows; ++r) {
+            std::vector<double> p = chain.profile(-1 + 2.0 * r / (kResidualRows - 1));
+            double sum = 0;
+            for (double x : p) sum += x;
+            for (double& x : p) x = sum > 0 ? (1 - kFloor) * x / sum + kFloor / kResidualBins : 1.0 / kResidualBins;
+            double c = 0;
+            residual_cdf_[r * (kResidualBins + 1)] = T(0);
+            for (int j = 0; j < kResidualBins; ++j) {
+                residual_pdf_[r * kResidualBins + j] = T(p[std::size_t(j)] * (0.5 * kResidualBins));
+                c += p[std::size_t(j)];
+                residual_cdf_[r * (kResidualBins + 1) + j + 1] = T(std::min(1.0, c));
+            }
+            residual_cdf_[r * (kResidualBins + 1) + kResidualBins] = T(1);
+        }
+    }
     int nodes_ = 0, tt_n_ = 0, per_tt_ = 0;
     T entry_cell_ = T(0);
     int row_limits_ = 0;
@@ -1795,7 +1853,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         }
         out.energy[kLobes] = out.scales.residual * mat_->lobe_weight(kLobes);
         T m = T(0);
-        if (kF || kPdf) m = mat_->residual().eval(sin_i, cos_from_sin(sin_i), o.sin_o, o.cos_o) * kInvTwoPi<T>;
+        if (kF || kPdf) m = mat_->residual_density(o.sin_o, sin_i) * kInvTwoPi<T>;
         out.f[kLobes] = m * out.energy[kLobes];
         out.q[kLobes] = out.f[kLobes];
         return out;
@@ -1867,7 +1925,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         } else if (chosen.p < kLobes) {
             wi = mat_->section().from_section(l.sample_exit(eta, u.y, u.z));
         } else {
-            const T sin_i = mat_->residual().sample_sin_theta(o.sin_o, o.cos_o, u.y, u.z);
+            const T sin_i = mat_->sample_residual(o.sin_o, u.y, u.z);
             wi = direction_from_azimuth(wo, sin_i, kTwoPi<T> * u.w - kPi<T>);
         }
         return make_sample(wi, lobe_tag(chosen.p), query_walk<true, true>(walk, wi));
