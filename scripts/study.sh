@@ -333,6 +333,7 @@ floor_of() {  # csv integrator column [noise column]: the error at the largest s
     echo "mean_abs_pixel_rel_error = mean of |x − path|/(path + 0.01). dual_two_stream is the"
     echo "two-stream estimator with exact fiber counts (surfaces traced); dual_two_stream_field the"
     echo "same estimator with counts looked up in the directional count field (the renderer's default);"
+    echo "both with the stacks inclined to their fibers (the default; a -planar suffix keeps the 1D stack);"
     echo "dual_improved and dual_zinke are the dual-scattering BCSDF in the improved formulation and"
     echo "as Zinke et al. 2008 wrote it, which see other surfaces only as shadow casters (theory.md §5)."
     echo "Scenes: blocks of straight strands, a scalp, fur on a diffuse body (fur), the same strands as"
