@@ -2,6 +2,7 @@
 // its centre (local linear regression): the glow volume's smoothing (integrators/two_stream.cpp).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <utility>
@@ -13,9 +14,10 @@ namespace render {
 // A weighted least-squares plane v ≈ c + g·d through values at offsets d, read at d = 0
 // (local linear regression; e.g. Hastie, Tibshirani & Friedman, The Elements of Statistical
 // Learning, 2nd ed. 2009, §6.1.1: unlike a local mean it has no first-order bias where the
-// neighbourhood is one-sided). A small ridge on g keeps it defined where the offsets do not
-// span three dimensions (a layer one cell thick), and c stays within the values' range, so
-// noise in a one-sided neighbourhood cannot carry it past what was measured.
+// neighbourhood is one-sided; it reproduces linear data up to the ridge's small shrinkage).
+// A small ridge on g keeps it defined where the offsets do not span three dimensions (a layer
+// one cell thick), and c stays within the values' range, so noise in a one-sided
+// neighbourhood cannot carry it past what was measured. Values must be finite.
 class LocalPlane {
   public:
     void add(const glm::dvec3& d, const glm::dvec3& v, std::uint32_t weight) {
@@ -41,7 +43,8 @@ class LocalPlane {
             for (int c = 0; c < 4; ++c) a[r][c] = a_[r][c] + (r == c && r > 0 ? kRidge * a_[0][0] : 0.0);
             b[r] = b_[r];
         }
-        // Gaussian elimination with partial pivoting; the ridge keeps every pivot positive.
+        // Gaussian elimination with partial pivoting (the ridge makes the system positive
+        // definite, so no pivot is zero).
         for (int col = 0; col < 4; ++col) {
             int pivot = col;
             for (int r = col + 1; r < 4; ++r)
@@ -60,8 +63,7 @@ class LocalPlane {
             for (int c = r + 1; c < 4; ++c) v -= a[r][c] * x[c];
             x[r] = v / a[r][r];
         }
-        const glm::dvec3 c = glm::clamp(x[0], lo_, hi_);
-        return glm::all(glm::equal(c, c)) ? c : b_[0] / a_[0][0];  // NaN only from NaN input: the mean
+        return glm::clamp(x[0], lo_, hi_);
     }
 
   private:

@@ -173,8 +173,9 @@ class TwoStreamIntegrator final : public PixelIntegrator {
     }
 
     // The tables' entry for a stack along a direction whose sin θ in the fiber's frame is
-    // sin_theta: the 1D stack's (every backward event returns), or with --dual-stacks
-    // inclined the share of the backscatter that travels back along it (hs::dual_stack_entry).
+    // sin_theta: by default (--dual-stacks inclined) the entry whose layers return only the
+    // share of the backscatter that travels back along the stack (hs::dual_stack_entry), or
+    // with --dual-stacks planar the 1D stack's (every backward event returns).
     hs::DualScatteringEntry<float> entry_at(float sin_theta) const {
         const hs::DualScatteringEntry<float> e = tables_.lookup(sin_theta);
         return c_.shading.options().inclined_stacks ? hs::dual_stack_entry(e) : e;
