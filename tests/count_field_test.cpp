@@ -244,6 +244,23 @@ TEST(CountField, LatticeTensorsGiveTheSameCounts) {
     EXPECT_GT(total, 0.0);
     EXPECT_TRUE(per_direction.counts() == from_tensors.counts());
     EXPECT_TRUE(hs::DirectionalCountField<float>::from_grid(grid, 6).counts() == per_direction.counts());
+    // Ranges of directions (the renderer's parallel build), aligned or not, and a range
+    // running past the last direction (clamped), store the same counts at the same places.
+    hs::DirectionalCountField<float> ranges(grid.box_min(), grid.box_max(), per_direction.points(), 6);
+    for (int k = 0; k < ranges.direction_count(); k += 7) ranges.build_directions(k, k + 7, tensors);
+    EXPECT_TRUE(ranges.counts() == per_direction.counts());
+    // A point's counts are stored together: fibers_to_exit along a stored direction from a
+    // lattice point reads that point's own count.
+    const glm::ivec3 pts = per_direction.points();
+    const int k = 5;
+    const glm::ivec3 ijk(pts.x / 2, pts.y / 3, pts.z / 2);
+    const glm::vec3 spacing = (grid.box_max() - grid.box_min()) / glm::vec3(pts - 1);
+    const glm::vec3 p = grid.box_min() + glm::vec3(ijk) * spacing;
+    const std::size_t point = std::size_t(ijk.x) + std::size_t(pts.x) * (std::size_t(ijk.y) + std::size_t(pts.y) * std::size_t(ijk.z));
+    const float stored = per_direction.counts()[point * std::size_t(per_direction.direction_count()) + std::size_t(k)];
+    EXPECT_GT(stored, 0.0f);
+    EXPECT_NEAR(per_direction.fibers_to_exit(p, per_direction.direction(k)), stored, 1e-3f * (1 + stored));
+    EXPECT_THROW(ranges.build_directions(ranges.direction_count(), ranges.direction_count() + 1, tensors), std::out_of_range);
     // Tensors of another lattice are refused.
     hs::DirectionalCountField<float> other(grid.box_min(), grid.box_max(), glm::ivec3(3, 3, 3), 6);
     EXPECT_THROW(other.build_direction(0, tensors), std::invalid_argument);

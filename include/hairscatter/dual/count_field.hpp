@@ -152,7 +152,7 @@ template <typename T> class DirectionalCountFieldView {
         const Texels dir = lookup_direction(d);
         int best = 0;
         for (int t = 1; t < 4; ++t) best = dir.w[t] > dir.w[best] ? t : best;
-        const T* counts = counts_ + std::size_t(dir.k[best]) * per_direction_;
+        const T* counts = counts_ + std::size_t(dir.k[best]);
         const auto C = [&](T t) {  // C at origin + t d, t within the span (corner() clamps rounding)
             std::size_t base;
             std::size_t stride[3];
@@ -236,16 +236,20 @@ template <typename T> class DirectionalCountFieldView {
         T f[3];
         corner(p, base, stride, f);
         T sum = T(0);
-        for (int t = 0; t < 4; ++t)
-            sum += dir.w[t] * trilinear(counts_ + std::size_t(dir.k[t]) * per_direction_ + base, stride, f);
+        for (int t = 0; t < 4; ++t) sum += dir.w[t] * trilinear(counts_ + std::size_t(dir.k[t]) + base, stride, f);
         return sum > T(0) ? sum : T(0);
     }
 
-    // The lattice cell holding p (clamped into the box): its first point's index, the index
-    // strides of its corners per axis (0 along a flat axis) and p's fractions within it.
+    // The lattice cell holding p (clamped into the box): the offset of its first point's
+    // counts, the offset strides of its corners per axis and p's fractions within it. The
+    // counts are stored point by point, every direction of a point together (a point's
+    // counts are one block of direction_count() values): the lookups of one shading point
+    // (its stacks, the turned directions of the shape's limit) read the same few blocks.
     HAIRSCATTER_HD void corner(const V3& p, std::size_t& base, std::size_t stride[3], T f[3]) const {
         int c[3];
-        const std::size_t unit[3] = {1, std::size_t(points_.x), std::size_t(points_.x) * std::size_t(points_.y)};
+        const std::size_t dirs = std::size_t(side_) * std::size_t(side_);
+        const std::size_t unit[3] = {dirs, dirs * std::size_t(points_.x),
+                                     dirs * std::size_t(points_.x) * std::size_t(points_.y)};
         for (int a = 0; a < 3; ++a) {
             const int n = points_[a];
             const T u = clamp((p[a] - lo_[a]) * inv_spacing_[a], T(0), T(n - 1));
@@ -255,14 +259,14 @@ template <typename T> class DirectionalCountFieldView {
             f[a] = u - T(i);
             stride[a] = unit[a];
         }
-        base = std::size_t(c[0]) + unit[1] * std::size_t(c[1]) + unit[2] * std::size_t(c[2]);
+        base = unit[0] * std::size_t(c[0]) + unit[1] * std::size_t(c[1]) + unit[2] * std::size_t(c[2]);
     }
 
     V3 lo_{T(0)}, hi_{T(1)}, inv_spacing_{T(1)};
     glm::ivec3 points_{2};
     int side_ = 2;
-    std::size_t per_direction_ = 8;
-    const T* counts_ = nullptr;
+    std::size_t per_direction_ = 8;  // lattice points: the counts of one direction
+    const T* counts_ = nullptr;      // per point, its direction_count() counts (point-major)
 };
 
 // The field itself: owns the counts, built on the host from any density source.
@@ -365,31 +369,61 @@ template <typename T> class DirectionalCountField {
     template <typename D> void build(const D& source) {
         if constexpr (std::is_same_v<D, DensityGridView<T>>) {
             const LatticeTensors pre = lattice_tensors(source);
-            for (int k = 0; k < direction_count(); ++k) build_direction(k, pre);
+            for (int k = 0; k < direction_count(); k += kBuildBlock) build_directions(k, k + kBuildBlock, pre);
         } else {
-            for (int k = 0; k < direction_count(); ++k) build_direction(k, source);
+            for (int k = 0; k < direction_count(); k += kBuildBlock) build_directions(k, k + kBuildBlock, source);
         }
     }
 
-    // Fills direction k only: distinct k write disjoint counts, so a renderer may build the
-    // directions in parallel (the source must then answer concurrent const queries).
-    template <typename D> void build_direction(int k, const D& source) {
+    // Directions per block of build_directions that keeps parallel builds off each other's
+    // cache lines (a point's counts are stored together: 16 floats are one 64-byte line).
+    static constexpr int kBuildBlock = 16;
+
+    // Fills directions [k_begin, k_end) only (k_end is clamped to direction_count()): distinct
+    // ranges write disjoint counts, so a renderer may build them in parallel (the source
+    // must then answer concurrent const queries). Ranges of kBuildBlock directions starting
+    // at multiples of it are the fastest: each point's counts of the range are written at once.
+    template <typename D> void build_directions(int k_begin, int k_end, const D& source) {
         static_assert(is_density_source_v<D, T>,
                       "hairscatter: DirectionalCountField::build: not a density source (see "
                       "hairscatter/dual/density_source.hpp)");
-        build_direction_from(k, source, [&](const glm::ivec3&, const V3& p, const V3& d) { return rate(source, p, d); });
+        build_range(k_begin, k_end, source,
+                    [&](const glm::ivec3&, const V3& p, const V3& d) { return rate(source, p, d); });
     }
     // The same from the grid's tensors at the lattice points (lattice_tensors(grid)).
-    void build_direction(int k, const LatticeTensors& pre) {
+    void build_directions(int k_begin, int k_end, const LatticeTensors& pre) {
         if (pre.tensors.size() != v_.per_direction_)
             HAIRSCATTER_THROW(std::invalid_argument(
                 "hairscatter: DirectionalCountField::build_direction: the lattice tensors are not this field's"));
         const glm::ivec3 n = v_.points_;
-        build_direction_from(k, pre.grid, [&](const glm::ivec3& ijk, const V3&, const V3& d) {
+        build_range(k_begin, k_end, pre.grid, [&](const glm::ivec3& ijk, const V3&, const V3& d) {
             const std::size_t i =
                 std::size_t(ijk.x) + std::size_t(n.x) * (std::size_t(ijk.y) + std::size_t(n.y) * std::size_t(ijk.z));
             return sanitise(pre.grid.crossing_density_of(pre.tensors[i], d));
         });
+    }
+    // Direction k alone (build_directions(k, k + 1, source)).
+    template <typename D> void build_direction(int k, const D& source) { build_directions(k, k + 1, source); }
+
+  private:
+    // Each direction of the range swept on its own (build_direction_from), then the range's
+    // counts moved into the point-major store point by point.
+    template <typename D, typename Rate>
+    void build_range(int k_begin, int k_end, const D& source, const Rate& rate_of) {
+        if (k_begin < 0 || k_begin >= direction_count() || !(k_end > k_begin))
+            HAIRSCATTER_THROW(std::out_of_range("hairscatter: DirectionalCountField::build_direction: k = " +
+                                                std::to_string(k_begin) + " is outside [0, " +
+                                                std::to_string(direction_count()) + ")"));
+        const int end = k_end < direction_count() ? k_end : direction_count();
+        const std::size_t count = std::size_t(end - k_begin), points = v_.per_direction_;
+        std::vector<T> swept(count * points);
+        for (std::size_t j = 0; j < count; ++j)
+            build_direction_from(k_begin + int(j), source, rate_of, swept.data() + j * points);
+        const std::size_t dirs = std::size_t(direction_count());
+        for (std::size_t i = 0; i < points; ++i) {
+            T* dst = counts_.data() + i * dirs + std::size_t(k_begin);
+            for (std::size_t j = 0; j < count; ++j) dst[j] = swept[j * points + i];
+        }
     }
 
   private:
@@ -399,11 +433,9 @@ template <typename T> class DirectionalCountField {
     }
 
     // build_direction's sweep; rate_of(ijk, p, d): the crossing density at lattice point ijk (at p).
-    template <typename D, typename Rate> void build_direction_from(int k, const D& source, const Rate& rate_of) {
-        if (k < 0 || k >= direction_count())
-            HAIRSCATTER_THROW(std::out_of_range("hairscatter: DirectionalCountField::build_direction: k = " +
-                                                std::to_string(k) + " is outside [0, " +
-                                                std::to_string(direction_count()) + ")"));
+    // out: the direction's counts per lattice point, x fastest.
+    template <typename D, typename Rate>
+    void build_direction_from(int k, const D& source, const Rate& rate_of, T* out) {
         const V3 d = v_.direction(k);
         const glm::ivec3 n = v_.points_;
         // A: the axis d travels along fastest; B, C the plane's axes.
@@ -413,7 +445,6 @@ template <typename T> class DirectionalCountField {
         const int step = d[A] > T(0) ? 1 : -1;       // from a plane to the next one along d
         const int exit = step > 0 ? n[A] - 1 : 0;    // the plane rays along d leave by
         const T t_next = spacing_[A] / ad[A];        // the distance from one plane to the next
-        T* out = counts_.data() + std::size_t(k) * v_.per_direction_;
         auto at = [&](int a_index, int b_index, int c_index) -> T& {
             int ijk[3];
             ijk[A] = a_index, ijk[B] = b_index, ijk[C] = c_index;
