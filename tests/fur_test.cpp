@@ -331,7 +331,7 @@ TEST(FurFiber, RoughCortexTurnsTTByItsFacets) {
 
 // TRT's azimuth and TT's and TRT's azimuthal widths from the same walk (RoughCortexTables:
 // ψ_TRT, the median turn of TRT's exits from the smooth cylinder's Φ(2, h), and s_TT, s_TRT,
-// the logistic scales of their turns' interquartile ranges). Nearly smooth, untilted facets
+// the logistic scales of their turns' mean absolute deviations about the median). Nearly smooth, untilted facets
 // give back the smooth cylinder: ψ_TRT within 0.5° of 0 and both widths under 0.02 rad up to
 // θo 60° and γ 56.25° (GGX 0.002 turns the chords by thousandths of a radian), which checks
 // TRT's geometry (two chords carry the light by 2π − 2γ'_1 − 2γ'_2). With the facets β
@@ -339,7 +339,7 @@ TEST(FurFiber, RoughCortexTurnsTTByItsFacets) {
 // facet tilted by δ across the fibre turns a reflected chord by 2δ and a refracted one by
 // about δ (1 − 1/η). And the fibre's N_TRT is that logistic about the turned centre: with only
 // TRT on, its eval over φ peaks at Φ(2, h) ± ψ_TRT and falls to 3/4 of the peak at s_TRT ln 3
-// from it (a logistic's quartiles), at a node.
+// from it (a logistic's quartiles lie at ±s ln 3), at a node.
 TEST(FurFiber, RoughCortexSpreadsTTAndTRTByItsFacets) {
     constexpr int kTheta = hs::detail::RoughCortexTables<double>::kTheta, kH = hs::detail::RoughCortexTables<double>::kH;
     constexpr int kMid = kTheta / 2;
@@ -831,8 +831,9 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     std::printf("[ physical ] rough cortex: f worst %.1f %%, mean %.1f %% lossless, %.1f %% blond; scattered worst %.1f %%,"
                 " mean %.1f %%\n", 100 * worst_all, 100 * mean_all[0], 100 * mean_all[1], 100 * worst[0], 100 * mean[0]);
     std::printf("[ physical ] smooth cortex: scattered worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst[1], 100 * mean[1]);
-    // Measured: 12.1 %, mean 7.0 % lossless and 7.9 % blond; scattered 15.4 %, 7.1 % (13.8 %, 7.7 %,
-    // 8.25 % before TT's and TRT's azimuthal widths and TRT's turn from the facets; 8.5 % blond,
+    // Measured: 11.9 %, mean 6.9 % lossless and 7.8 % blond; scattered 15.4 %, 7.1 % (12.1 %, 7.0 %,
+    // 7.9 % with those widths matched by the turns' quartiles; 13.8 %, 7.7 %, 8.25 % before TT's
+    // and TRT's azimuthal widths and TRT's turn from the facets; 8.5 % blond,
     // scattered 22.2 % and 8.1 % before the rough entry's longer path to the medulla, k; 15.3 %,
     // 8.6 %, 9.3 % before TT's azimuth turned by its facets, ψ_TT; 17.7 %,
     // 8.6 %, 9.9 %; 22.5 %, 8.2 % before R's azimuth turned toward wo, ψ_R; 16.4 %, 8.4 %,
@@ -843,9 +844,9 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     // lobe width at every h; 58.6 %, 12.8 % and 21.6 % with the smooth F at the rough cortex's
     // entry and a smooth boundary in the medulla tables; 19.0 % and 25.2 % mean with the smooth
     // cortex's orders); 6.3 %, 4.8 % (the reference's noise: 1–3 %).
-    EXPECT_LT(worst_all, 0.13);
-    EXPECT_LT(mean_all[0], 0.075);
-    EXPECT_LT(mean_all[1], 0.082);
+    EXPECT_LT(worst_all, 0.125);
+    EXPECT_LT(mean_all[0], 0.072);
+    EXPECT_LT(mean_all[1], 0.08);
     EXPECT_LT(worst[0], 0.16);
     EXPECT_LT(mean[0], 0.075);
     EXPECT_LT(worst[1], 0.07);

@@ -315,8 +315,8 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 // fibre turns a refracted chord by δ (1 − cos θi / (η cos θt)), δ (1 − 1/η) at normal
 // incidence, and a reflected one by 2δ, so TRT's internal reflection spreads it several
 // times as wide as TT's two crossings do.
-// The table keeps s_TT and s_TRT, the scale of the logistic with the interquartile range of
-// the exits' turns (a logistic's quartiles lie at ±s ln 3), and the fibre evaluates and
+// The table keeps s_TT and s_TRT, the scale of the logistic with the mean absolute deviation
+// of the exits' turns about their median (2 s ln 2 for a logistic), and the fibre evaluates and
 // samples N_TT and N_TRT with them (R keeps β_n's: R's own width from the walk did not
 // improve the comparison with the physical fur, docs/models.md). The nodes are
 // uniform in γ = asin |h|, denser toward the rim, where F_r, v_R, ψ_R and ψ_TT change fastest.
@@ -732,11 +732,15 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             tab.share[i][j][7] = T(reflected > 0 ? weighted_quantile(turns, 0.5) : 0.0);  // ψ_R: the median turn
             tab.share[i][j][8] = T(tt_turns.empty() ? 0.0 : weighted_quantile(tt_turns, 0.5));  // ψ_TT: the median turn
             // TT's and TRT's spreads about their median turns: the scale of the logistic with
-            // the same interquartile range (a logistic's quartiles lie at ±s ln 3).
+            // the same mean absolute deviation about the median (a logistic's is 2 s ln 2), the
+            // spread in L1 as the median is the centre in L1. (Matched by the quartiles instead,
+            // the logistic cut the tails GGX's slopes give the turns: docs/models.md.)
             const auto scale = [](std::vector<std::pair<double, double>>& xw) {
                 if (xw.empty()) return 0.0;
-                const std::array<double, 3> qt = weighted_quartiles(xw);
-                return (qt[2] - qt[0]) / (2 * std::log(3.0));
+                const double med = weighted_quantile(xw, 0.5);
+                double dev = 0, total = 0;
+                for (const auto& e : xw) dev += e.second * std::fabs(e.first - med), total += e.second;
+                return dev / total / (2 * std::log(2.0));
             };
             tab.share[i][j][10] = T(scale(tt_turns));                                            // s_TT
             tab.share[i][j][11] = T(trt_turns.empty() ? 0.0 : weighted_quantile(trt_turns, 0.5));  // ψ_TRT
