@@ -120,17 +120,38 @@ template <typename T> class DeonLobes {
     CuticleTilt<T> tilt_;
 };
 
+// The azimuthal widths the lanes of deon_logistic_densities read: every explicit lane the
+// one trimmed logistic n (Chiang's N_p, one β_n for every lobe) ...
+template <typename T> struct SharedLogistic {
+    const TrimmedLogistic<T>& n;
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T minus_inv_scale(int) const { return -n.inv_scale(); }
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T numerator(int) const { return n.density_numerator(T(1)); }
+};
+// ... or a trimmed logistic per lane, for a model whose lobes have azimuthal widths of their
+// own (FurFiber on the rough cortex): lane k's -1/s and density_numerator(1), one array each
+// (read as vectors).
+template <typename T, int N> struct LaneLogistics {
+    T minus_inv_s[std::size_t(N)], scale[std::size_t(N)];
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void set(int k, const TrimmedLogistic<T>& n) {
+        minus_inv_s[k] = -n.inv_scale();
+        scale[k] = n.density_numerator(T(1));
+    }
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T minus_inv_scale(int k) const { return minus_inv_s[k]; }
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T numerator(int k) const { return scale[k]; }
+};
+
 // M_p N_p of every lane at (sinθi, cosθi, φ): lane k's M_p conditioned in m (DeonLobes::
-// condition), its N_p Chiang et al. 2016's trimmed logistic n about Φ(p, h) = phi_p[k]
-// (eq. 6) for the kExplicit explicit lobes, 1/2π for the residual. The exponents of N_p
+// condition), its N_p Chiang et al. 2016's trimmed logistic about Φ(p, h) = phi_p[k]
+// (eq. 6), of lane k's width in widths (SharedLogistic: the one n), for the kExplicit
+// explicit lobes, 1/2π for the residual. The exponents of N_p
 // and M_p go into one array whose exps are one vectorised loop in float, then the lanes
 // are multiplied out. kAzimuthal lanes take N's arithmetic (every lane in float, where the
 // residual's is part of a whole vector; the explicit ones only in double, one libm exp
 // each); the kept lanes past it are residual lanes. Shared by every model built on these
 // lobes side by side (ChiangFiber, FurFiber).
-template <int kKeptLanes, int kExplicit, int kAzimuthal, typename T, int N>
+template <int kKeptLanes, int kExplicit, int kAzimuthal, typename T, int N, class Widths>
 HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void deon_logistic_densities(const DeonLanes<T, N>& m, const T (&phi_p)[std::size_t(N)],
-                                                                    const TrimmedLogistic<T>& n, T sin_i, T cos_i, T phi,
+                                                                    const Widths& widths, T sin_i, T cos_i, T phi,
                                                                     T (&mn)[std::size_t(N)]) {
     using std::sqrt;
     constexpr int kM = kAzimuthal;  // where the M_p exponents start in e
@@ -139,7 +160,8 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void deon_logistic_densities(const DeonL
     // and its density is then 1/2π through the same arithmetic as N's (e·scale over
     // (1 + e·0)², bit for bit as a select after it): no select on the chain.
     for (int k = 0; k < kAzimuthal; ++k)
-        e[k] = n.exponent_of_difference(phi - phi_p[k], select(k < kExplicit, -n.inv_scale(), T(-0.0)));
+        e[k] = TrimmedLogistic<T>::exponent_of_difference(phi - phi_p[k],
+                                                          select(k < kExplicit, widths.minus_inv_scale(k), T(-0.0)));
     const T sqrt_cos_i = sqrt(cos_i);
     for (int k = 0; k < N; ++k) m.terms(k, sin_i, cos_i, sqrt_cos_i, e[kM + k], m_factor[k]);
     elem::exp_each_nonpositive(e);  // (every exponent ≤ 0) in float whole vectors (math/elementary.hpp)
@@ -150,11 +172,17 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void deon_logistic_densities(const DeonL
     // is one multiplication shorter. The residual's lane (e = 1) has the scale 1/2π and
     // the denominator (1 + 1·0)² = 1.
     for (int k = 0; k < kAzimuthal; ++k) {
-        const T scale = select(k < kExplicit, n.density_numerator(T(1)), kInvTwoPi<T>);
+        const T scale = select(k < kExplicit, widths.numerator(k), kInvTwoPi<T>);
         const T onto = select(k < kExplicit, T(1), T(0));
         mn[k] = (m_factor[k] * e[kM + k]) * (e[k] * scale) / sqr(T(1) + e[k] * onto);
     }
     for (int k = kAzimuthal; k < kKeptLanes; ++k) mn[k] = m_factor[k] * e[kM + k] * kInvTwoPi<T>;
+}
+template <int kKeptLanes, int kExplicit, int kAzimuthal, typename T, int N>
+HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void deon_logistic_densities(const DeonLanes<T, N>& m, const T (&phi_p)[std::size_t(N)],
+                                                                    const TrimmedLogistic<T>& n, T sin_i, T cos_i, T phi,
+                                                                    T (&mn)[std::size_t(N)]) {
+    deon_logistic_densities<kKeptLanes, kExplicit, kAzimuthal>(m, phi_p, SharedLogistic<T>{n}, sin_i, cos_i, phi, mn);
 }
 
 }  // namespace hairscatter

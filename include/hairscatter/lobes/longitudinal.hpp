@@ -107,6 +107,11 @@ template <typename T> class DeonLongitudinal {
         norm_ = inv_v_ / -elem::expm1(T(-2) * inv_v_);
     }
 
+    // The same lobe from v, 1/v, e^(-2/v) and its expm1 computed elsewhere (several lobes' exps
+    // as one vector: FurFiber).
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE DeonLongitudinal(T v, T inv_v, T exp_m2_over_v, T expm1_m2_over_v)
+        : v_(v), inv_v_(inv_v), exp_m2_over_v_(exp_m2_over_v), norm_(inv_v / -expm1_m2_over_v) {}
+
     HAIRSCATTER_HD T variance() const { return v_; }
 
     // Writes this lobe, conditioned on θo', into lane k of `lanes` (then lanes.take_roots()).

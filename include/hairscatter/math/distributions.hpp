@@ -45,6 +45,11 @@ template <typename T> class TrimmedLogistic {
         pdf_scale_ = inv_s_ / norm_;
     }
 
+    // The same logistic from s, 1/s and m = e^(-π/s) - 1 computed elsewhere (a model that
+    // takes several lobes' exps as one vector: FurFiber), without the expm1 and its branch.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE TrimmedLogistic(T s, T inv_s, T m)
+        : s_(s), inv_s_(inv_s), norm_(-m / (T(2) + m)), pdf_scale_(inv_s / norm_) {}
+
     HAIRSCATTER_HD T scale() const { return s_; }
 
     // Density on [-π, π]; x outside is a caller error (N_p wraps first).

@@ -307,7 +307,18 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 // −2γ + sign(h) ψ_R. TT's azimuth likewise: the walk carries the light round the section
 // chord by chord, and the exit's median turn from the smooth cylinder's Φ(1, h), ψ_TT, centres
 // N_TT on Φ(1, h) + sign(h) ψ_TT: toward the rim the facets wo sees lean toward it, refract
-// the light less far round, and the exits turn toward the forward direction. The nodes are
+// the light less far round, and the exits turn toward the forward direction. TRT's likewise
+// (its two chords at γ'_1, γ'_2 carry the light by 2π − 2γ'_1 − 2γ'_2): its median turn
+// ψ_TRT from Φ(2, h) centres N_TRT. And their spreads: Chiang's N_p is one trimmed logistic
+// of β_n's scale for every lobe, a smooth cylinder's lobes blurred alike, where on the rough
+// cortex the facets set each lobe's azimuthal spread at h. A facet tilted by δ across the
+// fibre turns a refracted chord by δ (1 − cos θi / (η cos θt)), δ (1 − 1/η) at normal
+// incidence, and a reflected one by 2δ, so TRT's internal reflection spreads it several
+// times as wide as TT's two crossings do.
+// The table keeps s_TT and s_TRT, the scale of the logistic with the mean absolute deviation
+// of the exits' turns about their median (2 s ln 2 for a logistic), and the fibre evaluates and
+// samples N_TT and N_TRT with them (R keeps β_n's: R's own width from the walk did not
+// improve the comparison with the physical fur, docs/models.md). The nodes are
 // uniform in γ = asin |h|, denser toward the rim, where F_r, v_R, ψ_R and ψ_TT change fastest.
 // And the entry's facets lengthen the first chord's path to the medulla: at grazing light the
 // facets wo sees refract the light across the section, so it crosses more cortex before the
@@ -320,8 +331,8 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 template <typename T> struct RoughCortexTables {
     static constexpr int kTheta = 13, kH = 9;  // θo nodes over ±kThetaMax, |γ| nodes over [0, π/2]
     static constexpr double kThetaMax = 1.5;   // (beyond, the nearest node: cos θo → 0 there)
-    static constexpr int kValues = 10;
-    T share[kTheta][kH][kValues];              // TT, TRT, later, r, F_r / F, v_R, δ_R, ψ_R, ψ_TT, k
+    static constexpr int kValues = 13;
+    T share[kTheta][kH][kValues];  // TT, TRT, later, r, F_r / F, v_R, δ_R, ψ_R, ψ_TT, k, s_TT, ψ_TRT, s_TRT
 
     // The values at (θo, γ), h = sin γ, bilinear between the nodes.
     HAIRSCATTER_HD void at(T theta, T gamma, T (&out)[kValues]) const {
@@ -614,8 +625,8 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
     constexpr int kWalks = 2000, kMaxEvents = 400, kShapeDraws = 2;
     const RoughFacets facets = RoughFacets::of(eta, alpha, beta_m, facet_alpha);
     std::vector<std::pair<double, double>> reflections, turns;  // R's sin θi, its turn toward wo; weights
-    std::vector<std::pair<double, double>> tt_turns;             // TT's exits: the turn from Φ(1, h); weights
-    RoughCortexTables<T> tab;
+    std::vector<std::pair<double, double>> tt_turns, trt_turns;  // TT's and TRT's exits: the turn from Φ(1, h), Φ(2, h)
+    RoughCortexTables<T> tab{};
     FurRng rng(0x0C0A7E5Eull);
     constexpr int kTheta = RoughCortexTables<T>::kTheta, kH = RoughCortexTables<T>::kH;
     for (int i = 0; i < kTheta; ++i) {
@@ -630,6 +641,7 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             reflections.clear();
             turns.clear();
             tt_turns.clear();
+            trt_turns.clear();
             // A reflection's azimuth in the section, turned from the mirror's (+γ) toward wo's (−γ).
             const double gamma = std::asin(h);
             const auto turn = [&](const glm::dvec3& r) { return wrap_pi(gamma - std::atan2(r.z, r.y)); };
@@ -687,15 +699,21 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
                         hits += 1, to_medulla += (d.y / in_plane - std::sqrt(kappa * kappa - offset * offset)) / in_plane;
                 }
                 const double gamma_1 = std::atan2(d.z, d.y);                   // the first chord's γ'
+                double gamma_2 = 0;                                             // the second's
                 int order = 1;
                 for (; order < kMaxEvents; ++order) {
                     const RoughFacets::Exit x = facets.walk(d, false, eta, rng);
                     if (x.outside) {  // leaves at this order
-                        if (order == 1)
-                            tt_turns.emplace_back(wrap_pi(gamma - 2 * gamma_t + 2 * gamma_1 - std::atan2(x.dir.z, x.dir.y)), 1.0);
+                        const double exit = std::atan2(x.dir.z, x.dir.y);
+                        if (order == 1) tt_turns.emplace_back(wrap_pi(gamma - 2 * gamma_t + 2 * gamma_1 - exit), 1.0);
+                        // TRT's: two chords, 2π − 2γ'_1 − 2γ'_2 + exit + γ against the smooth
+                        // 2π + 2γ − 4γt.
+                        if (order == 2)
+                            trt_turns.emplace_back(wrap_pi(gamma - 4 * gamma_t + 2 * gamma_1 + 2 * gamma_2 - exit), 1.0);
                         break;
                     }
                     d = glm::dvec3(x.dir.x, std::fabs(x.dir.y), x.dir.z);  // the next chord's far end
+                    if (order == 1) gamma_2 = std::atan2(d.z, d.y);
                 }
                 if (order == 1) first += 1;
                 else if (order == 2) second += 1;
@@ -713,6 +731,20 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             tab.share[i][j][6] = T(theta - 2 * alpha + lobe.theta_c);  // δ_R: θo' = θo − 2α turned to −θc
             tab.share[i][j][7] = T(reflected > 0 ? weighted_quantile(turns, 0.5) : 0.0);  // ψ_R: the median turn
             tab.share[i][j][8] = T(tt_turns.empty() ? 0.0 : weighted_quantile(tt_turns, 0.5));  // ψ_TT: the median turn
+            // TT's and TRT's spreads about their median turns: the scale of the logistic with
+            // the same mean absolute deviation about the median (a logistic's is 2 s ln 2), the
+            // spread in L1 as the median is the centre in L1. (Matched by the quartiles instead,
+            // the logistic cut the tails GGX's slopes give the turns: docs/models.md.)
+            const auto scale = [](std::vector<std::pair<double, double>>& xw) {
+                if (xw.empty()) return 0.0;
+                const double med = weighted_quantile(xw, 0.5);
+                double dev = 0, total = 0;
+                for (const auto& e : xw) dev += e.second * std::fabs(e.first - med), total += e.second;
+                return dev / total / (2 * std::log(2.0));
+            };
+            tab.share[i][j][10] = T(scale(tt_turns));                                            // s_TT
+            tab.share[i][j][11] = T(trt_turns.empty() ? 0.0 : weighted_quantile(trt_turns, 0.5));  // ψ_TRT
+            tab.share[i][j][12] = T(scale(trt_turns));                                           // s_TRT
             {
                 // k: the rough entry's mean path to the medulla over the smooth chord's at h
                 // (1 where the smooth chord misses it, or no rough one meets it).
@@ -1146,7 +1178,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         LobeSplit r;
         for (int p = 0; p < kLobes; ++p) {
             r.a[p] = V3(o.a[p][0], o.a[p][1], o.a[p][2]);
-            r.backward[p] = mat_->azimuthal().arc_mass(centre - kHalfPi<T> - o.phi_p[p], kPi<T>);
+            r.backward[p] = o.lobe_n[p].arc_mass(centre - kHalfPi<T> - o.phi_p[p], kPi<T>);
         }
         const V3 res(o.a[kLobes][0], o.a[kLobes][1], o.a[kLobes][2]), s(o.a[kS][0], o.a[kS][1], o.a[kS][2]);
         r.a[kLobes] = res + s;
@@ -1186,6 +1218,8 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         int theta_bin;
         T sin_o;
         DeonLongitudinal<T> r_lobe;            // R's M_p (the rough cortex's width at h)
+        TrimmedLogistic<T> lobe_n[std::size_t(kLobes)];  // N_p's trimmed logistic per lobe
+        LaneLogistics<T, kLobes + 1> n;        // their constants as lanes (lane kLobes: unused)
     };
 
     HAIRSCATTER_HD V3 albedo_from(const Outgoing& o) const {
@@ -1218,6 +1252,8 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         T passes[3];
         T entry_reflect = fresnel;  // R's share at entry: the smooth F, or the rough boundary's F_r
         T r_shape[4] = {T(0), T(0), T(0), T(0)};  // R's v_R, δ_R and ψ_R, and TT's ψ_TT (the rough cortex's)
+        for (int p = 0; p < kLobes; ++p) o.lobe_n[p] = mat_->azimuthal();
+        for (int p = 0; p <= kLobes; ++p) o.n.set(p, mat_->azimuthal());
         if (prm.rough_cortex) {
             // The rough cortex's walk (RoughCortexTables): the facets reflect F_r at entry; of
             // the light that entered (1 − F_r), e1 leaves after one chord, e2 after two, the
@@ -1267,11 +1303,36 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             const T sign = h_ < T(0) ? T(-1) : T(1);
             o.phi_p[0] = wrap_pi_once(o.phi_p[0] + sign * r_shape[2]);
             o.phi_p[1] = wrap_pi_once(o.phi_p[1] + sign * r_shape[3]);
+            // TRT's by ψ_TRT from Φ(2, h), and TT's and TRT's N_p of the widths their facets
+            // give them at h (s_TT, s_TRT; floored at the narrowest logistic the parameters
+            // allow), in place of β_n's: R's stays β_n's.
+            o.phi_p[2] = wrap_pi_once(o.phi_p[2] + sign * e[11]);
             // R's shape at h from the same facets (RoughCortexTables): the lobe of variance v_R
             // (floored at the narrowest lobe the parameters allow), its conditioning angle
             // turned by −δ_R from the tilt's (the controls' R tilt still acts on top).
-            const T v_floor = longitudinal_variance(kMinRoughness<T>);
-            o.r_lobe = DeonLongitudinal<T>(r_shape[0] > v_floor ? r_shape[0] : v_floor);
+            // Its constants and the two logistics' as one vector each in float (a division, an
+            // exp, an expm1): R's e^(−2/v_R), TT's and TRT's e^(−π/s) − 1.
+            const T v_floor = longitudinal_variance(kMinRoughness<T>), s_floor = logistic_scale(kMinRoughness<T>);
+            constexpr std::size_t kN = std::is_same<T, float>::value ? 4 : 3;  // (float: a whole vector)
+            T width[kN], inv[kN], x[kN], m[kN];
+            width[0] = r_shape[0] > v_floor ? r_shape[0] : v_floor;
+            width[1] = e[10] > s_floor ? e[10] : s_floor;
+            width[2] = e[12] > s_floor ? e[12] : s_floor;
+            for (std::size_t k = 3; k < kN; ++k) width[k] = T(1);
+            for (std::size_t k = 0; k < kN; ++k) inv[k] = T(1) / width[k];
+            for (std::size_t k = 0; k < kN; ++k) x[k] = m[k] = inv[k] * (k == 0 ? T(-2) : -kPi<T>);
+            if constexpr (std::is_same<T, float>::value) {
+                elem::exp_each_nonpositive(x);
+                elem::expm1_each_given_exp(m, x);
+            } else {  // (one libm call per value: the logistics need only their expm1)
+                x[0] = elem::exp(x[0]);
+                elem::expm1_each(m);
+            }
+            o.r_lobe = DeonLongitudinal<T>(width[0], inv[0], x[0], m[0]);
+            for (int k = 1; k < 3; ++k) {
+                o.lobe_n[k] = TrimmedLogistic<T>(width[k], inv[k], m[k]);
+                o.n.set(k, o.lobe_n[k]);
+            }
             T sd, cd;
             elem::sincos(r_shape[1], sd, cd);
             const T s0 = o.m.sin_o[0], c0 = o.m.cos_o[0];
@@ -1292,7 +1353,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
     static constexpr int kAzimuthal = std::is_same<T, float>::value ? kLobes + 1 : kLobes;
     HAIRSCATTER_HD void densities(const Outgoing& o, T sin_i, T cos_i, T phi, T (&mn)[std::size_t(kS + 1)]) const {
         T lanes[std::size_t(kLobes + 1)];
-        deon_logistic_densities<kLobes + 1, kLobes, kAzimuthal>(o.m, o.phi_p, mat_->azimuthal(), sin_i, cos_i, phi, lanes);
+        deon_logistic_densities<kLobes + 1, kLobes, kAzimuthal>(o.m, o.phi_p, o.n, sin_i, cos_i, phi, lanes);
         for (int p = 0; p <= kLobes; ++p) mn[p] = lanes[p];
         mn[kS] = scattered_density(o, sin_i, cos_i, phi);
     }
@@ -1333,7 +1394,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             phi = mat_->medulla().sample_azimuth(o.theta_bin, u.w);
         } else {
             sin_i = (p == 0 ? o.r_lobe : mat_->longitudinal(p)).sample_sin_theta(o.m.sin_o[p], o.m.cos_o[p], u.y, u.z);
-            phi = p < kLobes ? o.phi_p[p] + mat_->azimuthal().sample(u.w) : kTwoPi<T> * u.w - kPi<T>;
+            phi = p < kLobes ? o.phi_p[p] + o.lobe_n[p].sample(u.w) : kTwoPi<T> * u.w - kPi<T>;
         }
         phi = wrap_pi(phi);
         const T cos_i = cos_from_sin(sin_i);
