@@ -261,6 +261,7 @@ TEST(CountField, LatticeTensorsGiveTheSameCounts) {
     EXPECT_GT(stored, 0.0f);
     EXPECT_NEAR(per_direction.fibers_to_exit(p, per_direction.direction(k)), stored, 1e-3f * (1 + stored));
     EXPECT_THROW(ranges.build_directions(ranges.direction_count(), ranges.direction_count() + 1, tensors), std::out_of_range);
+    EXPECT_THROW(ranges.build_directions(3, 3, tensors), std::out_of_range);
     // Tensors of another lattice are refused.
     hs::DirectionalCountField<float> other(grid.box_min(), grid.box_max(), glm::ivec3(3, 3, 3), 6);
     EXPECT_THROW(other.build_direction(0, tensors), std::invalid_argument);

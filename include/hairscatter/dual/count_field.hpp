@@ -410,10 +410,13 @@ template <typename T> class DirectionalCountField {
     // counts moved into the point-major store point by point.
     template <typename D, typename Rate>
     void build_range(int k_begin, int k_end, const D& source, const Rate& rate_of) {
-        if (k_begin < 0 || k_begin >= direction_count() || !(k_end > k_begin))
-            HAIRSCATTER_THROW(std::out_of_range("hairscatter: DirectionalCountField::build_direction: k = " +
+        if (k_begin < 0 || k_begin >= direction_count())
+            HAIRSCATTER_THROW(std::out_of_range("hairscatter: DirectionalCountField::build_directions: k = " +
                                                 std::to_string(k_begin) + " is outside [0, " +
                                                 std::to_string(direction_count()) + ")"));
+        if (!(k_end > k_begin))
+            HAIRSCATTER_THROW(std::out_of_range("hairscatter: DirectionalCountField::build_directions: the range [" +
+                                                std::to_string(k_begin) + ", " + std::to_string(k_end) + ") is empty"));
         const int end = k_end < direction_count() ? k_end : direction_count();
         const std::size_t count = std::size_t(end - k_begin), points = v_.per_direction_;
         std::vector<T> swept(count * points);
@@ -426,7 +429,6 @@ template <typename T> class DirectionalCountField {
         }
     }
 
-  private:
     // The lattice point (x, y, z), as build_direction places it.
     V3 lattice_point(int x, int y, int z) const {
         return V3(v_.lo_.x + T(x) * spacing_.x, v_.lo_.y + T(y) * spacing_.y, v_.lo_.z + T(z) * spacing_.z);
