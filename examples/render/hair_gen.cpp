@@ -158,20 +158,56 @@ int SlabOptions::strand_count() const {
     return int(std::lround(double(depth) * double(height) / (2.0 * double(radius))));
 }
 
+double SlabOptions::packing() const {
+    return double(depth) * 3.14159265358979323846 * double(radius) / (2.0 * double(thickness));
+}
+
 Hair make_slab(const SlabOptions& o) {
     if (!(o.width > 0) || !(o.height > 0) || !(o.thickness > 0) || !(o.depth > 0) || !(o.radius > 0) || o.segments < 1)
         throw std::invalid_argument("make_slab: width, height, thickness, depth, radius and segments must be positive");
     const int count = o.strand_count();
     if (count < 1) throw std::invalid_argument("make_slab: depth · height / (2 radius) rounds to no strand");
+    if (!o.overlap && !(o.packing() <= kSlabMaxPacking))
+        throw std::invalid_argument("make_slab: fibers without overlap cannot cover more than 45 % of the section");
     Hair hair;
     hair.radius = o.radius;
     Pcg32 rng(o.seed, 7);
     hair.strands.reserve(std::size_t(count));
+    // Axes already placed, binned in cells one diameter wide: a new axis need only be checked
+    // against the 3 × 3 cells around its own.
+    const float diameter = 2 * o.radius;
+    const int cells_y = std::max(1, int(o.height / diameter)), cells_z = std::max(1, int(o.thickness / diameter));
+    std::vector<std::vector<glm::vec2>> placed(o.overlap ? 0 : std::size_t(cells_y) * std::size_t(cells_z));
+    const auto cell_of = [&](float y, float z) {
+        return glm::ivec2(std::min(cells_y - 1, int(y / diameter)), std::min(cells_z - 1, int((z + 0.5f * o.thickness) / diameter)));
+    };
+    const auto free_at = [&](float y, float z) {
+        const glm::ivec2 c = cell_of(y, z);
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dz = -1; dz <= 1; ++dz) {
+                const int iy = c.x + dy, iz = c.y + dz;
+                if (iy < 0 || iz < 0 || iy >= cells_y || iz >= cells_z) continue;
+                for (const glm::vec2& q : placed[std::size_t(iy) * std::size_t(cells_z) + std::size_t(iz)])
+                    if ((q.x - y) * (q.x - y) + (q.y - z) * (q.y - z) < diameter * diameter) return false;
+            }
+        return true;
+    };
     for (int i = 0; i < count; ++i) {
-        // Independent uniform positions: the number of axes within r of a ray is binomial
-        // (Poisson in the limit), as in real hair, not the even count of a grid.
-        const float y = o.height * rng.uniform();
-        const float z = o.thickness * (rng.uniform() - 0.5f);
+        // Uniform positions, not the even count of a grid: the number of axes within r of a
+        // ray varies as in real hair (binomial with overlap; a little less without).
+        float y = 0, z = 0;
+        for (int tries = 0;; ++tries) {
+            y = o.height * rng.uniform();
+            z = o.thickness * (rng.uniform() - 0.5f);
+            if (o.overlap || free_at(y, z)) break;
+            if (tries > 100000)
+                throw std::runtime_error("make_slab: no room for fiber " + std::to_string(i) + " of " +
+                                         std::to_string(count) + " without overlap");
+        }
+        if (!o.overlap) {
+            const glm::ivec2 c = cell_of(y, z);
+            placed[std::size_t(c.x) * std::size_t(cells_z) + std::size_t(c.y)].push_back({y, z});
+        }
         std::vector<glm::vec3> s(std::size_t(o.segments) + 1);
         for (int k = 0; k <= o.segments; ++k)
             s[std::size_t(k)] = glm::vec3(o.width * (float(k) / float(o.segments) - 0.5f), y, z);

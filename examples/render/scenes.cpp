@@ -130,6 +130,10 @@ void validate(const SlabOptions& o, const LightingOptions& l) {
     require(strands >= 0.5 && strands <= 1e7, "--slab-depth: " + num(o.depth) + " with --fiber-radius " +
                                                    num(o.radius) + " makes " + num(std::round(strands)) +
                                                    " strands, outside [1, 10^7]");
+    require(o.overlap || o.packing() <= kSlabMaxPacking,
+            "--slab-depth: " + num(o.depth) + " fibers of radius " + num(o.radius) + " cover " +
+                num(std::round(100 * o.packing())) + " % of the slab's section; without --slab-overlap at most " +
+                num(100 * kSlabMaxPacking) + " % (thinner fibers: --fiber-radius)");
     if (o.back_lit && l.light_power > 0) {
         // Every sightline from the eye to the light must pass through the slab: the light's
         // half side, projected from the eye onto the slab's back face, stays inside it.

@@ -100,6 +100,11 @@ render::SceneDescription block_scene(int hairs, const std::string& light, bool g
         render::SlabOptions slab;
         slab.depth = float(hairs);
         slab.back_lit = true;
+        // Fibers that do not overlap (as real ones) cover depth · π · radius / (2 thickness) of
+        // the section: past 35 % (deeper than 11 fibers at the default radius) the fibers are
+        // made thinner to keep it, rather than let them interpenetrate.
+        constexpr double kPacking = 0.35;
+        if (slab.packing() > kPacking) slab.radius = float(double(slab.radius) * kPacking / slab.packing());
         d = render::make_slab_scene(slab, lighting);
     } else {
         throw std::invalid_argument("study: unknown scene '" + kind +

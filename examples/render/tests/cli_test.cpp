@@ -96,6 +96,8 @@ TEST(RenderCli, RefusesOutOfRangeValuesNamingTheOption) {
     expect_refused("--scene scalp --scalp-hairs 100 --gravity 1e30", "--gravity");
     expect_refused("--scene fur --fur-hairs 100 --fur-length 1e30", "--fur-length");
     expect_refused("--scene slab --fiber-radius 1e-30", "--fiber-radius");
+    // Fibers that may not overlap cannot fill more than 45 % of the slab's section.
+    expect_refused("--scene slab --slab-depth 20", "--slab-depth");
     expect_refused("--light-size 1e-20", "--light-size");
     expect_refused("--light-size 1e30", "--light-size");
     expect_refused("--light-power 1e30", "--light-power");

@@ -224,19 +224,56 @@ TEST(Slab, RaysAlongTheNormalCrossDepthFibersOnAverage) {
     }
 }
 
-// Uniform random positions make the count per ray binomial, nearly Poisson (variance =
-// mean), unlike a grid's even one. Rays closer than 2r see overlapping strands, so a
-// 5-unit slab has only ~250 independent heights: a 100-unit one pins the variance to ~3 %.
-TEST(Slab, FiberCountsPerRayVaryLikePoisson) {
-    SlabOptions o;
-    o.height = 100;
-    const std::vector<int> c = crossings(o, make_slab(o), 100000);
-    double sum = 0, sum2 = 0;
-    for (int k : c) sum += k, sum2 += double(k) * k;
-    const double mean = sum / double(c.size()), var = sum2 / double(c.size()) - mean * mean;
-    std::printf("[ figures ] slab depth %g, 100 units tall: mean %.3f, variance %.3f\n", double(o.depth), mean, var);
-    EXPECT_NEAR(mean, o.depth, 0.02 * o.depth);
-    EXPECT_NEAR(var / mean, 1.0, 0.1);
+// Independent uniform positions (overlap) make the count per ray binomial, nearly Poisson
+// (variance = mean), unlike a grid's even one; fibers that may not overlap vary a little
+// less (a fiber keeps the others out of its disc) but still vary. Rays closer than 2r see
+// overlapping strands, so a 5-unit slab has only ~250 independent heights: a 100-unit one
+// pins the variance to ~3 %.
+TEST(Slab, FiberCountsPerRayVaryLikePoissonOrALittleLess) {
+    for (bool overlap : {true, false}) {
+        SlabOptions o;
+        o.height = 100;
+        o.overlap = overlap;
+        const std::vector<int> c = crossings(o, make_slab(o), 100000);
+        double sum = 0, sum2 = 0;
+        for (int k : c) sum += k, sum2 += double(k) * k;
+        const double mean = sum / double(c.size()), var = sum2 / double(c.size()) - mean * mean;
+        std::printf("[ figures ] slab depth %g, 100 units tall, %s: mean %.3f, variance %.3f\n", double(o.depth),
+                    overlap ? "overlap" : "no overlap", mean, var);
+        EXPECT_NEAR(mean, o.depth, 0.02 * o.depth);
+        if (overlap) {
+            EXPECT_NEAR(var / mean, 1.0, 0.1);
+        } else {
+            EXPECT_LT(var / mean, 0.95);
+            EXPECT_GT(var / mean, 0.5);
+        }
+    }
+}
+
+// By default no two fibers overlap: every pair of axes lies at least a diameter apart (as
+// real fibers), up to the packing a random sequential addition reaches; denser slabs are
+// refused unless overlap is asked for.
+TEST(Slab, FibersDoNotOverlapUnlessAskedTo) {
+    for (float depth : {5.0f, 10.0f, 14.0f}) {
+        SlabOptions o;
+        o.depth = depth;
+        const Hair h = make_slab(o);
+        std::vector<glm::vec2> axes;
+        for (const auto& s : h.strands) axes.push_back({s.front().y, s.front().z});
+        std::sort(axes.begin(), axes.end(), [](const glm::vec2& a, const glm::vec2& b) { return a.x < b.x; });
+        float closest = 1e9f;
+        for (std::size_t i = 0; i < axes.size(); ++i)
+            for (std::size_t j = i + 1; j < axes.size() && axes[j].x - axes[i].x < 2 * o.radius; ++j)
+                closest = std::min(closest, glm::length(axes[j] - axes[i]));
+        std::printf("[ figures ] slab depth %g: packing %.3f, closest axes %.5f apart (diameter %.5f)\n",
+                    double(depth), o.packing(), double(closest), double(2 * o.radius));
+        EXPECT_GE(closest, 2 * o.radius * (1 - 1e-5f)) << depth;
+    }
+    SlabOptions dense;
+    dense.depth = 20;  // 63 % of the section
+    EXPECT_THROW(make_slab(dense), std::invalid_argument);
+    dense.overlap = true;
+    EXPECT_EQ(int(make_slab(dense).strands.size()), dense.strand_count());
 }
 
 // Where the segment from the eye to p crosses the plane z = z0.
