@@ -76,6 +76,8 @@ int main(int argc, char** argv) {
     app.add_option("--fur-seed", fur.seed, "fur: generator seed")->capture_default_str();
     app.add_option("--slab-depth", slab.depth, "slab: mean number of fibers a ray along the slab's normal crosses")
         ->capture_default_str();
+    app.add_flag("--slab-overlap", slab.overlap,
+                 "slab: independent fiber axes, fibers may interpenetrate (default: placed without overlap)");
     app.add_flag("--back-lit", slab.back_lit,
                  "slab: the area light behind the slab, facing it and the camera (seen only through the gaps)");
     app.add_flag("--no-ground", no_ground, "remove the ground plane (block, scalp, fur, file)");
@@ -119,6 +121,7 @@ int main(int argc, char** argv) {
     float field_spacing = 1.0f;
     std::string dual_depth = "shape";
     std::string dual_stacks = "inclined";
+    std::string dual_transport = "turned";
     int dual_glow = 4;
     app.add_option("--dual-depth", dual_depth,
                    "dual two-stream: how many fibers turning light crosses per fiber of a stack, from the hair's "
@@ -132,6 +135,11 @@ int main(int argc, char** argv) {
                    "its axis; dense white fur within 1 % of the path tracer, docs/dual.md) or always (planar: the "
                    "1D stack of Zinke et al. 2008)")
         ->check(CLI::IsMember({"inclined", "planar"}))
+        ->capture_default_str();
+    app.add_option("--dual-transport", dual_transport,
+                   "dual two-stream: how light crosses a stack where it has spread over its half-circle: as along "
+                   "the arrival (turned) or trading between the two half-circles as it turns (diffuse; docs/theory.md)")
+        ->check(CLI::IsMember({"turned", "diffuse"}))
         ->capture_default_str();
     app.add_option("--dual-glow", dual_glow,
                    "dual two-stream with grid or field counts: hair points per grid cell of the glow volume (the "
@@ -267,6 +275,8 @@ int main(int argc, char** argv) {
         so.source = dual_source == "point" ? render::DualSource::kPoint : render::DualSource::kBeyondExit;
         so.shape_depth = dual_depth == "shape";
         so.inclined_stacks = dual_stacks == "inclined";
+        so.transport = dual_transport == "diffuse" ? hairscatter::DualStackTransport::kDiffuse
+                                                   : hairscatter::DualStackTransport::kTurned;
         so.glow_points = dual_glow;
         so.traced_vertices = dual_vertices;
         so.field_side = field_side;

@@ -61,6 +61,9 @@ struct ShadingOptions {
     // backward event returns, the 1D stack of Zinke et al. 2008. Inclined stacks bring dense
     // white fur from +9…+12 % to within 1 % of the path tracer (docs/dual.md).
     bool inclined_stacks = true;
+    // Two-stream: how light crosses a stack where it has spread over its half-circle
+    // (hs::DualStackTransport, docs/theory.md §5.7, "Spread light in the stacks").
+    hairscatter::DualStackTransport transport = hairscatter::DualStackTransport::kTurned;
     int glow_points = 4;
     // Two-stream: a path's first vertices traced as the path tracer traces them (next-event
     // estimation and the fiber's own sample to the next hit) before the estimator takes over:

@@ -300,7 +300,8 @@ struct TwoStreamSums {
 // source), e.g. FurFiber<double>.
 template <typename Fiber>
 TwoStreamSums compare_two_stream(const typename Fiber::Material& mat, double tau, const Lighting& light, const dvec3& wo,
-                                 int paths, int arrivals = 16, bool with_path = true) {
+                                 int paths, int arrivals = 16, bool with_path = true,
+                                 hs::DualStackTransport transport = hs::DualStackTransport::kTurned) {
     const auto tables = hs::DualScatteringTables<double>::template build<Fiber>(mat);
     const auto view = tables.view();
     const slab::FiberSlab s(400, 8 * tau, tau, 7);
@@ -340,10 +341,13 @@ TwoStreamSums compare_two_stream(const typename Fiber::Material& mat, double tau
                 continue;
             }
             const int m = s.count(hit.p, -a, hit.fiber);
+            const hs::DualScatteringEntry<double> e = view.lookup(smp.wi.x);
+            constexpr double slab_limit = hs::kSlabTurnLimit<double>;
             const hs::DualStreams<double> st[2] = {
-                hs::dual_streams(view, smp.wi.x, double(n), double(m)),
-                hs::dual_streams(view, smp.wi.x, hs::poisson_fiber_count(expected_count(hit.p, a), U(rng), true),
-                                 hs::poisson_fiber_count(expected_count(hit.p, -a), U(rng), false))};
+                hs::dual_streams(e, double(n), double(m), slab_limit, slab_limit, transport),
+                hs::dual_streams(e, hs::poisson_fiber_count(expected_count(hit.p, a), U(rng), true),
+                                 hs::poisson_fiber_count(expected_count(hit.p, -a), U(rng), false), slab_limit, slab_limit,
+                                 transport)};
             double* sums[2] = {&exact, &expected};
             const dvec4 u = draw4(U, rng);
             for (int c = 0; c < 2; ++c) {
@@ -371,9 +375,10 @@ TwoStreamSums compare_two_stream(const typename Fiber::Material& mat, double tau
 
 // Over Chiang's fiber with these parameters.
 inline TwoStreamSums compare_two_stream(const hs::FiberParams<double>& params, double tau, const Lighting& light,
-                                        const dvec3& wo, int paths, int arrivals = 16, bool with_path = true) {
+                                        const dvec3& wo, int paths, int arrivals = 16, bool with_path = true,
+                                        hs::DualStackTransport transport = hs::DualStackTransport::kTurned) {
     return compare_two_stream<hs::ChiangFiber<double>>(hs::ChiangMaterial<double>(params), tau, light, wo, paths,
-                                                       arrivals, with_path);
+                                                       arrivals, with_path, transport);
 }
 
 }  // namespace slab

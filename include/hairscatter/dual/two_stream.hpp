@@ -250,8 +250,20 @@ template <typename T> class HalfCircleGaussian {
 template <typename T> inline constexpr T kSlabTurnLimit = T(0.63661977236758134308);  // 2/π
 template <typename T> inline constexpr T kMinTurnLimit = T(0.3);
 template <typename T> inline constexpr T kMaxTurnLimit = T(3);
-template <typename T> HAIRSCATTER_HD T dual_turned_depth(T n, T mu_f, T limit = kSlabTurnLimit<T>) {
-    if (!(n > T(1))) return n;
+// The turned depth and the part of it that the light crosses before it is spread: the sum
+// of e_j / c_j with e_j = e^{−λ j}, the share of the light at the j-th fiber still in the
+// Gaussian's narrow part (c_j = limit + (1 − limit) e_j). The diffuse transport of
+// dual_streams keeps that part at each end of a stack as it is and spreads the rest.
+template <typename T> struct DualTurnedDepth {
+    T total = T(0);      // Σ 1/c_j: dual_turned_depth
+    T ballistic = T(0);  // Σ e_j/c_j ≤ total
+};
+template <typename T> HAIRSCATTER_HD DualTurnedDepth<T> dual_turned_depths(T n, T mu_f, T limit = kSlabTurnLimit<T>) {
+    DualTurnedDepth<T> r;
+    if (!(n > T(1))) {
+        r.total = r.ballistic = n;
+        return r;
+    }
     const T lim = limit == limit ? clamp(limit, kMinTurnLimit<T>, kMaxTurnLimit<T>) : kSlabTurnLimit<T>;
     const T w = T(1) - lim;
     const T mu = mu_f > T(1e-6) ? (mu_f < T(1) ? mu_f : T(1)) : T(1e-6);
@@ -261,18 +273,60 @@ template <typename T> HAIRSCATTER_HD T dual_turned_depth(T n, T mu_f, T limit = 
     const T q = elem::exp(-lambda);
     // The first fibers one by one; past 32 (fibers that turn light very little), the rest as
     // the integral of the same summand over [j − ½, n − ½], the midpoint rule's span:
-    //     ∫ dx / (2/π + w e^{−λx}) = (x + ln(2/π + w e^{−λx}) / λ) / (2/π).
+    //     ∫ dx / (2/π + w e^{−λx}) = (x + ln(2/π + w e^{−λx}) / λ) / (2/π),
+    // and for the ballistic part ∫ e^{−λx} dx / (lim + w e^{−λx}) = −ln(lim + w e^{−λx}) / (λ w).
     constexpr int kTerms = 32;
-    T depth = T(0), qj = T(1);
+    T depth = T(0), ballistic = T(0), qj = T(1);
     int j = 0;
     for (; T(j + 1) <= n && j < kTerms; ++j) {
-        depth += T(1) / (lim + w * qj);
+        const T inv_c = T(1) / (lim + w * qj);
+        depth += inv_c;
+        ballistic += qj * inv_c;
         qj *= q;
     }
     const T rest = n - T(j);  // fibers left, the last perhaps a fraction
-    if (rest <= T(1) || !(lambda > T(1e-6))) return depth + rest / (lim + w * qj);
+    if (rest <= T(1) || !(lambda > T(1e-6))) {
+        const T c = lim + w * qj;
+        r.total = depth + rest / c;
+        r.ballistic = ballistic + rest * qj / c;
+        return r;
+    }
     const T e0 = qj * elem::exp(T(0.5) * lambda), e1 = qj * elem::exp(-(rest - T(0.5)) * lambda);  // e^{−λx} at both ends
-    return depth + (rest + elem::log((lim + w * e1) / (lim + w * e0)) / lambda) / lim;
+    const T span = elem::log((lim + w * e1) / (lim + w * e0));
+    r.total = depth + (rest + span / lambda) / lim;
+    const T tail = abs_value(w) > T(1e-6) ? -span / (lambda * w) : (e0 - e1) / (lambda * lim);
+    r.ballistic = ballistic + clamp(tail, T(0), r.total - ballistic);
+    return r;
+}
+template <typename T> HAIRSCATTER_HD T dual_turned_depth(T n, T mu_f, T limit = kSlabTurnLimit<T>) {
+    return dual_turned_depths(n, mu_f, limit).total;
+}
+
+// How light crosses a stack past its first fibers (dual_streams; docs/theory.md §5.7,
+// "Spread light in the stacks").
+//  kTurned: every fiber passes a_f and returns a_b of the light, as for the light along a;
+//    only the depth grows with the turns (dual_turned_depth).
+//  kDiffuse: the same where the light is still narrow about the stack's axis, at both ends
+//    (the arrival along a, and the source's beam entering beyond the far face); in between,
+//    where it is spread over its half-circle, a fiber's turn also carries some of it across
+//    to the other half-circle: forward events send back, and backward ones on, the shares
+//    dual_crossover(μ_f) and dual_crossover(μ_b) (the two-stream's hemispheric-mean
+//    exchange for light spread evenly over its half-circle). a_f + a_b is kept.
+enum class DualStackTransport : int { kTurned = 0, kDiffuse = 1 };
+
+// The share of light spread evenly over a half-circle of azimuths that one event's turn, of
+// mean cosine mu, carries across to the other half: E|δ| / π for the turn δ (a Gaussian of
+// variance −2 ln μ, whose E|δ| = σ √(2/π)), at most ½ (a turn uniform over the circle).
+// Light that turns along the fiber's normal plane by δ from φ crosses ±π/2 where
+// |φ + δ| > π/2, and over φ uniform in [−π/2, π/2] that happens with probability E|δ|/π.
+// mu is clamped to [1e-6, 1]; NaN gives ½.
+template <typename T> HAIRSCATTER_HD T dual_crossover(T mu) {
+    using std::sqrt;
+    if (!(mu == mu)) return T(0.5);
+    const T m = mu > T(1e-6) ? (mu < T(1) ? mu : T(1)) : T(1e-6);
+    // σ √(2/π) / π = 2 √(−ln μ / π) / π
+    const T x = T(0.63661977236758134308) * sqrt(-elem::log(m) * T(0.31830988618379067154));
+    return x < T(0.5) ? x : T(0.5);
 }
 
 namespace detail {
@@ -289,14 +343,19 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T mean_events(T sc
 // distribution), or expectations. NaN counts count as 0, +Inf as a deep volume.
 template <typename T>
 HAIRSCATTER_HD DualStreams<T> dual_streams(const DualScatteringEntry<T>& e, T n_fibers, T m_fibers,
-                                           T limit_n = kSlabTurnLimit<T>, T limit_m = kSlabTurnLimit<T>) {
+                                           T limit_n = kSlabTurnLimit<T>, T limit_m = kSlabTurnLimit<T>,
+                                           DualStackTransport transport = DualStackTransport::kTurned) {
     DualStreams<T> s;
     const T mf = (e.mu_f.x + e.mu_f.y + e.mu_f.z) * T(1.0 / 3.0), mb = (e.mu_b.x + e.mu_b.y + e.mu_b.z) * T(1.0 / 3.0);
     // The stacks' depths as the fibers the turning light crosses (at most kDeepStack).
-    const T n = dual_stack_depth(dual_turned_depth(dual_stack_depth(n_fibers), mf, limit_n));
-    const T m = dual_stack_depth(dual_turned_depth(dual_stack_depth(m_fibers), mf, limit_m));
+    const DualTurnedDepth<T> dn = dual_turned_depths(dual_stack_depth(n_fibers), mf, limit_n);
+    const DualTurnedDepth<T> dm = dual_turned_depths(dual_stack_depth(m_fibers), mf, limit_m);
+    const T n = dual_stack_depth(dn.total), m = dual_stack_depth(dm.total);
+    const bool diffuse = transport == DualStackTransport::kDiffuse;
     // Lanes 0–2: the channels; lane 3: the channel mean, whose albedos give the events below.
-    // The same four layers n deep (lanes 0–3) and m deep (4–7), as one batch.
+    // The same four layers n deep (lanes 0–3) and m deep (4–7), as one batch. With diffuse
+    // transport these are the stacks' narrow ends (each at most half the stack), and a second
+    // batch holds the spread middles.
     const T af = (e.a_f.x + e.a_f.y + e.a_f.z) * T(1.0 / 3.0), ab = (e.a_b.x + e.a_b.y + e.a_b.z) * T(1.0 / 3.0);
     LayerLanes<T, 4> layer;
     elem::store4(layer.a_f, e.a_f.x, e.a_f.y, e.a_f.z, af);
@@ -304,9 +363,40 @@ HAIRSCATTER_HD DualStreams<T> dual_streams(const DualScatteringEntry<T>& e, T n_
     layer_lanes(layer);
     LayerLanes<T, 8> c;
     repeat_lanes(layer, c);
-    const T depth[8] = {n, n, n, n, m, m, m, m};
+    // A stack whose narrow ends meet (the light still narrow halfway through) has no middle
+    // and stays one stack, as with turned transport.
+    const T end_n = diffuse && dn.ballistic < T(0.5) * n ? dn.ballistic : n;
+    const T end_m = diffuse && dm.ballistic < T(0.5) * m ? dm.ballistic : m;
+    const T mid_n = end_n < n ? n - T(2) * end_n : T(0), mid_m = end_m < m ? m - T(2) * end_m : T(0);
+    const T depth[8] = {end_n, end_n, end_n, end_n, end_m, end_m, end_m, end_m};
     T R[8], T_[8];
     layered_stacks(c, depth, R, T_);
+    if (mid_n > T(0) || mid_m > T(0)) {
+        const T cf = dual_crossover(mf), cb = dual_crossover(mb);
+        LayerLanes<T, 4> spread;
+        for (int k = 0; k < 4; ++k) {
+            spread.a_f[k] = layer.a_f[k] * (T(1) - cf) + layer.a_b[k] * cb;
+            spread.a_b[k] = layer.a_b[k] * (T(1) - cb) + layer.a_f[k] * cf;
+        }
+        layer_lanes(spread);
+        LayerLanes<T, 8> c2;
+        repeat_lanes(spread, c2);
+        const T middle[8] = {mid_n, mid_n, mid_n, mid_n, mid_m, mid_m, mid_m, mid_m};
+        T R2[8], T2[8];
+        layered_stacks(c2, middle, R2, T2);
+        // The adding formula for layers alike from both sides: the middle and the far end,
+        // then the near end before them (R seen from the shading point).
+        for (int k = 0; k < 8; ++k) {
+            if (!((k < 4 ? mid_n : mid_m) > T(0))) continue;  // one stack, already whole
+            const T d1 = T(1) - R2[k] * R[k];
+            const T r_far = d1 > T(0) ? R2[k] + T2[k] * T2[k] * R[k] / d1 : T(1);
+            const T t_far = d1 > T(0) ? T2[k] * T_[k] / d1 : T(0);
+            const T d2 = T(1) - R[k] * r_far;
+            const T r = d2 > T(0) ? R[k] + T_[k] * T_[k] * r_far / d2 : T(1);
+            T_[k] = d2 > T(0) ? T_[k] * t_far / d2 : T(0);
+            R[k] = r;
+        }
+    }
     for (int k = 0; k < 3; ++k) {
         const T den = T(1) - R[k] * R[4 + k];
         s.forward[k] = den > T(0) ? clamp(T_[k] / den, T(0), T(1)) : T(0);
