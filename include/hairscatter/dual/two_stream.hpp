@@ -311,7 +311,8 @@ template <typename T> HAIRSCATTER_HD T dual_turned_depth(T n, T mu_f, T limit = 
 //    where it is spread over its half-circle, a fiber's turn also carries some of it across
 //    to the other half-circle: forward events send back, and backward ones on, the shares
 //    dual_crossover(μ_f) and dual_crossover(μ_b) (the two-stream's hemispheric-mean
-//    exchange for light spread evenly over its half-circle). a_f + a_b is kept.
+//    exchange for light spread evenly over its half-circle, as in Meador and Weaver 1980).
+//    a_f + a_b is kept. Closer to explicit slabs than kTurned, not to every scene.
 enum class DualStackTransport : int { kTurned = 0, kDiffuse = 1 };
 
 // The share of light spread evenly over a half-circle of azimuths that one event's turn, of
