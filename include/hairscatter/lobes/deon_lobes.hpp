@@ -94,8 +94,9 @@ template <typename T> class DeonLobes {
     }
 
     // The lobes of kSet conditioned on θo, each tilted (lane k: lobe lane_lobe(kSet, k),
-    // lobes/lobe_set.hpp), for their per-θi evaluation side by side (DeonLanes).
-    template <LobeSet kSet, int N>
+    // lobes/lobe_set.hpp), for their per-θi evaluation side by side (DeonLanes). kRoots false
+    // leaves lanes.take_roots() to a caller that conditions a lane again first (FurFiber).
+    template <LobeSet kSet, int N, bool kRoots = true>
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void condition(DeonLanes<T, N>& lanes, T sin_o, T cos_o) const {
         static_assert(N >= lobe_count(kSet), "a lane per lobe of the set");
         for (int k = lobe_count(kSet); k < N; ++k) {  // padding: M = 0
@@ -110,7 +111,7 @@ template <typename T> class DeonLobes {
             lanes.half_inv_v[k] = T(0.5) * inv_v_[p];
             lanes.norm[k] = norm_[p];
         }
-        lanes.take_roots();
+        if constexpr (kRoots) lanes.take_roots();
     }
 
   private:

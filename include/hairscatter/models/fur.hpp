@@ -291,7 +291,15 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 // which the fibre multiplies by its exact smooth F at h: F rises steeply toward h = 1, and a
 // bilinear F_r between nodes 1/8 apart in h overstated it there by a quarter at θo 0° (0.082
 // against 0.068). Toward grazing wo the facets it sees lean toward it, and F_r falls below
-// the smooth F. The fibre attenuates each chord as its first one.
+// the smooth F. The fibre attenuates TT's and TRT's chords as its first one at h. The light
+// that stays inside longer has chords the facets have turned: a chord at γ' to the normal in
+// the section is 2 cos γ' long there and crosses the medulla where |sin γ'| < κ, and since
+// the tangential part is nearly kept from chord to chord, light whose chords miss the
+// medulla tends to keep missing it. So the walk carries each path's light per channel
+// through every chord of its own (the transmittance and first scattering of medulla_chord),
+// and the table keeps, of the entered light, the later orders' light that leaves
+// unscattered, L_c, and that first scatters in the medulla on the way, S_c (the material's
+// σ's enter the walk; lossless, L_c + S_c is the later orders' share).
 // The same reflections give R's shape at the node: the d'Eon lobe (variance v_R, centre θc)
 // whose quartiles of sin θi are theirs (deon_lobe_from_quartiles), kept as v_R and
 // δ_R = θo − 2α + θc, the turn from the smooth tilt's conditioning angle θo − 2α to −θc. A
@@ -331,16 +339,26 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 template <typename T> struct RoughCortexTables {
     static constexpr int kTheta = 13, kH = 9;  // θo nodes over ±kThetaMax, |γ| nodes over [0, π/2]
     static constexpr double kThetaMax = 1.5;   // (beyond, the nearest node: cos θo → 0 there)
-    static constexpr int kValues = 13;
-    T share[kTheta][kH][kValues];  // TT, TRT, later, r, F_r / F, v_R, δ_R, ψ_R, ψ_TT, k, s_TT, ψ_TRT, s_TRT
+    // Per node: the shares of the entered light that leave after one chord (TT) and two (TRT),
+    // F_r / F, R's v_R, δ_R and ψ_R, TT's ψ_TT, the entry's k, s_TT, ψ_TRT, s_TRT, the later
+    // orders' light (over the entered light) that leaves unscattered, L_c (RGB), and that first
+    // scatters in the medulla, S_c (RGB): the fibre's values, which at() interpolates; then, for
+    // the tests, the later orders' share and their tail's ratio r.
+    enum Value : int {
+        kTT, kTRT, kFr, kVR, kDeltaR, kPsiR, kPsiTT, kEntryPath, kScaleTT, kPsiTRT, kScaleTRT,
+        kLaterOut, kLaterScatter = kLaterOut + 3, kEvalValues = kLaterScatter + 3,
+        kLater = kEvalValues, kTailRatio, kValues
+    };
+    static_assert(kPsiTT == kVR + 3, "R's v_R, δ_R, ψ_R and TT's ψ_TT are read as one run");
+    T share[kTheta][kH][kValues];
 
-    // The values at (θo, γ), h = sin γ, bilinear between the nodes.
-    HAIRSCATTER_HD void at(T theta, T gamma, T (&out)[kValues]) const {
+    // The fibre's values at (θo, γ), h = sin γ, bilinear between the nodes.
+    HAIRSCATTER_HD void at(T theta, T gamma, T (&out)[kEvalValues]) const {
         const T u = clamp((theta / T(kThetaMax) + T(1)) * T(0.5), T(0), T(1)) * T(kTheta - 1);
         const T v = clamp(abs_value(gamma) * T(2) * kInvPi<T>, T(0), T(1)) * T(kH - 1);
         const int i = u < T(kTheta - 1) ? int(u) : kTheta - 2, j = v < T(kH - 1) ? int(v) : kH - 2;
         const T s = u - T(i), t = v - T(j);
-        for (int k = 0; k < kValues; ++k) {
+        for (int k = 0; k < kEvalValues; ++k) {
             const T lo = share[i][j][k] + t * (share[i][j + 1][k] - share[i][j][k]);
             const T hi = share[i + 1][j][k] + t * (share[i + 1][j + 1][k] - share[i + 1][j][k]);
             out[k] = lo + s * (hi - lo);
@@ -621,7 +639,9 @@ inline std::array<double, 3> weighted_quartiles(std::vector<std::pair<double, do
 // two entries per walk, the walk's own and one more), at most 400 chords per walk (the rest counts as
 // later; a tail ratio of 0.95, the largest at β 0.3, leaves 1e-9 of it there).
 template <typename T>
-RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m, double facet_alpha, double kappa = 0) {
+RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m, double facet_alpha, double kappa = 0,
+                                        glm::dvec3 sigma_a = glm::dvec3(0), double sigma_s = 0,
+                                        glm::dvec3 sigma_a_medulla = glm::dvec3(0)) {
     constexpr int kWalks = 2000, kMaxEvents = 400, kShapeDraws = 2;
     const RoughFacets facets = RoughFacets::of(eta, alpha, beta_m, facet_alpha);
     std::vector<std::pair<double, double>> reflections, turns;  // R's sin θi, its turn toward wo; weights
@@ -638,6 +658,7 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             const glm::dvec3 out(std::sin(theta), std::cos(theta) * std::sqrt(1 - h * h), -std::cos(theta) * h);
             double entered = 0, first = 0, second = 0, later = 0, tail_events = 0, reflected = 0;
             double hits = 0, to_medulla = 0;  // the entered light's first chords that meet the medulla, their 3D paths to it
+            glm::dvec3 late_t(0), late_s(0);  // the later orders' light: unscattered at exit, first scattered in the medulla
             reflections.clear();
             turns.clear();
             tt_turns.clear();
@@ -700,6 +721,22 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
                 }
                 const double gamma_1 = std::atan2(d.z, d.y);                   // the first chord's γ'
                 double gamma_2 = 0;                                             // the second's
+                // The path's light per channel, unscattered and first scattered in the medulla,
+                // chord by chord, each chord with its own geometry (medulla_chord's terms): the
+                // facets turn the chords of light that stays inside onto the medulla or off it.
+                glm::dvec3 path_t(1), path_s(0);
+                const auto through = [&](const glm::dvec3& dc) {
+                    const double in_plane = std::max(std::sqrt(dc.y * dc.y + dc.z * dc.z), 1e-12), off = dc.z / in_plane;
+                    const double l = 2 * dc.y / sqr(in_plane);  // the chord, 2 cos γ' in the section, in 3D
+                    const double lm = std::fabs(off) < kappa ? std::min(l, 2 * std::sqrt(kappa * kappa - off * off) / in_plane) : 0.0;
+                    for (int c = 0; c < 3; ++c) {
+                        const double st = sigma_s + sigma_a_medulla[c], half = std::exp(-0.5 * sigma_a[c] * (l - lm));
+                        const double m1 = lm > 0 && st > 0 ? std::expm1(-st * lm) : 0.0;  // e^(−σt ℓ_m) − 1
+                        path_s[c] += path_t[c] * half * (st > 0 ? sigma_s / st * -m1 : 0.0);
+                        path_t[c] *= half * half * (1 + m1);
+                    }
+                };
+                through(d);
                 int order = 1;
                 for (; order < kMaxEvents; ++order) {
                     const RoughFacets::Exit x = facets.walk(d, false, eta, rng);
@@ -714,23 +751,26 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
                     }
                     d = glm::dvec3(x.dir.x, std::fabs(x.dir.y), x.dir.z);  // the next chord's far end
                     if (order == 1) gamma_2 = std::atan2(d.z, d.y);
+                    through(d);
                 }
                 if (order == 1) first += 1;
                 else if (order == 2) second += 1;
-                else later += 1, tail_events += order - 3;
+                else later += 1, tail_events += order - 3, late_t += path_t, late_s += path_s;
             }
             const double inv = entered > 0 ? 1 / entered : 0, mean_tail = later > 0 ? tail_events / later : 0;
-            tab.share[i][j][0] = T(first * inv);
-            tab.share[i][j][1] = T(second * inv);
-            tab.share[i][j][2] = T(later * inv);
-            tab.share[i][j][3] = T(mean_tail / (1 + mean_tail));
-            tab.share[i][j][4] = T(reflected / kWalks / fur_fresnel(out.y, eta));  // F_r over the smooth F
+            using Tab = RoughCortexTables<T>;
+            T* node = tab.share[i][j];
+            node[Tab::kTT] = T(first * inv);
+            node[Tab::kTRT] = T(second * inv);
+            node[Tab::kLater] = T(later * inv);
+            node[Tab::kTailRatio] = T(mean_tail / (1 + mean_tail));
+            node[Tab::kFr] = T(reflected / kWalks / fur_fresnel(out.y, eta));  // F_r over the smooth F
             const std::array<double, 3> q = weighted_quartiles(reflections);
             const DeonLobeFit lobe = reflected > 0 ? deon_lobe_from_quartiles(q[0], q[1], q[2]) : DeonLobeFit{0, -theta + 2 * alpha};
-            tab.share[i][j][5] = T(lobe.v);
-            tab.share[i][j][6] = T(theta - 2 * alpha + lobe.theta_c);  // δ_R: θo' = θo − 2α turned to −θc
-            tab.share[i][j][7] = T(reflected > 0 ? weighted_quantile(turns, 0.5) : 0.0);  // ψ_R: the median turn
-            tab.share[i][j][8] = T(tt_turns.empty() ? 0.0 : weighted_quantile(tt_turns, 0.5));  // ψ_TT: the median turn
+            node[Tab::kVR] = T(lobe.v);
+            node[Tab::kDeltaR] = T(theta - 2 * alpha + lobe.theta_c);  // δ_R: θo' = θo − 2α turned to −θc
+            node[Tab::kPsiR] = T(reflected > 0 ? weighted_quantile(turns, 0.5) : 0.0);  // ψ_R: the median turn
+            node[Tab::kPsiTT] = T(tt_turns.empty() ? 0.0 : weighted_quantile(tt_turns, 0.5));  // ψ_TT: the median turn
             // TT's and TRT's spreads about their median turns: the scale of the logistic with
             // the same mean absolute deviation about the median (a logistic's is 2 s ln 2), the
             // spread in L1 as the median is the centre in L1. (Matched by the quartiles instead,
@@ -742,15 +782,19 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
                 for (const auto& e : xw) dev += e.second * std::fabs(e.first - med), total += e.second;
                 return dev / total / (2 * std::log(2.0));
             };
-            tab.share[i][j][10] = T(scale(tt_turns));                                            // s_TT
-            tab.share[i][j][11] = T(trt_turns.empty() ? 0.0 : weighted_quantile(trt_turns, 0.5));  // ψ_TRT
-            tab.share[i][j][12] = T(scale(trt_turns));                                           // s_TRT
+            node[Tab::kScaleTT] = T(scale(tt_turns));
+            node[Tab::kPsiTRT] = T(trt_turns.empty() ? 0.0 : weighted_quantile(trt_turns, 0.5));
+            node[Tab::kScaleTRT] = T(scale(trt_turns));
+            for (int c = 0; c < 3; ++c) {
+                node[Tab::kLaterOut + c] = T(late_t[c] * inv);
+                node[Tab::kLaterScatter + c] = T(late_s[c] * inv);
+            }
             {
                 // k: the rough entry's mean path to the medulla over the smooth chord's at h
                 // (1 where the smooth chord misses it, or no rough one meets it).
                 const double s_t = std::sin(gamma_t), cos_t = std::sqrt(1 - sqr(std::sin(theta)) / (eta * eta));
                 const double smooth = s_t < kappa ? (std::cos(gamma_t) - std::sqrt(kappa * kappa - s_t * s_t)) / cos_t : 0.0;
-                tab.share[i][j][9] = T(smooth > 1e-9 && hits > 0 ? to_medulla / hits / smooth : 1.0);
+                node[Tab::kEntryPath] = T(smooth > 1e-9 && hits > 0 ? to_medulla / hits / smooth : 1.0);
             }
         }
     }
@@ -1100,7 +1144,9 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
           tables_(tables) {
         if (params.rough_cortex)
             rough_ = detail::build_rough_cortex<T>(double(params.cortex.eta), double(params.cortex.alpha),
-                                                   double(params.cortex.beta_m), double(params.facet_alpha), double(params.kappa));
+                                                   double(params.cortex.beta_m), double(params.facet_alpha), double(params.kappa),
+                                                   glm::dvec3(params.cortex.sigma_a), double(params.sigma_s),
+                                                   glm::dvec3(params.sigma_a_medulla));
     }
 
     // What the tables depend on, in the file's order: with the rough cortex also the cuticle
@@ -1237,48 +1283,49 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         const FiberRefraction<T> refraction(sin_o, cos_o, prm.cortex.eta);
         const typename FiberRefraction<T>::Path path = refraction.path(h_);
         // The rough cortex's walk at (θo, γ) (RoughCortexTables; read once, here, because its
-        // entry also lengthens the chord's path through the cortex by k = e[9]).
-        T e[detail::RoughCortexTables<T>::kValues];
+        // entry also lengthens the chord's path through the cortex by k).
+        using Tab = detail::RoughCortexTables<T>;
+        T e[Tab::kEvalValues];  // (read only with the rough cortex)
         if (prm.rough_cortex) mat_->rough_cortex().at(elem::asin(sin_o), gamma_o_, e);
-        else
-            for (T& v : e) v = T(0);
         const detail::MedullaChord<T> chord = detail::medulla_chord(prm, path.sin_gamma_t, path.chord, refraction.chord_scale,
-                                                                    prm.rough_cortex ? e[9] : T(1));
+                                                                    prm.rough_cortex ? e[Tab::kEntryPath] : T(1));
         const T gamma_t = elem::asin(path.sin_gamma_t);
         T att[std::size_t(kLobes + 1)][3];
-        // The light that passes k chords unscattered, per channel: Q_k T^(k−1) summed over k
-        // (what S's first scattering sees), with Q_k the share of the entered light still
-        // inside at the k-th chord. Smooth: Q_k = F^(k−1), the sum 1 / (1 − T F).
-        T passes[3];
+        // S's first scattering over the light that entered, per channel: first Σ_k Q_k T^(k−1),
+        // the light that passes k chords unscattered, with Q_k the share of the entered light
+        // still inside at the k-th chord (smooth: Q_k = F^(k−1), the sum 1 / (1 − T F)); with
+        // the rough cortex the later orders' part is the walk's own (S_c, below).
+        T scatter[3];
         T entry_reflect = fresnel;  // R's share at entry: the smooth F, or the rough boundary's F_r
         T r_shape[4] = {T(0), T(0), T(0), T(0)};  // R's v_R, δ_R and ψ_R, and TT's ψ_TT (the rough cortex's)
         for (int p = 0; p < kLobes; ++p) o.lobe_n[p] = mat_->azimuthal();
         for (int p = 0; p <= kLobes; ++p) o.n.set(p, mat_->azimuthal());
         if (prm.rough_cortex) {
             // The rough cortex's walk (RoughCortexTables): the facets reflect F_r at entry; of
-            // the light that entered (1 − F_r), e1 leaves after one chord, e2 after two, the
-            // rest (e3) later with a geometric tail of ratio r, each chord attenuated by T:
-            //   A_0 = F_r,  A_1 = (1 − F_r) e1 T,  A_2 = (1 − F_r) e2 T²,
-            //   A_res = (1 − F_r) e3 T³ (1 − r)/(1 − r T),
-            //   Σ_k Q_k T^(k−1) = 1 + (1 − e1) T + e3 T² / (1 − r T).
-            // Lossless (T = 1) every entered share leaves: Σ_p A_p = 1 as before.
-            for (int k = 0; k < 4; ++k) r_shape[k] = e[5 + k];
-            entry_reflect = clamp(e[4] * fresnel, T(0), T(1));
+            // the light that entered (1 − F_r), e1 leaves after one chord, e2 after two, each
+            // chord attenuated by the chord at h, T; the later orders' light, L_c unscattered
+            // and S_c first scattered in the medulla, is the walk's own, every chord with its
+            // geometry (the facets turn trapped light's chords onto the medulla or off it):
+            //   A_0 = F_r,  A_1 = (1 − F_r) e1 T,  A_2 = (1 − F_r) e2 T²,  A_res = (1 − F_r) L_c,
+            //   E_S = (1 − F_r) (first (e1 + e2 (1 + T)) + S_c) a_esc.
+            // Lossless every path's light leaves unscattered or scatters (L_c + S_c = e3, and
+            // first = 1 − T): Σ_p A_p + E_S = 1 as before.
+            for (int k = 0; k < 4; ++k) r_shape[k] = e[Tab::kVR + k];
+            entry_reflect = clamp(e[Tab::kFr] * fresnel, T(0), T(1));
             for (int c = 0; c < 3; ++c) {
-                const T t = chord.transmittance[c], in = T(1) - entry_reflect, rt = T(1) - e[3] * t;
-                const T tail = rt > kMinNormal<T> ? T(1) / rt : T(1) / kMinNormal<T>;
+                const T t = chord.transmittance[c], in = T(1) - entry_reflect;
                 att[0][c] = entry_reflect;
-                att[1][c] = in * e[0] * t;
-                att[2][c] = in * e[1] * t * t;
-                att[3][c] = in * e[2] * t * t * t * (T(1) - e[3]) * tail;
-                passes[c] = T(1) + (T(1) - e[0]) * t + e[2] * t * t * tail;
+                att[1][c] = in * e[Tab::kTT] * t;
+                att[2][c] = in * e[Tab::kTRT] * t * t;
+                att[3][c] = in * e[Tab::kLaterOut + c];
+                scatter[c] = chord.first_scatter[c] * (e[Tab::kTT] + e[Tab::kTRT] * (T(1) + t)) + e[Tab::kLaterScatter + c];
             }
         } else {
             attenuation_channels<T, kLobes, 3>(fresnel, fresnel, chord.transmittance, att);
             for (int c = 0; c < 3; ++c) {
                 // (the floor as in attenuation_channels: 1 − T F = 0 only where 1 − F = 0)
                 const T denom = T(1) - chord.transmittance[c] * fresnel;
-                passes[c] = T(1) / (denom > kMinNormal<T> ? denom : kMinNormal<T>);
+                scatter[c] = chord.first_scatter[c] / (denom > kMinNormal<T> ? denom : kMinNormal<T>);
             }
         }
         for (int p = 0; p <= kLobes; ++p)
@@ -1286,7 +1333,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         o.theta_bin = MedullaTables<T>::theta_bin(abs_value(sin_o));
         o.sin_o = sin_o;
         for (int c = 0; c < 3; ++c)  // (1 − F) first Σ_k Q_k T^(k−1): first scattering on any pass
-            o.a[kS][c] = (T(1) - entry_reflect) * chord.first_scatter[c] * passes[c] * mat_->medulla().escape[o.theta_bin][c];
+            o.a[kS][c] = (T(1) - entry_reflect) * scatter[c] * mat_->medulla().escape[o.theta_bin][c];
         // The lobe controls, in this one place: f, the selection weights, albedo and lobe_split
         // all read the scaled energies (the per-lobe tilts are in the material's DeonLobes).
         if (mat_->has_lobe_weights())
@@ -1294,7 +1341,8 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
                 const V3 weight = mat_->lobe_weight(p);
                 for (int c = 0; c < 3; ++c) o.a[p][c] *= weight[c];
             }
-        mat_->template condition<LobeSet::kAll>(o.m, sin_o, cos_o);
+        if (prm.rough_cortex) mat_->template condition<LobeSet::kAll, kLobes + 1, false>(o.m, sin_o, cos_o);  // (roots below)
+        else mat_->template condition<LobeSet::kAll>(o.m, sin_o, cos_o);
         for (int p = 0; p <= kLobes; ++p) o.phi_p[p] = p < kLobes ? exit_azimuth_wrapped(p, gamma_o_, gamma_t) : T(0);
         o.r_lobe = mat_->longitudinal(0);
         if (prm.rough_cortex) {
@@ -1306,7 +1354,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             // TRT's by ψ_TRT from Φ(2, h), and TT's and TRT's N_p of the widths their facets
             // give them at h (s_TT, s_TRT; floored at the narrowest logistic the parameters
             // allow), in place of β_n's: R's stays β_n's.
-            o.phi_p[2] = wrap_pi_once(o.phi_p[2] + sign * e[11]);
+            o.phi_p[2] = wrap_pi_once(o.phi_p[2] + sign * e[Tab::kPsiTRT]);
             // R's shape at h from the same facets (RoughCortexTables): the lobe of variance v_R
             // (floored at the narrowest lobe the parameters allow), its conditioning angle
             // turned by −δ_R from the tilt's (the controls' R tilt still acts on top).
@@ -1316,8 +1364,8 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             constexpr std::size_t kN = std::is_same<T, float>::value ? 4 : 3;  // (float: a whole vector)
             T width[kN], inv[kN], x[kN], m[kN];
             width[0] = r_shape[0] > v_floor ? r_shape[0] : v_floor;
-            width[1] = e[10] > s_floor ? e[10] : s_floor;
-            width[2] = e[12] > s_floor ? e[12] : s_floor;
+            width[1] = e[Tab::kScaleTT] > s_floor ? e[Tab::kScaleTT] : s_floor;
+            width[2] = e[Tab::kScaleTRT] > s_floor ? e[Tab::kScaleTRT] : s_floor;
             for (std::size_t k = 3; k < kN; ++k) width[k] = T(1);
             for (std::size_t k = 0; k < kN; ++k) inv[k] = T(1) / width[k];
             for (std::size_t k = 0; k < kN; ++k) x[k] = m[k] = inv[k] * (k == 0 ? T(-2) : -kPi<T>);
