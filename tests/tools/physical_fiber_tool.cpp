@@ -3,7 +3,7 @@
 // scripts/physical-reference.sh; the tests read the cache.
 //
 //   physical_fiber_tool generate --rays N --threads T --out FILE
-//   physical_fiber_tool report --cache FILE [--quadrature default|fine|fast|cycles]
+//   physical_fiber_tool report --cache FILE [--quadrature default|fine|fast|cycles|x8]
 //   physical_fiber_tool residual --rays N --threads T   the residual's θ shape against the
 //                                                       reference's orders ≥ TRRT
 //   physical_fiber_tool breakdown --rays N --threads T  each lobe's share of each case's
@@ -51,6 +51,7 @@ Row report_row(const CachedCase& c, const std::string& quadrature) {
         const hs::HuangQuadrature q = quadrature == "fine"     ? hs::huang_scaled_quadrature(p.roughness)
                                       : quadrature == "fast"   ? hs::huang_fast_quadrature(p.roughness)
                                       : quadrature == "cycles" ? hs::huang_cycles_class_quadrature(p.roughness)
+                                      : quadrature == "x8"     ? hs::huang_scaled_quadrature(p.roughness, 8, 2)
                                                                : hs::HuangQuadrature();
         const hs::HuangMaterial<double> mat(p, q);
         const hs::HuangFiber<double> fiber(mat);
@@ -92,7 +93,7 @@ int report(const std::string& cache, const std::string& quadrature, int threads)
                     c.c.roughness, c.c.theta_deg, 100 * rows[k].err[0], 100 * rows[k].err[1], 100 * c.noise_l1[0],
                     rows[k].r_model, c.lobe_energy[phys_fiber::kR][0], albedo);
     }
-    std::printf("\nworst %.1f %%, mean %.1f %%\n", 100 * worst, 100 * mean);
+    std::printf("\nworst %.1f %%, mean %.2f %%\n", 100 * worst, 100 * mean);
     return 0;
 }
 
