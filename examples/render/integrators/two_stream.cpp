@@ -393,8 +393,10 @@ class TwoStreamIntegrator final : public PixelIntegrator {
                 // Grid counts, and exact counts too: the limit is the hair's expected shape
                 // (one ray's integer count along a turned direction sees the gaps between
                 // fibers, and made the back-lit blond slab ten deep +100 %).
-                const hs::DensityGridView<float> grid = c_.shading.grid()->view();
-                return hs::dual_turn_limit(grid, sp.p, axis, d, box_distance(grid, sp.p, d));
+                // Every turned direction is marched to where it leaves the grid's box: a bound
+                // measured along d would cut the turned directions short (they cross more
+                // of the hair than d does) and read a thin layer as one light leaves sideways.
+                return hs::dual_turn_limit(c_.shading.grid()->view(), sp.p, axis, d, hs::kUnbounded<float>);
             };
             if (n.n > 1) limit_n = shape_limit(a);
             if (m.n > 1) limit_m = shape_limit(-a);

@@ -504,7 +504,10 @@ template <typename T> HAIRSCATTER_HD glm::vec<3, T> dual_source_gain(const DualS
 // larger where turned light leaves the hair sooner (a volume of finite width, a face).
 // E over the half-circle by its six-point midpoint rule; counts below one fiber count as
 // one (the fiber a ray along d meets). Any density source (fibers_crossed); d and axis unit
-// vectors; max_distance as for fibers_crossed. Non-finite input gives the slab's 2/π.
+// vectors; max_distance as for fibers_crossed, and the same bound for all seven directions:
+// pass kUnbounded (to the source's edge) rather than a distance measured along d, which cuts
+// the turned directions short (they cross more of a layer than d does, so a thin layer would
+// read as one its light leaves sideways). Non-finite input gives the slab's 2/π.
 template <typename T, class Source>
 HAIRSCATTER_HD T dual_turn_limit(const Source& source, const glm::vec<3, T>& origin, const glm::vec<3, T>& axis,
                                  const glm::vec<3, T>& d, T max_distance) {
