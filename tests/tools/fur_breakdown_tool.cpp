@@ -12,6 +12,10 @@
 // is printed next to them: lobes that overlap can cancel). Blond is the mean over RGB.
 // With --marginals, per case and lobe instead: the lossless model's and reference's f
 // integrated over φ per bin of sin θi, and over sin θi per bin of φ (the lobe's shape).
+// With --regions, each lobe's share of the error and the whole f's, per region of incoming
+// directions: four bands of sin θi (from −1) times four quarters of φ about wo's azimuth
+// (back, toward wo; side; front; the other side), in per cent of the reference's energy.
+// With --map L (0 R, 1 TT, 2 TRT, 3 higher, 4 S) and --marginals, that lobe's f per bin too.
 // With --split, each lobe's share is split into its energy's part, |E_p − E_ref,p| over the
 // reference's whole energy, and its shape's, Σ_bins |f_p E_ref,p / E_p − f_ref,p| dω over the
 // same (the lobe scaled to the reference's energy first).
@@ -37,7 +41,8 @@
 // to the medulla, (cos γ' − √(κ² − sin²γ')) over the chord's in-section share, and the mean
 // transmittance along it at the blond cortex's green σa^c.
 //
-//   fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals] [--split] [--facet-alpha A]
+//   fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals [--map L]] [--split] [--regions]
+//                      [--facet-alpha A]
 //   fur_breakdown_tool --tt-exits [--rays N]
 //   fur_breakdown_tool --first-chord [--rays N] [--facet-alpha A]
 #include <array>
@@ -64,6 +69,7 @@ constexpr int kNu = 16, kNphi = 32;
 
 // The model's f of lobe `only` (0–3 Chiang's lobes, 4 the scattered one) per bin.
 double g_facet_alpha = 0;  // --facet-alpha
+int g_map = -1;            // --map L: with --marginals, lobe L's f per bin
 
 std::vector<glm::dvec3> lobe_bins(const phys_fur::FurCase& fc, const glm::dvec3& sigma_a, int only,
                                   const phys_fiber::CachedCase& grid) {
@@ -99,6 +105,13 @@ void print_marginals(const phys_fur::FurCase& fc, const phys_fur::Histogram& h, 
         std::printf("\n%s %s phi model/ref:", fc.name().c_str(), kName[l]);
         for (int i = 0; i < kNphi; ++i) std::printf(" %.4f/%.4f", mp[0][i], mp[1][i]);
         std::printf("\n");
+        if (g_map == l)  // --map: the lobe's f per bin, model / ref, every row of sin θi
+            for (int i = 0; i < kNu; ++i) {
+                std::printf("%s %s row %d (sin θi from %+.3f):", fc.name().c_str(), kName[l], i, -1 + 2.0 * i / kNu);
+                for (int j = 0; j < kNphi; ++j)
+                    std::printf(" %.4f/%.4f", model[std::size_t(i * kNphi + j)][0] * dw, h.f(i * kNphi + j, 0, l) * dw);
+                std::printf("\n");
+            }
     }
     std::fflush(stdout);
 }
@@ -259,19 +272,21 @@ int main(int argc, char** argv) {
     long long rays = 1000000;
     int threads = 2;
     std::string only;
-    bool marginals = false, split = false, tt_exits = false, first_chord = false;
+    bool marginals = false, split = false, regions = false, tt_exits = false, first_chord = false;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--rays") && i + 1 < argc) rays = std::atoll(argv[++i]);
         else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
         else if (!std::strcmp(argv[i], "--marginals")) marginals = true;
         else if (!std::strcmp(argv[i], "--split")) split = true;
+        else if (!std::strcmp(argv[i], "--regions")) regions = true;
+        else if (!std::strcmp(argv[i], "--map") && i + 1 < argc) g_map = std::atoi(argv[++i]);
         else if (!std::strcmp(argv[i], "--tt-exits")) tt_exits = true;
         else if (!std::strcmp(argv[i], "--first-chord")) first_chord = true;
         else if (!std::strcmp(argv[i], "--facet-alpha") && i + 1 < argc) g_facet_alpha = std::atof(argv[++i]);
         else {
             std::fprintf(stderr, "usage: fur_breakdown_tool [--rays N] [--threads T] [--only SUBSTRING] [--marginals]"
-                                 " [--split] [--facet-alpha A] [--tt-exits] [--first-chord]\n");
+                                 " [--split] [--regions] [--map L] [--facet-alpha A] [--tt-exits] [--first-chord]\n");
             return 2;
         }
     }
@@ -289,8 +304,8 @@ int main(int argc, char** argv) {
     }
     const glm::dvec3 blond(phys_fiber::kBlond[0], phys_fiber::kBlond[1], phys_fiber::kBlond[2]);
     const double dw = (2.0 / kNu) * (2 * phys_fiber::kPi / kNphi);
-    std::printf("# fur_breakdown_tool --rays %lld%s%s%s --facet-alpha %g\n\n", rays, only.empty() ? "" : " --only ", only.c_str(),
-                split ? " --split" : "", g_facet_alpha);
+    std::printf("# fur_breakdown_tool --rays %lld%s%s%s%s --facet-alpha %g\n\n", rays, only.empty() ? "" : " --only ", only.c_str(),
+                split ? " --split" : "", regions ? " --regions" : "", g_facet_alpha);
     if (split)
         std::printf("| case | pigment | f L1 | R: energy, shape | TT | TRT | higher | S |\n|---|---|---|---|---|---|---|---|\n");
     else
@@ -311,15 +326,19 @@ int main(int argc, char** argv) {
             std::vector<glm::dvec3> lobe[5];
             for (int l = 0; l < 5; ++l) lobe[l] = lobe_bins(fc, pigment ? blond : glm::dvec3(0.0), l, grid);
             double energy[5][2] = {}, share[5] = {}, energy_part[5] = {}, shape_part[5] = {}, whole = 0;
+            double region[6][16] = {};  // per lobe and the whole f (5), per region
             const int channels = pigment ? 3 : 1;
             for (int c = 0; c < channels; ++c) {
                 const int mch = pigment ? c : 0, ch = pigment ? c + 1 : 0;
-                double ref_total = 0, part[5] = {}, diff_whole = 0, e[5][2] = {};
+                double ref_total = 0, part[5] = {}, diff_whole = 0, e[5][2] = {}, reg[6][16] = {};
                 for (int b = 0; b < kNu * kNphi; ++b) {
                     double m_sum = 0, r_sum = 0;
+                    // wo's azimuth is bin 23.5 of 32 (φ = π/2): back, side, front, other side.
+                    const int rq = ((b % kNphi - 20 + kNphi) % kNphi) / 8, rg = (b / kNphi) / 4 * 4 + rq;
                     for (int l = 0; l < 5; ++l) {
                         const double m = lobe[l][std::size_t(b)][mch], r = h.f(b, ch, l);
                         part[l] += std::fabs(m - r) * dw;
+                        reg[l][rg] += std::fabs(m - r) * dw;
                         e[l][0] += m * dw;
                         e[l][1] += r * dw;
                         m_sum += m;
@@ -327,7 +346,10 @@ int main(int argc, char** argv) {
                     }
                     ref_total += r_sum * dw;
                     diff_whole += std::fabs(m_sum - r_sum) * dw;
+                    reg[5][rg] += std::fabs(m_sum - r_sum) * dw;
                 }
+                for (int l = 0; l < 6; ++l)
+                    for (int g = 0; g < 16; ++g) region[l][g] += reg[l][g] / ref_total / channels;
                 for (int l = 0; l < 5; ++l) {  // the lobe scaled to the reference's energy: its shape's error
                     const double scale = e[l][0] > 0 ? e[l][1] / e[l][0] : 0;
                     double shape = 0;
@@ -348,6 +370,15 @@ int main(int argc, char** argv) {
                 if (split) std::printf(" %.1f %%, %.1f %% |", 100 * energy_part[l], 100 * shape_part[l]);
                 else std::printf(" %.3f / %.3f, %.1f %% |", energy[l][0], energy[l][1], 100 * share[l]);
             std::printf("\n");
+            if (regions) {
+                static const char* kRegName[6] = {"R", "TT", "TRT", "higher", "S", "f"};
+                for (int l = 0; l < 6; ++l) {
+                    std::printf("    %s %s regions (sin θi band from −1: back side front side):", pigment ? "blond" : "lossless",
+                                kRegName[l]);
+                    for (int g = 0; g < 16; ++g) std::printf("%s%.1f", g % 4 ? " " : " | ", 100 * region[l][g]);
+                    std::printf("\n");
+                }
+            }
             std::fflush(stdout);
         }
     }
