@@ -187,11 +187,16 @@ std::vector<Result>& results() {
 }
 
 ref_huang::Params huang_reference_params() { return ref_huang::params_of(huang_params(study_params(false))); }
-// The reference with the model's residual profile (reference_huang.hpp, residual_density).
+// The reference with the model's residual profile and azimuth (reference_huang.hpp,
+// residual_density and residual_azimuth).
 ref_huang::Reference huang_reference() {
     ref_huang::Reference r{huang_reference_params()};
     const auto mat = std::make_shared<const hs::HuangMaterial<double>>(huang_params(study_params(false)));
     r.residual_density = [mat](double sin_i, double sin_o) { return double(mat->residual_density(sin_o, sin_i)); };
+    r.residual_azimuth = [mat](const glm::dvec3& wo_f, const glm::dvec3& wi_f) {
+        const glm::dvec3 v = mat->section().to_section(wo_f);
+        return double(mat->residual_azimuth_density(wo_f.x, std::atan2(v.z, v.y), hs::relative_azimuth(wo_f, wi_f)));
+    };
     return r;
 }
 

@@ -153,6 +153,10 @@ struct Reference {
     // its definition rather than of its quadrature: the tests pass the material's, so that
     // the comparison still measures the lattices alone. Empty: d'Eon's M of variance 4β.
     std::function<double(double, double)> residual_density{};
+    // The residual's density over φi − φo (per radian) given (wo, wi) in the fiber frame: the
+    // model's is a table its material traces through the section (AzimuthTrace in
+    // models/huang_residual.hpp), passed by the tests for the same reason. Empty: uniform.
+    std::function<double(const glm::dvec3&, const glm::dvec3&)> residual_azimuth{};
     const InterfaceTables& outside() const { return ensure().first; }
     const InterfaceTables& inside() const { return ensure().second; }
     const std::pair<InterfaceTables, InterfaceTables>& ensure() const {
@@ -335,7 +339,8 @@ struct Reference {
             residual += x * res;
         }
         const double m = residual_density ? residual_density(wi_fiber.x, wo_fiber.x) : residual_m(wi_fiber.x, wo_fiber.x);
-        return (sum + residual * m / (2 * kPi)) / norm;
+        const double n_phi = residual_azimuth ? residual_azimuth(wo_fiber, wi_fiber) : 1 / (2 * kPi);
+        return (sum + residual * m * n_phi) / norm;
     }
 };
 

@@ -14,6 +14,11 @@
 //       [--walk-u N --walk-h N --walks N]               interior walk (variants a–f, below)
 //   physical_fiber_tool walk-shape --case K --rays N --variant V   that shape and R per row
 //                                                       against a fresh trace of case K
+//   physical_fiber_tool decompose --case K --rays N     case K's error by lobe, quadrature,
+//                                                       marginal and region of wi
+//   physical_fiber_tool azimuth --rays N --walks W      the residual's azimuth traced with W
+//       [--harmonics K]                                 rays (smoothed to K harmonics)
+//                                                       against the orders ≥ TRRT
 #include <array>
 #include <chrono>
 #include <cstdio>
@@ -44,6 +49,17 @@ CachedCase grid_of(const phys_fiber::Case& c, int n_u, int n_phi) {
     cc.n_phi = n_phi;
     return cc;
 }
+// Lobe `lobe` alone (the others' gains 0) of the fiber p at quadrature q, averaged over
+// cc's bins at cc's wo.
+std::vector<glm::dvec3> lobe_bins(const CachedCase& cc, const hs::HuangParams<double>& p, const hs::HuangQuadrature& q, int lobe) {
+    hs::LobeControls<double> only;
+    for (int j = 0; j < 4; ++j) only.gain[j] = j == lobe ? 1 : 0;
+    const hs::HuangMaterial<double> mat(p, q, only);
+    const hs::HuangFiber<double, 4096> fiber(mat);
+    const auto bound = fiber.at(cc.c.wo());
+    return phys_fiber::model_bins(cc, [&](const glm::dvec3&, const glm::dvec3& wi) { return bound.eval(wi); });
+}
+
 Row report_row(const CachedCase& c, const std::string& quadrature) {
     Row row;
     for (int blond = 0; blond < 2; ++blond) {
@@ -190,7 +206,6 @@ int breakdown(long long rays, int threads) {
                 h.add(half[1]);
                 const CachedCase cc = grid_of(c, nu, nphi);
                 const double dw = h.bin_solid_angle();
-                const glm::dvec3 wo = c.wo();
                 Result& res = results[k];
                 for (int blond = 0; blond < 2; ++blond) {
                     const hs::HuangParams<double> p = phys_fiber::huang_params(c, blond != 0);
@@ -198,18 +213,9 @@ int breakdown(long long rays, int threads) {
                     // model[q][lobe][bin]: q 0 default, 1 fine (TT, TRT only)
                     std::vector<glm::dvec3> model[2][4];
                     for (int q = 0; q < 2; ++q)
-                        for (int l = 0; l < 4; ++l) {
-                            if (q == 1 && (l == 0 || l == 3)) continue;
-                            hs::LobeControls<double> only;
-                            for (int j = 0; j < 4; ++j) only.gain[j] = j == l ? 1 : 0;
-                            hs::HuangQuadrature quad;
-                            if (q == 1) quad = hs::HuangQuadrature{128, 512, 4};
-                            const hs::HuangMaterial<double> mat(p, quad, only);
-                            const hs::HuangFiber<double, 4096> fiber(mat);
-                            const auto bound = fiber.at(wo);
-                            model[q][l] = phys_fiber::model_bins(
-                                cc, [&](const glm::dvec3&, const glm::dvec3& wi) { return bound.eval(wi); });
-                        }
+                        for (int l = 0; l < 4; ++l)
+                            if (q == 0 || l == 1 || l == 2)
+                                model[q][l] = lobe_bins(cc, p, q ? hs::HuangQuadrature{128, 512, 4} : hs::HuangQuadrature(), l);
                     for (int ch = 0; ch < channels; ++ch) {
                         const int rch = blond ? ch + 1 : 0, mch = blond ? ch : 0;
                         double ref_total = 0, l1 = 0, diff = 0;
@@ -624,6 +630,159 @@ int walk_shape(long long rays, int threads, int which, char variant) {
     return 0;
 }
 
+// One case (index `which` into physical_cases), traced afresh with the classes apart: per
+// lobe (R, TT, TRT, the residual against orders ≥ TRRT), lossless and blond (RGB mean), its
+// energy model / reference, its L1 over the reference's total energy at the default
+// quadrature and at eight times the paths (`x8`: the lattices' part), the L1 of its
+// marginals in sin θi and in φ alone (θ shape or azimuth), and where it lies: each lobe's
+// L1 over 4 bands of sin θi × 8 sectors of φ measured from wo's azimuth (0 backward, ±180°
+// forward).
+int decompose(long long rays, int threads, int which) {
+    const int nu = 24, nphi = 48, nb = 4, ns = 8;
+    const phys_fiber::Case c = phys_fiber::physical_cases().at(std::size_t(which));
+    const phys_fiber::Histogram h = traced(c, rays, threads, nu, nphi);
+    const CachedCase cc = grid_of(c, nu, nphi);
+    const double dw = h.bin_solid_angle();
+    const char* names[4] = {"R", "TT", "TRT", "res/≥TRRT"};
+    std::printf("%s, %lld rays\n", c.name().c_str(), rays);
+    // The reference's orders ≥ TRRT over φ − φo (lossless), as 2π × its density in φ (1 for
+    // the model's uniform residual), from φ − φo = −180° in steps of 360°/48.
+    {
+        std::vector<double> col(std::size_t(nphi), 0.0);
+        double e = 0;
+        for (int b = 0; b < nu * nphi; ++b) {
+            const int rel = (b % nphi - 3 * nphi / 4 + nphi + nphi / 2) % nphi;
+            col[std::size_t(rel)] += h.f(b, 0, phys_fiber::kHigher) * dw;
+            e += h.f(b, 0, phys_fiber::kHigher) * dw;
+        }
+        std::printf("orders >= TRRT, lossless, 2π × density over φ − φo from −180°:");
+        for (double x : col) std::printf(" %.2f", x / e * nphi);
+        std::printf("\n");
+    }
+    for (int blond = 0; blond < 2; ++blond) {
+        const hs::HuangParams<double> p = phys_fiber::huang_params(c, blond != 0);
+        const int channels = blond ? 3 : 1;
+        std::vector<glm::dvec3> model[2][4];
+        for (int q = 0; q < 2; ++q)
+            for (int l = 0; l < 4; ++l)
+                model[q][l] = lobe_bins(cc, p, q ? hs::huang_scaled_quadrature(p.roughness, 8, 2) : hs::HuangQuadrature(), l);
+        double total = 0, total_x8 = 0, e_model[4] = {}, e_ref[4] = {}, l1[2][4] = {}, mu[4] = {}, mphi[4] = {};
+        std::vector<double> where(std::size_t(5 * nb * ns), 0.0);  // [lobe or total][band][sector]
+        for (int ch = 0; ch < channels; ++ch) {
+            const int rch = blond ? ch + 1 : 0, mch = blond ? ch : 0;
+            double ref_total = 0;
+            for (int b = 0; b < nu * nphi; ++b) ref_total += h.f(b, rch) * dw;
+            const double k = 1.0 / (ref_total * channels);
+            for (int l = 0; l < 4; ++l) {
+                std::vector<double> ru(std::size_t(nu), 0.0), rp(std::size_t(nphi), 0.0);
+                for (int b = 0; b < nu * nphi; ++b) {
+                    const double r = h.f(b, rch, l), x = model[0][l][std::size_t(b)][mch];
+                    e_model[l] += x * dw / channels;
+                    e_ref[l] += r * dw / channels;
+                    l1[0][l] += std::fabs(x - r) * dw * k;
+                    l1[1][l] += std::fabs(model[1][l][std::size_t(b)][mch] - r) * dw * k;
+                    ru[std::size_t(b / nphi)] += (x - r) * dw;
+                    rp[std::size_t(b % nphi)] += (x - r) * dw;
+                    const int iu = b / nphi, ip = b % nphi;
+                    // φ from wo's azimuth (+90° in the histogram's frame), in [−180°, 180°)
+                    const int rel = (ip - 3 * nphi / 4 + nphi) % nphi;  // 0 at wo's azimuth
+                    const int sector = ((rel + nphi / (2 * ns)) % nphi) * ns / nphi;
+                    where[std::size_t((l * nb + iu * nb / nu) * ns + sector)] += std::fabs(x - r) * dw * k;
+                }
+                for (double v : ru) mu[l] += std::fabs(v) * k;
+                for (double v : rp) mphi[l] += std::fabs(v) * k;
+            }
+            for (int b = 0; b < nu * nphi; ++b) {
+                double sum = 0, sum8 = 0;
+                for (int l = 0; l < 4; ++l) {
+                    sum += model[0][l][std::size_t(b)][mch];
+                    sum8 += model[1][l][std::size_t(b)][mch];
+                }
+                const int iu = b / nphi, ip = b % nphi;
+                const int rel = (ip - 3 * nphi / 4 + nphi) % nphi;
+                const int sector = ((rel + nphi / (2 * ns)) % nphi) * ns / nphi;
+                total += std::fabs(sum - h.f(b, rch)) * dw * k;
+                total_x8 += std::fabs(sum8 - h.f(b, rch)) * dw * k;
+                where[std::size_t((4 * nb + iu * nb / nu) * ns + sector)] += std::fabs(sum - h.f(b, rch)) * dw * k;
+            }
+        }
+        std::printf("\n%s: total %.1f %% (x8 %.1f %%)\n| lobe | energy model / ref | L1 | L1 x8 | L1 of θ marginal | L1 of φ marginal |\n|---|---|---|---|---|---|\n",
+                    blond ? "blond" : "lossless", 100 * total, 100 * total_x8);
+        for (int l = 0; l < 4; ++l)
+            std::printf("| %s | %.4f / %.4f | %.1f %% | %.1f %% | %.1f %% | %.1f %% |\n", names[l], e_model[l], e_ref[l], 100 * l1[0][l],
+                        100 * l1[1][l], 100 * mu[l], 100 * mphi[l]);
+        for (int l = 0; l < 5; ++l) {
+            std::printf("%s L1 (%%) by sin θi band (rows, −1 → 1) × φ − φo sector (0°, 45°, …, ±180°, …, −45°):\n", l < 4 ? names[l] : "total");
+            for (int bnd = 0; bnd < nb; ++bnd) {
+                std::printf("  ");
+                for (int s = 0; s < ns; ++s) std::printf(" %5.2f", 100 * where[std::size_t((l * nb + bnd) * ns + s)]);
+                std::printf("\n");
+            }
+        }
+    }
+    return 0;
+}
+
+// The residual's azimuth (huang_residual::AzimuthTrace) against the reference's orders
+// ≥ TRRT over φ − φo (lossless; 48 bins), per case: the L1 of the shapes, uniform and
+// traced with `walks` rays (its Fourier series up to `harmonics` if > 0, every sine kept:
+// the material keeps only cosines where a mirror keeps wo), and the trace's time.
+int azimuth(long long rays, int threads, int walks, int harmonics) {
+    const int nu = 24, nphi = 48;
+    double sum[2] = {}, worst[2] = {};
+    int n = 0;
+    for (const phys_fiber::Case& c : phys_fiber::physical_cases()) {
+        const phys_fiber::Histogram h = traced(c, rays, threads, nu, nphi);
+        std::vector<double> ref(std::size_t(nphi), 0.0);
+        double e = 0;
+        for (int b = 0; b < nu * nphi; ++b) {
+            const int rel = (b % nphi - 3 * nphi / 4 + nphi + nphi / 2) % nphi;
+            ref[std::size_t(rel)] += h.f(b, 0, phys_fiber::kHigher);
+            e += h.f(b, 0, phys_fiber::kHigher);
+        }
+        const hs::HuangParams<double> p = phys_fiber::huang_params(c, false);
+        const glm::dvec3 v = hs::EllipticalSection<double>(p.aspect_ratio, p.orientation).to_section(c.wo());
+        const auto t0 = std::chrono::steady_clock::now();
+        const hs::huang_residual::AzimuthTrace trace(p.eta, p.roughness, p.alpha, p.aspect_ratio);
+        std::vector<double> prof = trace.profile(v.x, std::atan2(v.z, v.y), nphi, walks, 1234);
+        if (harmonics > 0) {  // the density's Fourier series up to `harmonics`, as a probe
+            std::vector<double> sm(std::size_t(nphi), 1.0 / nphi);
+            for (int k = 1; k <= harmonics; ++k) {
+                double ck = 0, sk = 0;
+                for (int j = 0; j < nphi; ++j) {
+                    const double phi = -phys_fiber::kPi + (j + 0.5) * 2 * phys_fiber::kPi / nphi;
+                    ck += prof[std::size_t(j)] * std::cos(k * phi);
+                    sk += prof[std::size_t(j)] * std::sin(k * phi);
+                }
+                for (int j = 0; j < nphi; ++j) {
+                    const double phi = -phys_fiber::kPi + (j + 0.5) * 2 * phys_fiber::kPi / nphi;
+                    sm[std::size_t(j)] += 2.0 / nphi * (ck * std::cos(k * phi) + sk * std::sin(k * phi));
+                }
+            }
+            prof = sm;
+        }
+        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        double l1[2] = {};
+        for (int j = 0; j < nphi; ++j) {
+            l1[0] += std::fabs(ref[std::size_t(j)] / e - 1.0 / nphi);
+            l1[1] += std::fabs(ref[std::size_t(j)] / e - prof[std::size_t(j)]);
+        }
+        std::printf("%s: L1 uniform %.3f, traced %.3f (%.3f s)\n  ref:", c.name().c_str(), l1[0], l1[1], s);
+        for (int j = 0; j < nphi; j += 2) std::printf(" %.2f", ref[std::size_t(j)] / e * nphi);
+        std::printf("\n  tr: ");
+        for (int j = 0; j < nphi; j += 2) std::printf(" %.2f", prof[std::size_t(j)] * nphi);
+        std::printf("\n");
+        std::fflush(stdout);
+        for (int k = 0; k < 2; ++k) {
+            sum[k] += l1[k];
+            worst[k] = std::max(worst[k], l1[k]);
+        }
+        ++n;
+    }
+    std::printf("mean L1 uniform %.3f, traced %.3f; worst %.3f, %.3f\n", sum[0] / n, sum[1] / n, worst[0], worst[1]);
+    return 0;
+}
+
 int generate(long long rays, int threads, const std::string& out, int n_u, int n_phi) {
     std::vector<CachedCase> cases;
     const auto t0 = std::chrono::steady_clock::now();
@@ -690,7 +849,7 @@ int main(int argc, char** argv) {
         if (argc < 2) throw std::invalid_argument("usage: physical_fiber_tool generate|report [options]");
         const std::string mode = argv[1];
         long long rays = 20000000;
-        int threads = 2, n_u = 24, n_phi = 48, which = 0;
+        int threads = 2, n_u = 24, n_phi = 48, which = 0, harmonics = 0;
         char variant = 'c';
         WalkGrid grid;
         std::string out = "physical_fiber.txt", cache = out, quadrature = "default";
@@ -708,6 +867,7 @@ int main(int argc, char** argv) {
             else if (k == "--walk-u") grid.u = std::atoi(v.c_str());
             else if (k == "--walk-h") grid.h = std::atoi(v.c_str());
             else if (k == "--walks") grid.walks = std::atoi(v.c_str());
+            else if (k == "--harmonics") harmonics = std::atoi(v.c_str());
             else throw std::invalid_argument("unknown option " + k);
         }
         if (mode == "generate") return generate(rays, threads, out, n_u, n_phi);
@@ -719,6 +879,8 @@ int main(int argc, char** argv) {
         if (mode == "lattice") return lattice(threads);
         if (mode == "walk") return walk(cache, threads, variant, grid);
         if (mode == "walk-shape") return walk_shape(rays, threads, which, variant);
+        if (mode == "decompose") return decompose(rays, threads, which);
+        if (mode == "azimuth") return azimuth(rays, threads, grid.walks, harmonics);
         throw std::invalid_argument("unknown mode " + mode);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "physical_fiber_tool: %s\n", e.what());

@@ -26,6 +26,7 @@
 
 #include <glm/glm.hpp>
 
+#include "../fiber/ellipse.hpp"
 #include "../lobes/microfacet.hpp"
 #include "../math/splitmix.hpp"
 
@@ -110,6 +111,20 @@ class Microsurface {
     Ggx<double> ggx_;
     double a2_;
 };
+
+// One interface at the mesonormal m (unit, facing v) for light arriving from v (unit, the
+// direction back toward where it came from), n = η beyond m's side / η on it: v in m's frame,
+// the microsurface's walk, back. False where v does not face m or the walk does not end.
+inline bool interface_walk(const Microsurface& surface, const glm::dvec3& v, const glm::dvec3& m, double n, Rng& rng,
+                           glm::dvec3& out, bool& below) {
+    const double c = glm::dot(v, m);
+    if (!(c > 1e-6)) return false;
+    const glm::dvec3 e1 = glm::normalize(v - c * m), e2 = glm::cross(m, e1);
+    glm::dvec3 o;
+    if (!surface.interact(glm::dvec3(glm::dot(v, e1), glm::dot(v, e2), c), n, rng, o, below)) return false;
+    out = o.x * e1 + o.y * e2 + o.z * m;
+    return true;
+}
 
 // The chain's size: u bins × h bins of states, walks per state and per entry offset, and the
 // exits' bins in sin θi (measured against the physical fiber, docs/models.md: 36 × 8 states
@@ -216,13 +231,7 @@ class Chain {
   private:
     // One interface at the mesonormal m (unit, facing v): v in its frame, the walk, back.
     bool walk(const glm::dvec3& v, const glm::dvec3& m, double n, Rng& rng, glm::dvec3& out, bool& below) const {
-        const double c = glm::dot(v, m);
-        if (!(c > 1e-6)) return false;
-        const glm::dvec3 e1 = glm::normalize(v - c * m), e2 = glm::cross(m, e1);
-        glm::dvec3 o;
-        if (!surface_.interact(glm::dvec3(glm::dot(v, e1), glm::dot(v, e2), c), n, rng, o, below)) return false;
-        out = o.x * e1 + o.y * e2 + o.z * m;
-        return true;
+        return interface_walk(surface_, v, m, n, rng, out, below);
     }
     int exit_bin(double x) const { return std::min(bins_ - 1, std::max(0, int((x + 1) * 0.5 * bins_))); }
     // The state of a ray leaving the surface point (outward normal +y) inward along r: its
@@ -239,6 +248,80 @@ class Chain {
     glm::dvec3 m_out_;
     std::vector<double> reflect_, leave_, lu_;
     std::vector<int> pivot_;
+};
+
+// The residual's azimuth (docs/theory.md §3.6, "The residual's azimuth"). The light that
+// stays inside an elliptical section after TRT leaves with an azimuth that a round chain
+// cannot give: an elongated section sends more of it across its long side, and the first
+// orders past TRT remember where the beam came from (docs/models.md measures both against
+// the physical fiber). So the section itself is traced: the beam from wo, uniform over the
+// section's projected width, enters through the same microsurface walk as the chain, goes
+// on in straight chords inside the ellipse (semi-axes 1 along y and b along z, the section
+// frame of fiber/ellipse.hpp, whose geometry it uses), and at each interface meets the walk again at the mesonormal
+// (the outward normal tilted toward the tip by the cuticle angle, as the chain's); what
+// leaves after two or more internal reflections, the orders ≥ TRRT, is binned by its
+// azimuth past wo's, φ = atan2(w.z, w.y) − atan2(wo.z, wo.y). Lossless, as the chain's
+// profile (the shape is shared by every channel; the energy stays the model's own).
+class AzimuthTrace {
+  public:
+    AzimuthTrace(double eta, double alpha, double tilt, double aspect)
+        : eta_(eta), surface_(alpha), tilt_(tilt), b_(aspect) {}
+
+    // The orders ≥ TRRT's density over φ ∈ [−π, π) in `bins` bins, normalised to sum 1
+    // (all zeros if none leaves), for wo = (sin_o, cos_o cos a, cos_o sin a): `rays` rays,
+    // stratified over the offset, from a generator seeded with `seed`.
+    std::vector<double> profile(double sin_o, double a, int bins, int rays, std::uint64_t seed) const {
+        std::vector<double> out(std::size_t(bins), 0.0);
+        const double pi = 3.14159265358979323846;
+        sin_o = std::min(0.999, std::max(-0.999, sin_o));
+        const double cos_o = std::sqrt(1 - sin_o * sin_o);
+        const glm::dvec3 wo(sin_o, cos_o * std::cos(a), cos_o * std::sin(a));
+        // Points as the model's walk holds them: c on the unit circle, A c on the ellipse.
+        const EllipticalSection<double> section(b_, 0.0);
+        const EllipticalSection<double>::View view = section.view(wo);
+        Rng rng(seed);
+        double sum = 0;
+        for (int k = 0; k < rays; ++k) {
+            const double h = -1 + 2 * (k + rng.uniform()) / rays;
+            glm::dvec2 c = EllipticalSection<double>::hit(view, h, std::sqrt(std::max(0.0, 1 - h * h)));
+            glm::dvec3 dir, next;
+            bool below = false;
+            if (!interface_walk(surface_, wo, mesonormal(section.normal(c)), eta_, rng, next, below) || !below) continue;  // R
+            dir = next;
+            for (int reflections = 0, event = 0; event < kMaxInterfaces; ++event) {
+                if (!(dir.y * dir.y + dir.z * dir.z > 1e-24)) break;  // along the axis
+                // The next interface; a chord that points out (a facet behind the tilted
+                // mesonormal) meets the surface again where it is.
+                const EllipticalSection<double>::Chord chord = section.chord(c, glm::dvec2(dir.y, dir.z));
+                if (chord.ok) c = chord.c;
+                if (!interface_walk(surface_, -dir, -mesonormal(section.normal(c)), 1 / eta_, rng, next, below)) break;
+                if (below) {
+                    if (reflections >= 2) {
+                        double phi = std::atan2(next.z, next.y) - a;
+                        phi -= 2 * pi * std::floor((phi + pi) / (2 * pi));
+                        out[std::size_t(std::min(bins - 1, std::max(0, int((phi + pi) / (2 * pi) * bins))))] += 1;
+                        sum += 1;
+                    }
+                    break;
+                }
+                ++reflections;
+                dir = next;
+            }
+        }
+        if (!(sum > 0)) return std::vector<double>(std::size_t(bins), 0.0);
+        for (double& x : out) x /= sum;
+        return out;
+    }
+
+  private:
+    static constexpr int kMaxInterfaces = 256;
+    // The mesonormal at a point of the ellipse whose in-plane outward normal is n: n tilted
+    // toward the tip (+x) by the cuticle angle.
+    glm::dvec3 mesonormal(const glm::dvec2& n) const { return glm::dvec3(std::sin(tilt_), std::cos(tilt_) * n.x, std::cos(tilt_) * n.y); }
+
+    double eta_;
+    Microsurface surface_;
+    double tilt_, b_;
 };
 
 }  // namespace huang_residual
