@@ -652,3 +652,84 @@ TEST(DualTwoStream, LitHairSourceKeepsTheFurnace) {
             }
         }
 }
+
+TEST(DualTwoStream, MisalignmentWidensTheKernelsByItsEvents) {
+    // One fiber and nothing beyond: one forward event for the transmitted light, one backward
+    // for the returned; misalignment m adds m (1 − μ_f) and m (1 + μ_b) to their variances
+    // and leaves the streams' shares as they are.
+    const auto tables = tables_of<double>(0.3);
+    const auto e = tables.lookup(0.1);
+    const double lim = hs::kSlabTurnLimit<double>;
+    const auto plain = hs::dual_streams(e, 1.0, 0.0);
+    const double mf = (e.mu_f.x + e.mu_f.y + e.mu_f.z) / 3, mb = (e.mu_b.x + e.mu_b.y + e.mu_b.z) / 3;
+    for (double m : {0.1, 0.4, 2.0 / 3.0}) {
+        const auto s = hs::dual_streams(e, 1.0, 0.0, lim, lim, hs::DualStackTransport::kTurned, m);
+        EXPECT_NEAR(s.spread_f - plain.spread_f, m * (1 - mf), 1e-6) << m;
+        EXPECT_EQ(s.forward, plain.forward);
+        EXPECT_EQ(s.back, plain.back);
+    }
+    const auto back = hs::dual_streams(e, 1.0, 1.0), back_m = hs::dual_streams(e, 1.0, 1.0, lim, lim,
+                                                                                hs::DualStackTransport::kTurned, 0.5);
+    EXPECT_GT(back_m.spread_b, back.spread_b + 0.5 * (1 + mb) * 0.99);  // at least the one return
+    // 0 (and NaN, negatives) change nothing to the bit; above 1 is 1.
+    for (double m : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN()}) {
+        const auto s = hs::dual_streams(e, 5.0, 2.0, lim, lim, hs::DualStackTransport::kTurned, m);
+        const auto d = hs::dual_streams(e, 5.0, 2.0);
+        EXPECT_EQ(s.spread_f, d.spread_f) << m;
+        EXPECT_EQ(s.spread_b, d.spread_b) << m;
+    }
+    const auto one = hs::dual_streams(e, 5.0, 2.0, lim, lim, hs::DualStackTransport::kTurned, 1.0);
+    const auto big = hs::dual_streams(e, 5.0, 2.0, lim, lim, hs::DualStackTransport::kTurned, 7.0);
+    EXPECT_EQ(one.spread_f, big.spread_f);
+    const auto inf = hs::dual_streams(e, hs::kUnbounded<double>, hs::kUnbounded<double>, lim, lim,
+                                      hs::DualStackTransport::kTurned, std::numeric_limits<double>::infinity());
+    EXPECT_TRUE(std::isfinite(inf.spread_f) && std::isfinite(inf.spread_b));
+}
+
+TEST(DualTwoStream, MisalignedFiberMovesTheLongitudinalAngleAsDerived) {
+    // The per-event variance against the geometry itself: light travelling along d_in meets a
+    // fiber whose axis is tilted by δ from the point's axis u0 (in a uniformly random
+    // direction across it); the fiber keeps d·u along its own axis u and turns the rest about
+    // u by χ (0 straight through, π straight back). The aligned fiber would keep θ; the
+    // tilted one moves it by a variance δ² (1 − cos χ), i.e. (1 + cos φ) in the wi/wo
+    // azimuth φ = π − χ that dual_streams' μ_f and μ_b average.
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> U;
+    const dvec3 u0(1, 0, 0);
+    const double delta = 0.02;
+    for (double theta : {0.0, 30.0, 60.0})
+        for (double chi : {0.3, 1.5, 2.8}) {
+            const dvec3 din = direction(theta, 0.4);
+            double sum = 0, sum2 = 0;
+            const int n = 20000;
+            for (int i = 0; i < n; ++i) {
+                const double a = 2 * hs::kPi<double> * U(rng);
+                const dvec3 v(0, std::cos(a), std::sin(a));
+                const dvec3 u = std::cos(delta) * u0 + std::sin(delta) * v;
+                // Rotate din about u by χ (Rodrigues): the component along u is kept.
+                const dvec3 dout = din * std::cos(chi) + glm::cross(u, din) * std::sin(chi) +
+                                   u * glm::dot(u, din) * (1 - std::cos(chi));
+                const double dt = std::asin(std::clamp(dout.x, -1.0, 1.0)) - std::asin(din.x);
+                sum += dt;
+                sum2 += dt * dt;
+            }
+            const double var = sum2 / n - (sum / n) * (sum / n);
+            const double expected = delta * delta * (1 - std::cos(chi));
+            EXPECT_NEAR(var, expected, 0.05 * expected) << theta << " " << chi;
+        }
+}
+
+TEST(DualTwoStream, MisalignmentFromTheHairsLengthTensor) {
+    using M = hs::HairLengthTensor<double>;
+    const dvec3 x(1, 0, 0);
+    EXPECT_NEAR(hs::dual_misalignment(M::piece(2.0, x), x), 0.0, 1e-15);
+    EXPECT_NEAR(hs::dual_misalignment(M::piece(2.0, dvec3(0, 1, 0)), x), 1.0, 1e-15);
+    M iso = M::piece(1.0, x);
+    iso += M::piece(1.0, dvec3(0, 1, 0));
+    iso += M::piece(1.0, dvec3(0, 0, 1));
+    EXPECT_NEAR(hs::dual_misalignment(iso, glm::normalize(dvec3(1, 2, 3))), 2.0 / 3.0, 1e-12);
+    // a 30° tilt: sin² 30° = 1/4
+    EXPECT_NEAR(hs::dual_misalignment(M::piece(1.0, direction(60.0, 0.0)), x), 0.25, 1e-12);
+    EXPECT_EQ(hs::dual_misalignment(M{}, x), 0.0);
+    EXPECT_EQ(hs::dual_misalignment(iso, dvec3(std::numeric_limits<double>::quiet_NaN())), 0.0);
+}

@@ -122,6 +122,7 @@ int main(int argc, char** argv) {
     std::string dual_depth = "shape";
     std::string dual_stacks = "inclined";
     std::string dual_transport = "turned";
+    std::string dual_kernels = "aligned";
     int dual_glow = 4;
     app.add_option("--dual-depth", dual_depth,
                    "dual two-stream: how many fibers turning light crosses per fiber of a stack, from the hair's "
@@ -140,6 +141,12 @@ int main(int argc, char** argv) {
                    "dual two-stream: how light crosses a stack where it has spread over its half-circle: as along "
                    "the arrival (turned) or trading between the two half-circles as it turns (diffuse; docs/theory.md)")
         ->check(CLI::IsMember({"turned", "diffuse"}))
+        ->capture_default_str();
+    app.add_option("--dual-kernels", dual_kernels,
+                   "dual two-stream: source kernels that assume the hair around a point parallel to it (aligned) "
+                   "or widen in theta by the misalignment the density grid reads there (misaligned: curly hair; "
+                   "docs/theory.md)")
+        ->check(CLI::IsMember({"aligned", "misaligned"}))
         ->capture_default_str();
     app.add_option("--dual-glow", dual_glow,
                    "dual two-stream with grid or field counts: hair points per grid cell of the glow volume (the "
@@ -277,6 +284,7 @@ int main(int argc, char** argv) {
         so.inclined_stacks = dual_stacks == "inclined";
         so.transport = dual_transport == "diffuse" ? hairscatter::DualStackTransport::kDiffuse
                                                    : hairscatter::DualStackTransport::kTurned;
+        so.misaligned_kernels = dual_kernels == "misaligned";
         so.glow_points = dual_glow;
         so.traced_vertices = dual_vertices;
         so.field_side = field_side;

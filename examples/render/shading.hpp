@@ -64,6 +64,9 @@ struct ShadingOptions {
     // Two-stream: how light crosses a stack where it has spread over its half-circle
     // (hs::DualStackTransport, docs/theory.md §5.7, "Spread light in the stacks").
     hairscatter::DualStackTransport transport = hairscatter::DualStackTransport::kTurned;
+    // Two-stream: the kernels widen in θ by the misalignment of the hair around the point
+    // (hs::dual_misalignment from the density grid's length tensor; curly hair), or not.
+    bool misaligned_kernels = false;
     int glow_points = 4;
     // Two-stream: a path's first vertices traced as the path tracer traces them (next-event
     // estimation and the fiber's own sample to the next hit) before the estimator takes over:

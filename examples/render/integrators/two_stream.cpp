@@ -401,7 +401,13 @@ class TwoStreamIntegrator final : public PixelIntegrator {
             if (n.n > 1) limit_n = shape_limit(a);
             if (m.n > 1) limit_m = shape_limit(-a);
         }
-        const hs::DualSourceKernel<float> kernel(a_local, hs::dual_streams(entry, n.n, m.n, limit_n, limit_m, opt.transport));
+        // Curly hair: the kernels widen by the misalignment of the hair around the point.
+        const float misalignment =
+            opt.misaligned_kernels && c_.shading.grid()
+                ? hs::dual_misalignment(c_.shading.grid()->view().tensor_density(sp.p), sp.to_world(vec3(1, 0, 0)))
+                : 0.0f;
+        const hs::DualSourceKernel<float> kernel(
+            a_local, hs::dual_streams(entry, n.n, m.n, limit_n, limit_m, opt.transport, misalignment));
         // Sources beyond the exits (the default): light from s enters the stack on a's side
         // past its last fiber (K_f's half-circle) and the far stack past its own (K_b's),
         // through whatever hair lies there along s (docs/theory.md §5.7). With the glow

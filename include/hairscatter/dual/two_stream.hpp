@@ -44,6 +44,7 @@
 #include "../math/constants.hpp"
 #include "../math/elementary.hpp"
 #include "../math/functions.hpp"
+#include "density_grid_view.hpp"
 #include "tables.hpp"
 
 namespace hairscatter {
@@ -342,10 +343,14 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T mean_events(T sc
 // table entry at θa (DualTablesView::lookup(sin θa)). n and m are fiber counts: exact counts
 // of one ray each (then an average over samples is an average over the counts'
 // distribution), or expectations. NaN counts count as 0, +Inf as a deep volume.
+// misalignment ∈ [0, 1] (clamped; NaN as 0): the mean sin² of the angle between the fibers
+// around the point and its own axis (0 for combed or straight hair; 2/3 for fibers in every
+// direction), which widens both kernels in θ (below); 0 leaves every result unchanged.
 template <typename T>
 HAIRSCATTER_HD DualStreams<T> dual_streams(const DualScatteringEntry<T>& e, T n_fibers, T m_fibers,
                                            T limit_n = kSlabTurnLimit<T>, T limit_m = kSlabTurnLimit<T>,
-                                           DualStackTransport transport = DualStackTransport::kTurned) {
+                                           DualStackTransport transport = DualStackTransport::kTurned,
+                                           T misalignment = T(0)) {
     DualStreams<T> s;
     const T mf = (e.mu_f.x + e.mu_f.y + e.mu_f.z) * T(1.0 / 3.0), mb = (e.mu_b.x + e.mu_b.y + e.mu_b.z) * T(1.0 / 3.0);
     // The stacks' depths as the fibers the turning light crosses (at most kDeepStack).
@@ -426,8 +431,17 @@ HAIRSCATTER_HD DualStreams<T> dual_streams(const DualScatteringEntry<T>& e, T n_
     const T far_f = T(mean_events(Td[2], Td[5], inv_log)), far_b = T(mean_events(Td[3], Td[5], inv_log));
     const T bf = (e.beta2_f.x + e.beta2_f.y + e.beta2_f.z) * T(1.0 / 3.0);
     const T bb = (e.beta2_b.x + e.beta2_b.y + e.beta2_b.z) * T(1.0 / 3.0);
-    const T vf = events_f * bf + events_b * bb;
-    const T vb = returned_f * bf + returned_b * bb + far_f * bf + far_b * bb;
+    // Fibers around the point that are not parallel to it (`misalignment`, the mean sin² of
+    // their angle δ to its axis: dual_misalignment) move the light's longitudinal angle at
+    // every event too. A fiber tilted by δ keeps the travel along its own axis, which moves
+    // the component along the point's axis by δ (d_in − d_out)·v (v the tilt's direction
+    // across the axis, uniform): a variance of E[δ²] (1 + cos φ) in θ for a turn φ of wi from
+    // wo, so E[δ²] (1 − μ_f) per forward event and E[δ²] (1 + μ_b) per backward one. Straight
+    // through (φ = π) is not deviated; straight back by a mirror tilted by δ, by 2δ.
+    const T tilt = misalignment > T(0) ? (misalignment < T(1) ? misalignment : T(1)) : T(0);
+    const T tf = tilt * (T(1) - mf), tb = tilt * (T(1) + mb);
+    const T vf = events_f * (bf + tf) + events_b * (bb + tb);
+    const T vb = (returned_f + far_f) * (bf + tf) + (returned_b + far_b) * (bb + tb);
     s.spread_f = clamp(is_finite(vf) ? vf : T(0), kMinSourceSpread<T>, kMaxSourceSpread<T>);
     s.spread_b = clamp(is_finite(vb) ? vb : T(0), kMinSourceSpread<T>, kMaxSourceSpread<T>);
     // Each event turns the light around the fiber by an angle whose mean cosine is μ (the
@@ -482,6 +496,18 @@ HAIRSCATTER_HD glm::vec<3, T> dual_source_hair(const DualScatteringEntry<T>& e, 
         h[k] = is_finite(v) ? clamp(v, T(0), T(1)) : T(0);
     }
     return h;
+}
+
+// The misalignment of dual_streams at a point from the hair's length tensor there (the
+// density grid's DensityGridView::tensor_density, or any Σ ℓ t tᵀ): 1 − axisᵀ M axis / tr M,
+// the length-weighted mean sin² of the angle between the hair and the unit `axis`. 0 where
+// there is no hair or the input is not finite.
+template <typename T>
+HAIRSCATTER_HD T dual_misalignment(const HairLengthTensor<T>& m, const glm::vec<3, T>& axis) {
+    const T len = m.length();
+    if (!(len > T(0)) || !is_finite(len) || !is_finite(axis)) return T(0);
+    const T v = T(1) - m.along(axis) / len;
+    return is_finite(v) ? clamp(v, T(0), T(1)) : T(0);
 }
 
 // The share of L(s) that reaches a stack's far face from direction s when `count` more
