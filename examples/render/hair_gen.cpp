@@ -168,7 +168,9 @@ Hair make_slab(const SlabOptions& o) {
     const int count = o.strand_count();
     if (count < 1) throw std::invalid_argument("make_slab: depth · height / (2 radius) rounds to no strand");
     if (!o.overlap && !(o.packing() <= kSlabMaxPacking))
-        throw std::invalid_argument("make_slab: fibers without overlap cannot cover more than 45 % of the section");
+        throw std::invalid_argument("make_slab: fibers without overlap cannot cover more than " +
+                                    std::to_string(int(std::lround(100 * kSlabMaxPacking))) + " % of the section (" +
+                                    std::to_string(int(std::lround(100 * o.packing()))) + " % asked)");
     Hair hair;
     hair.radius = o.radius;
     Pcg32 rng(o.seed, 7);
