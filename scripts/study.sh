@@ -7,8 +7,8 @@
 #   3. dual scattering (two-stream, improved and Zinke 2008) and single scattering against
 #      the path tracer: white / blond / brown / dark × 400 / 1,500 / 6,000 / 12,000 hairs
 #      without ground, blocks on the ground plane, a scalp with and without it, fur on a
-#      body and a shell of fur, slabs lit from behind: error of the mean hair radiance, mean
-#      per-pixel error, error images, times per sample;
+#      body and a shell of fur, slabs lit from behind and from the front: error of the
+#      mean hair radiance, mean per-pixel error, error images, times per sample;
 #   4. the white furnace (lossless hair, uniform environment) on every kind of scene;
 #   5. time to equal error: seconds for dual scattering and for the path tracer to reach a
 #      relative RMSE over the hair pixels against a converged path-traced reference, on the
@@ -156,6 +156,10 @@ for variant in "${fur_variants[@]}"; do
 done
 run "$STUDY" dual-vs-path --scene slab --lighting both "${size[@]}" "${dvp_spp[@]}" --hair-counts "${slab_depths[@]}" \
     --colours blond brown --out "$out"
+# The same slabs lit from the front (the light above the camera), white to brown: the
+# estimator's reflection where its transmission is measured above.
+run "$STUDY" dual-vs-path --scene slab-front --lighting both "${size[@]}" "${dvp_spp[@]}" \
+    --hair-counts "${slab_depths[@]}" --colours white blond brown --out "$out"
 
 # ---- 4: the white furnace ----------------------------------------------------------------
 run "$STUDY" furnace --scenes "${furnace_scenes[@]}" "${size[@]}" "${furnace_spp[@]}" --out "$out"
@@ -339,7 +343,8 @@ floor_of() {  # csv integrator column [noise column]: the error at the largest s
     echo "Scenes: blocks of straight strands, a scalp, fur on a diffuse body (fur), the same strands as"
     echo "a hollow shell (fur-shell) and the shell's variants, on which no default was measured: a pelt"
     echo "a quarter as long (fur-short), twice as long (fur-long), combed flat (fur-flat: 70° from the"
-    echo "normal instead of 30°) and of fibers twice as thick (fur-coarse); slab: a slab lit from behind."
+    echo "normal instead of 30°) and of fibers twice as thick (fur-coarse); slab: a slab lit from behind;"
+    echo "slab-front: the same slab lit from the front, the light above the camera."
     echo
     echo "### Every row at a glance"
     echo

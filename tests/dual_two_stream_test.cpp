@@ -319,6 +319,8 @@ TEST(DualTwoStream, PoissonCountsHaveTheirMeans) {
     EXPECT_EQ(hs::poisson_fiber_count(nan, 0.5, false), 0.0);
     EXPECT_EQ(hs::poisson_fiber_count(-2.0, 0.5, true), 1.0);
     EXPECT_TRUE(std::isfinite(hs::poisson_fiber_count(hs::kUnbounded<double>, 0.5, true)));
+    EXPECT_GE(hs::poisson_fiber_count(1e12, 0.5, true), 1e11);  // no integer overflow
+    EXPECT_GE(hs::poisson_fiber_count(hs::kUnbounded<float>, 0.5f, true), 1.0f);
     EXPECT_TRUE(std::isfinite(hs::poisson_fiber_count(3.0, nan, false)));
     EXPECT_EQ(hs::poisson_fiber_count(3.0f, 1.0f, false), hs::poisson_fiber_count(3.0f, 1.0f, false));
 }

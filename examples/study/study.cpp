@@ -4,7 +4,8 @@
 //                         sampling of the dual-scattering BCSDF inside a hair-only region of
 //                         interest, and the variance between consecutive spp levels;
 //   study dual-vs-path    dual scattering (each formulation) and single scattering against
-//                         the path tracer on hair blocks, a scalp, fur or a back-lit slab:
+//                         the path tracer on hair blocks, a scalp, fur or a slab lit from
+//                         behind (slab) or from the front (slab-front):
 //                         relative error of the mean
 //                         hair radiance, mean per-pixel error, error images, times;
 //   study furnace         the white furnace (lossless hair, uniform environment) on any scene:
@@ -57,7 +58,8 @@ glm::vec3 melanin_sigma_a(const std::string& colour) {
 }
 
 // The origin study's hair block (5 × 5 × 5 on the ground plane), a scalp, fur (short strands
-// on a body, or a shell of them with nothing inside) or a slab lit from behind; `hairs` is
+// on a body, or a shell of them with nothing inside) or a slab lit from behind (slab) or from
+// the front, above the camera (slab-front); `hairs` is
 // the strand count, or the slab's depth in fibers. Lighting: "env" a white environment of
 // radiance 1 only (where BCSDF sampling is the only strategy; with lossless hair, the white
 // furnace), "area" the preset's small area light only, "both" the preset's area light and
@@ -96,10 +98,10 @@ render::SceneDescription block_scene(int hairs, const std::string& light, bool g
         if (kind == "fur-flat") fur.tilt_deg = 70.0f;
         if (kind == "fur-coarse") fur.radius = 2.0f * fur.radius;
         d = render::make_fur_scene(fur, lighting);
-    } else if (kind == "slab") {
+    } else if (kind == "slab" || kind == "slab-front") {
         render::SlabOptions slab;
         slab.depth = float(hairs);
-        slab.back_lit = true;
+        slab.back_lit = kind == "slab";
         // Fibers that do not overlap (as real ones) cover depth · π · radius / (2 thickness) of
         // the section: past 35 % (deeper than 11 fibers at the default radius) the fibers are
         // made thinner to keep it, rather than let them interpenetrate.
@@ -108,7 +110,7 @@ render::SceneDescription block_scene(int hairs, const std::string& light, bool g
         d = render::make_slab_scene(slab, lighting);
     } else {
         throw std::invalid_argument("study: unknown scene '" + kind +
-                                    "' (block | scalp | fur | fur-shell | fur-short | fur-long | fur-flat | fur-coarse | slab)");
+                                    "' (block | scalp | fur | fur-shell | fur-short | fur-long | fur-flat | fur-coarse | slab | slab-front)");
     }
     // Without ground: the ground plane goes; a body or a head stays (it is part of the hair's
     // geometry, and the light it bounces onto the hair is part of what dual scattering must carry).
@@ -611,7 +613,7 @@ int main(int argc, char** argv) {
                     "-point: sources read at the shading point), improved, zinke")
         ->capture_default_str();
     dvp->add_option("--scene", kind,
-                    "block | scalp | fur | fur-shell | fur-short | fur-long | fur-flat | fur-coarse | slab (--hair-counts: strands; the slab's depth in fibers)")
+                    "block | scalp | fur | fur-shell | fur-short | fur-long | fur-flat | fur-coarse | slab | slab-front (--hair-counts: strands; the slab's depth in fibers)")
         ->capture_default_str();
     dvp->add_option("--dual-spp", dual_spp, "spp of the dual and single scattering images")->capture_default_str();
     dvp->add_option("--path-spp", path_spp, "spp of the path-traced reference")->capture_default_str();
@@ -622,7 +624,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> furnace_formulations{"two-stream", "two-stream-grid", "two-stream-field", "improved",
                                                   "zinke"};
     int furnace_dual_spp = 32, furnace_path_spp = 64;
-    furn->add_option("--scenes", furnace_scenes, "kind:hairs (block, scalp, fur, fur-shell and its variants fur-short, fur-long, fur-flat, fur-coarse; slab: its depth)")
+    furn->add_option("--scenes", furnace_scenes, "kind:hairs (block, scalp, fur, fur-shell and its variants fur-short, fur-long, fur-flat, fur-coarse; slab, slab-front: its depth)")
         ->capture_default_str();
     furn->add_option("--formulations", furnace_formulations, "dual-scattering formulations")->capture_default_str();
     furn->add_option("--dual-spp", furnace_dual_spp, "spp of the dual images")->capture_default_str();
@@ -638,7 +640,7 @@ int main(int argc, char** argv) {
     tte->add_option("--path-max-spp", tte_path, "largest path-tracing spp level")->capture_default_str();
     tte->add_flag("--no-ground", tte_no_ground, "remove the ground plane");
     std::string tte_kind = "block";
-    tte->add_option("--scene", tte_kind, "block | scalp | fur | fur-shell | fur-short | fur-long | fur-flat | fur-coarse | slab")->capture_default_str();
+    tte->add_option("--scene", tte_kind, "block | scalp | fur | fur-shell | fur-short | fur-long | fur-flat | fur-coarse | slab | slab-front")->capture_default_str();
     std::vector<std::string> tte_formulations{"two-stream", "two-stream-field"};
     tte->add_option("--formulations", tte_formulations, "dual-scattering formulations (as dual-vs-path's)")
         ->capture_default_str();
@@ -650,7 +652,7 @@ int main(int argc, char** argv) {
     std::string arr_kind = "slab", arr_formulation = "two-stream-field";
     int arr_points = 2000, arr_dual = 16, arr_path = 64;
     bool arr_no_ground = false;
-    arr->add_option("--scene", arr_kind, "block | scalp | fur | fur-shell | fur-short | fur-long | fur-flat | fur-coarse | slab")->capture_default_str();
+    arr->add_option("--scene", arr_kind, "block | scalp | fur | fur-shell | fur-short | fur-long | fur-flat | fur-coarse | slab | slab-front")->capture_default_str();
     arr->add_option("--colour", c.colour, io::colour_preset_names())->capture_default_str();
     arr->add_option("--formulation", arr_formulation, "two-stream, two-stream-grid or two-stream-field")->capture_default_str();
     arr->add_option("--points", arr_points, "hair points seen by the camera")->capture_default_str();

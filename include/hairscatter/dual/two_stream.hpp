@@ -81,7 +81,8 @@ template <typename T> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE T dual_stack_depth
 // stack still passes or returns everything. dual_streams, dual_source_stack and
 // dual_count_limit use an entry's a_f and a_b as they are: the 1D stack of Zinke et al. 2008,
 // where every backward event returns, unless the caller passes them this entry instead
-// (the example renderer's --dual-stacks inclined; not its default: docs/dual.md).
+// (the example renderer does by default, --dual-stacks inclined; planar keeps the 1D
+// stack: docs/dual.md).
 // rho_b is clamped to [0, 1]; NaN gives 1.
 template <typename T> HAIRSCATTER_HD DualScatteringEntry<T> dual_stack_entry(const DualScatteringEntry<T>& e) {
     DualScatteringEntry<T> r = e;
@@ -136,7 +137,8 @@ template <typename T> HAIRSCATTER_HD T poisson_fiber_count(T mean, T u, bool giv
         // by a few hundredths of σ, a fraction of one fiber at this mean.
         const T w = clamp(v, T(1e-6), T(1) - T(1e-6));
         const T k = mu + elem::log(w / (T(1) - w)) * T(0.5513288954217921) * sqrt(mu);
-        return k > T(1) ? T(int(k + T(0.5))) : T(1);
+        using std::floor;
+        return k > T(1) ? floor(k + T(0.5)) : T(1);  // floor, not int: means up to 1e12 and beyond
     }
     const T p0 = elem::exp(-mu);
     // Conditioned on N ≥ 1: skip k = 0 by rescaling u over the rest of the mass.
