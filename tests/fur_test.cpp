@@ -181,6 +181,13 @@ TEST(FurFiber, RoughCortexTrapsLightPastTRT) {
                 EXPECT_LT(node[Tab::kTailRatio], 1.0);
                 EXPECT_GT(node[Tab::kFr], 0.0);
                 EXPECT_LE(node[Tab::kFr], 1.2);
+                // R's tail (fit_deon_tail): a weight, and a lobe no narrower than the core; the
+                // core within the fit's range about the quartiles' lobe
+                EXPECT_GE(node[Tab::kTailWeightR], 0.0);
+                EXPECT_LE(node[Tab::kTailWeightR], 1.0);
+                if (node[Tab::kTailWeightR] > 0) EXPECT_GE(node[Tab::kTailR], node[Tab::kVR] * (1 - 1e-12));
+                EXPECT_GE(node[Tab::kVR], node[Tab::kQuartileVR] / 4 * (1 - 1e-12));
+                EXPECT_LE(node[Tab::kVR], node[Tab::kQuartileVR] * 4 * (1 + 1e-12));
                 for (int c = 0; c < 3; ++c) {  // lossless, no medulla: the later orders leave, unscattered
                     EXPECT_NEAR(node[Tab::kLaterOut + c], node[Tab::kLater], 1e-12);
                     EXPECT_EQ(node[Tab::kLaterScatter + c], 0.0);
@@ -221,11 +228,11 @@ TEST(FurFiber, RoughCortexRLobeFromItsFacets) {
     constexpr int kMid = hs::detail::RoughCortexTables<double>::kTheta / 2, kH = hs::detail::RoughCortexTables<double>::kH;
     static_assert(hs::detail::RoughCortexTables<double>::kTheta % 2 == 1, "a node at θo = 0");
     std::printf("[ fur ] rough cortex, θo 0°: v_R / v over |h| =");
-    for (int j = 0; j < kH; ++j) std::printf(" %.3f", t.share[kMid][j][Tab::kVR] / v);
+    for (int j = 0; j < kH; ++j) std::printf(" %.3f", t.share[kMid][j][Tab::kQuartileVR] / v);
     std::printf("\n");
-    EXPECT_NEAR(t.share[kMid][0][Tab::kVR] / v, 1.0, 0.1);  // the axis: Chiang's v (2,000 walks: ~3 % noise)
-    for (int j = 1; j < kH; ++j) EXPECT_LT(t.share[kMid][j][Tab::kVR], 1.05 * t.share[kMid][j - 1][Tab::kVR]) << "node " << j;
-    EXPECT_LT(t.share[kMid][kH - 1][Tab::kVR] / v, 0.1);  // the rim
+    EXPECT_NEAR(t.share[kMid][0][Tab::kQuartileVR] / v, 1.0, 0.1);  // the axis: Chiang's v (2,000 walks: ~3 % noise)
+    for (int j = 1; j < kH; ++j) EXPECT_LT(t.share[kMid][j][Tab::kQuartileVR], 1.05 * t.share[kMid][j - 1][Tab::kQuartileVR]) << "node " << j;
+    EXPECT_LT(t.share[kMid][kH - 1][Tab::kQuartileVR] / v, 0.1);  // the rim
 }
 
 // R's azimuth on the rough cortex (RoughCortexTables' ψ_R): the facets' reflections turn
@@ -447,7 +454,7 @@ TEST(FurMaterial, DefaultFacetsSpreadRAsBetaDoes) {
         hs::FurParams<double> p = fur_params<double>(0, 0, 0, glm::dvec3(0), true);
         p.cortex.beta_m = beta;
         const hs::FurMaterial<double> rough(p);
-        const double ratio = rough.rough_cortex().share[kMid][0][Tab::kVR] / hs::longitudinal_variance(beta);
+        const double ratio = rough.rough_cortex().share[kMid][0][Tab::kQuartileVR] / hs::longitudinal_variance(beta);
         std::printf("[ fur ] β_m %.2f: v_R / v on the axis %.3f\n", beta, ratio);
         // (the quartile fit over 8,000 reflections: ~3–5 % noise in v_R at β_m ≤ 0.3, more at
         // 0.5, whose GGX 0.46 spreads the reflections' tails over the sphere)
@@ -842,7 +849,8 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     std::printf("[ physical ] rough cortex: f worst %.2f %%, mean %.2f %% lossless, %.2f %% blond; scattered worst %.2f %%,"
                 " mean %.2f %%\n", 100 * worst_all, 100 * mean_all[0], 100 * mean_all[1], 100 * worst[0], 100 * mean[0]);
     std::printf("[ physical ] smooth cortex: scattered worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst[1], 100 * mean[1]);
-    // Measured: 12.07 %, mean 6.88 % lossless and 7.76 % blond; scattered 10.6 %, 5.5 % (11.9 %,
+    // Measured: 11.35 %, mean 6.83 % lossless and 6.60 % blond; scattered 10.6 %, 5.5 % (12.07 %,
+    // 6.88 %, 7.76 % before R's heavy tail from the walk; 11.9 %,
     // 6.9 %, 7.8 %; 15.4 %, 7.1 % before the later orders' chords through the medulla from the
     // walk; 12.1 %, 7.0 %,
     // 7.9 % with those widths matched by the turns' quartiles; 13.8 %, 7.7 %, 8.25 % before TT's
@@ -857,9 +865,9 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     // lobe width at every h; 58.6 %, 12.8 % and 21.6 % with the smooth F at the rough cortex's
     // entry and a smooth boundary in the medulla tables; 19.0 % and 25.2 % mean with the smooth
     // cortex's orders); 6.3 %, 4.8 % (the reference's noise: 1–3 %).
-    EXPECT_LT(worst_all, 0.125);
+    EXPECT_LT(worst_all, 0.12);
     EXPECT_LT(mean_all[0], 0.071);
-    EXPECT_LT(mean_all[1], 0.079);
+    EXPECT_LT(mean_all[1], 0.07);
     EXPECT_LT(worst[0], 0.115);
     EXPECT_LT(mean[0], 0.06);
     EXPECT_LT(worst[1], 0.07);

@@ -66,6 +66,15 @@ template <typename T, int N> struct DeonLanes {
         factor = norm[k] * select(small, series, asymptotic);
     }
 
+    // The same where a ≤ 6 for every θi (a_scale[k] ≤ 6: a wide lobe, or θo' near grazing):
+    // the series alone, no square root and no division.
+    HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void terms_small(int k, T sin_i, T cos_i, T& exponent, T& factor) const {
+        const T d2 = sqr(cos_i - cos_o[k]) + sqr(sin_i + sin_o[k]);
+        const T a = cos_i * a_scale[k];
+        exponent = -d2 * half_inv_v[k] - a;
+        factor = norm[k] * (T(1) + detail::i0_small_minus_one(a));
+    }
+
     // Every lane k as the lobe of variance v[k] conditioned on θo' = (s[k], c[k]), for lanes
     // whose variance changes per call (dual scattering widens its lobes by the light's
     // spread): DeonLongitudinal's constants, each as one loop over the lanes.

@@ -340,16 +340,20 @@ template <typename T> struct RoughCortexTables {
     static constexpr int kTheta = 13, kH = 9;  // θo nodes over ±kThetaMax, |γ| nodes over [0, π/2]
     static constexpr double kThetaMax = 1.5;   // (beyond, the nearest node: cos θo → 0 there)
     // Per node: the shares of the entered light that leave after one chord (TT) and two (TRT),
-    // F_r / F, R's v_R, δ_R and ψ_R, TT's ψ_TT, the entry's k, s_TT, ψ_TRT, s_TRT, the later
-    // orders' light (over the entered light) that leaves unscattered, L_c (RGB), and that first
-    // scatters in the medulla, S_c (RGB): the fibre's values, which at() interpolates; then, for
-    // the tests, the later orders' share and their tail's ratio r.
+    // F_r / F, the widths (R's v_R, s_TT, s_TRT and R's tail's v_t: R's M_p is the mixture
+    // (1 − w) M(v_R) + w M(v_t), fit_deon_tail), R's δ_R and ψ_R, TT's ψ_TT, the entry's k,
+    // ψ_TRT, the tail's weight w, the later orders' light (over the entered light) that leaves
+    // unscattered, L_c (RGB), and that first scatters in the medulla, S_c (RGB): the fibre's
+    // values, which at() interpolates (padded to whole vectors: GCC's -O2 vectorises only a
+    // loop without a remainder); then, for the tests, the later orders' share, their tail's
+    // ratio r and the one lobe of the reflections' quartiles' v (fit_deon_tail's start).
     enum Value : int {
-        kTT, kTRT, kFr, kVR, kDeltaR, kPsiR, kPsiTT, kEntryPath, kScaleTT, kPsiTRT, kScaleTRT,
-        kLaterOut, kLaterScatter = kLaterOut + 3, kEvalValues = kLaterScatter + 3,
-        kLater = kEvalValues, kTailRatio, kValues
+        kTT, kTRT, kFr, kVR, kScaleTT, kScaleTRT, kTailR, kDeltaR, kPsiR, kPsiTT, kEntryPath, kPsiTRT,
+        kTailWeightR, kLaterOut, kLaterScatter = kLaterOut + 3, kEvalEnd = kLaterScatter + 3,
+        kEvalValues = (kEvalEnd + 7) / 8 * 8,  // (zeros past kEvalEnd)
+        kLater = kEvalValues, kTailRatio, kQuartileVR, kValues
     };
-    static_assert(kPsiTT == kVR + 3, "R's v_R, δ_R, ψ_R and TT's ψ_TT are read as one run");
+    static_assert(kTailR == kVR + 3, "the widths v_R, s_TT, s_TRT and v_t are read as one vector");
     T share[kTheta][kH][kValues];
 
     // The fibre's values at (θo, γ), h = sin γ, bilinear between the nodes.
@@ -358,11 +362,16 @@ template <typename T> struct RoughCortexTables {
         const T v = clamp(abs_value(gamma) * T(2) * kInvPi<T>, T(0), T(1)) * T(kH - 1);
         const int i = u < T(kTheta - 1) ? int(u) : kTheta - 2, j = v < T(kH - 1) ? int(v) : kH - 2;
         const T s = u - T(i), t = v - T(j);
+        // (into an array of its own, then copied: out might alias the table, which keeps the
+        // loop from vectorising)
+        const T *a = share[i][j], *b = share[i][j + 1], *c = share[i + 1][j], *d = share[i + 1][j + 1];
+        T r[kEvalValues];
         for (int k = 0; k < kEvalValues; ++k) {
-            const T lo = share[i][j][k] + t * (share[i][j + 1][k] - share[i][j][k]);
-            const T hi = share[i + 1][j][k] + t * (share[i + 1][j + 1][k] - share[i + 1][j][k]);
-            out[k] = lo + s * (hi - lo);
+            const T lo = a[k] + t * (b[k] - a[k]);
+            const T hi = c[k] + t * (d[k] - c[k]);
+            r[k] = lo + s * (hi - lo);
         }
+        for (int k = 0; k < kEvalValues; ++k) out[k] = r[k];
     }
 };
 
@@ -633,6 +642,61 @@ inline std::array<double, 3> weighted_quartiles(std::vector<std::pair<double, do
     return {weighted_quantile(xw, 0.25), weighted_quantile(xw, 0.5), weighted_quantile(xw, 0.75)};
 }
 
+// R's longitudinal shape as two d'Eon lobes about one centre θc, (1 − w) M(v_c) + w M(v_t):
+// the pair closest in L1 to the reflections' histogram over sin θi (pairs of sin θi and
+// weight; kBins bins on [−1, 1]), the L1 being what the comparison with the physical fibre
+// measures. GGX's slope tail turns the reflections' sin θi by 2a cos θo cos γ (the visible
+// normals favour steep facets at grazing incidence): a sharp core with a heavy tail, which one
+// lobe fitted to the quartiles (deon_lobe_from_quartiles) makes too wide at its core and too
+// light in its tail (docs/fur_breakdown.md). The core v_c is the best of kCores variances over
+// [v / span, v · span] about the quartiles' v, the tail v_t one of kV over a log grid from v/4
+// to 4 (v_t ≥ v_c), w in steps of 1/kW. Returns {v_t, w, v_c}; w = 0 where one lobe does best.
+template <int kBins = 32, int kV = 24, int kW = 32, int kCores = 9>
+inline std::array<double, 3> fit_deon_tail(const std::vector<std::pair<double, double>>& xw, double v, double theta_c,
+                                           double span = 4) {
+    static_assert(kBins <= 64 && kCores <= 16, "the masses' arrays");
+    std::array<double, 3> best{v, 0.0, v};
+    double total = 0, hist[kBins] = {};
+    for (const auto& e : xw) {
+        hist[std::min(kBins - 1, std::max(0, int((e.first + 1) * 0.5 * kBins)))] += e.second;
+        total += e.second;
+    }
+    if (!(total > 0)) return best;
+    for (double& b : hist) b /= total;
+    const double sc = std::sin(theta_c), cc = std::cos(theta_c);
+    const auto masses = [&](double vm, double (&m)[kBins]) {
+        double prev = 0;
+        for (int b = 0; b < kBins; ++b) {
+            const double next = b + 1 < kBins ? deon_lobe_cdf(-1 + 2.0 * (b + 1) / kBins, vm, sc, cc) : 1.0;
+            m[b] = next - prev, prev = next;
+        }
+    };
+    double core_v[kCores], core[kCores][kBins], tail[kBins];
+    double best_l1 = HUGE_VAL;
+    for (int c = 0; c < kCores; ++c) {
+        core_v[c] = v * std::pow(span, 2.0 * c / (kCores - 1) - 1);
+        masses(core_v[c], core[c]);
+        double l1 = 0;
+        for (int b = 0; b < kBins; ++b) l1 += std::fabs(hist[b] - core[c][b]);
+        if (l1 < best_l1) best_l1 = l1, best = {core_v[c], 0.0, core_v[c]};
+    }
+    const double lo = std::log(v / 4), hi = std::log(4.0);
+    for (int i = 0; i < kV; ++i) {
+        const double vt = std::exp(lo + (hi - lo) * i / (kV - 1));
+        masses(vt, tail);
+        for (int c = 0; c < kCores; ++c) {
+            if (vt < core_v[c]) continue;
+            for (int k = 1; k <= kW; ++k) {
+                const double w = double(k) / kW;
+                double l1 = 0;
+                for (int b = 0; b < kBins; ++b) l1 += std::fabs(hist[b] - (1 - w) * core[c][b] - w * tail[b]);
+                if (l1 < best_l1) best_l1 = l1, best = {vt, w, core_v[c]};
+            }
+        }
+    }
+    return best;
+}
+
 // The rough cortex's walk (RoughCortexTables) for index η, cuticle tilt α and the facets' GGX
 // α (0: the one β_m implies, facet_alpha_from_beta): 2,000 walks per node (each share
 // within ~1 % at one standard deviation; R's shape, from quartiles, from the reflections of
@@ -767,7 +831,13 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             node[Tab::kFr] = T(reflected / kWalks / fur_fresnel(out.y, eta));  // F_r over the smooth F
             const std::array<double, 3> q = weighted_quartiles(reflections);
             const DeonLobeFit lobe = reflected > 0 ? deon_lobe_from_quartiles(q[0], q[1], q[2]) : DeonLobeFit{0, -theta + 2 * alpha};
-            node[Tab::kVR] = T(lobe.v);
+            // R's core and tail about the quartiles' centre (fit_deon_tail).
+            const std::array<double, 3> tail = reflected > 0 ? fit_deon_tail(reflections, lobe.v, lobe.theta_c)
+                                                             : std::array<double, 3>{lobe.v, 0.0, lobe.v};
+            node[Tab::kVR] = T(tail[2]);
+            node[Tab::kQuartileVR] = T(lobe.v);
+            node[Tab::kTailR] = T(tail[0]);
+            node[Tab::kTailWeightR] = T(tail[1]);
             node[Tab::kDeltaR] = T(theta - 2 * alpha + lobe.theta_c);  // δ_R: θo' = θo − 2α turned to −θc
             node[Tab::kPsiR] = T(reflected > 0 ? weighted_quantile(turns, 0.5) : 0.0);  // ψ_R: the median turn
             node[Tab::kPsiTT] = T(tt_turns.empty() ? 0.0 : weighted_quantile(tt_turns, 0.5));  // ψ_TT: the median turn
@@ -1265,7 +1335,10 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         T sin_o;
         DeonLongitudinal<T> r_lobe;            // R's M_p (the rough cortex's width at h)
         TrimmedLogistic<T> lobe_n[std::size_t(kLobes)];  // N_p's trimmed logistic per lobe
-        LaneLogistics<T, kLobes + 1> n;        // their constants as lanes (lane kLobes: unused)
+        LaneLogistics<T, kLobes + 1> n;        // their constants as lanes (lane kLobes: the residual's, uniform)
+        DeonLongitudinal<T> r_tail;            // R's tail and its weight w (the rough cortex's; w 0 without)
+        T r_w;
+        DeonLanes<T, 1> tail;                  // R's tail conditioned on R's θo', its norm times w
     };
 
     HAIRSCATTER_HD V3 albedo_from(const Outgoing& o) const {
@@ -1297,9 +1370,9 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         // the rough cortex the later orders' part is the walk's own (S_c, below).
         T scatter[3];
         T entry_reflect = fresnel;  // R's share at entry: the smooth F, or the rough boundary's F_r
-        T r_shape[4] = {T(0), T(0), T(0), T(0)};  // R's v_R, δ_R and ψ_R, and TT's ψ_TT (the rough cortex's)
         for (int p = 0; p < kLobes; ++p) o.lobe_n[p] = mat_->azimuthal();
-        for (int p = 0; p <= kLobes; ++p) o.n.set(p, mat_->azimuthal());
+        for (int p = 0; p < kLobes; ++p) o.n.set(p, mat_->azimuthal());
+        o.n.minus_inv_s[kLobes] = T(-0.0), o.n.scale[kLobes] = kInvTwoPi<T>;  // the residual: uniform
         if (prm.rough_cortex) {
             // The rough cortex's walk (RoughCortexTables): the facets reflect F_r at entry; of
             // the light that entered (1 − F_r), e1 leaves after one chord, e2 after two, each
@@ -1310,7 +1383,6 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             //   E_S = (1 − F_r) (first (e1 + e2 (1 + T)) + S_c) a_esc.
             // Lossless every path's light leaves unscattered or scatters (L_c + S_c = e3, and
             // first = 1 − T): Σ_p A_p + E_S = 1 as before.
-            for (int k = 0; k < 4; ++k) r_shape[k] = e[Tab::kVR + k];
             entry_reflect = clamp(e[Tab::kFr] * fresnel, T(0), T(1));
             for (int c = 0; c < 3; ++c) {
                 const T t = chord.transmittance[c], in = T(1) - entry_reflect;
@@ -1345,12 +1417,14 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         else mat_->template condition<LobeSet::kAll>(o.m, sin_o, cos_o);
         for (int p = 0; p <= kLobes; ++p) o.phi_p[p] = p < kLobes ? exit_azimuth_wrapped(p, gamma_o_, gamma_t) : T(0);
         o.r_lobe = mat_->longitudinal(0);
+        o.r_w = T(0);
+        o.tail.sin_o[0] = o.tail.cos_o[0] = o.tail.a_scale[0] = o.tail.sqrt_a_scale[0] = o.tail.half_inv_v[0] = o.tail.norm[0] = T(0);
         if (prm.rough_cortex) {
             // R's azimuth turned by ψ_R toward wo's (Φ = −2γ toward 0; ψ_R is 0 at h = 0), TT's
             // by ψ_TT from Φ(1, h) (both 0 at h = 0).
             const T sign = h_ < T(0) ? T(-1) : T(1);
-            o.phi_p[0] = wrap_pi_once(o.phi_p[0] + sign * r_shape[2]);
-            o.phi_p[1] = wrap_pi_once(o.phi_p[1] + sign * r_shape[3]);
+            o.phi_p[0] = wrap_pi_once(o.phi_p[0] + sign * e[Tab::kPsiR]);
+            o.phi_p[1] = wrap_pi_once(o.phi_p[1] + sign * e[Tab::kPsiTT]);
             // TRT's by ψ_TRT from Φ(2, h), and TT's and TRT's N_p of the widths their facets
             // give them at h (s_TT, s_TRT; floored at the narrowest logistic the parameters
             // allow), in place of β_n's: R's stays β_n's.
@@ -1359,33 +1433,43 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             // (floored at the narrowest lobe the parameters allow), its conditioning angle
             // turned by −δ_R from the tilt's (the controls' R tilt still acts on top).
             // Its constants and the two logistics' as one vector each in float (a division, an
-            // exp, an expm1): R's e^(−2/v_R), TT's and TRT's e^(−π/s) − 1.
+            // exp, an expm1): R's e^(−2/v_R), TT's and TRT's e^(−π/s) − 1, and R's tail's
+            // e^(−2/v_t) (fit_deon_tail: R's M_p the mixture (1 − w) M(v_R) + w M(v_t)).
             const T v_floor = longitudinal_variance(kMinRoughness<T>), s_floor = logistic_scale(kMinRoughness<T>);
-            constexpr std::size_t kN = std::is_same<T, float>::value ? 4 : 3;  // (float: a whole vector)
+            constexpr std::size_t kN = 4;
+            // (the widths one run of the table, so one vector load and max: built lane by lane,
+            // the vector's load waited on the lanes' stores)
+            const T floors[kN] = {v_floor, s_floor, s_floor, v_floor};
             T width[kN], inv[kN], x[kN], m[kN];
-            width[0] = r_shape[0] > v_floor ? r_shape[0] : v_floor;
-            width[1] = e[Tab::kScaleTT] > s_floor ? e[Tab::kScaleTT] : s_floor;
-            width[2] = e[Tab::kScaleTRT] > s_floor ? e[Tab::kScaleTRT] : s_floor;
-            for (std::size_t k = 3; k < kN; ++k) width[k] = T(1);
+            for (std::size_t k = 0; k < kN; ++k) width[k] = e[Tab::kVR + k] > floors[k] ? e[Tab::kVR + k] : floors[k];
+            o.r_w = e[Tab::kTailWeightR];
             for (std::size_t k = 0; k < kN; ++k) inv[k] = T(1) / width[k];
-            for (std::size_t k = 0; k < kN; ++k) x[k] = m[k] = inv[k] * (k == 0 ? T(-2) : -kPi<T>);
+            for (std::size_t k = 0; k < kN; ++k) x[k] = m[k] = inv[k] * (k == 1 || k == 2 ? -kPi<T> : T(-2));
             if constexpr (std::is_same<T, float>::value) {
                 elem::exp_each_nonpositive(x);
                 elem::expm1_each_given_exp(m, x);
             } else {  // (one libm call per value: the logistics need only their expm1)
                 x[0] = elem::exp(x[0]);
+                x[3] = elem::exp(x[3]);
                 elem::expm1_each(m);
             }
             o.r_lobe = DeonLongitudinal<T>(width[0], inv[0], x[0], m[0]);
+            o.r_tail = DeonLongitudinal<T>(width[3], inv[3], x[3], m[3]);
             for (int k = 1; k < 3; ++k) {
                 o.lobe_n[k] = TrimmedLogistic<T>(width[k], inv[k], m[k]);
                 o.n.set(k, o.lobe_n[k]);
             }
             T sd, cd;
-            elem::sincos(r_shape[1], sd, cd);
+            elem::sincos(e[Tab::kDeltaR], sd, cd);
             const T s0 = o.m.sin_o[0], c0 = o.m.cos_o[0];
             o.r_lobe.condition(o.m, 0, s0 * cd - c0 * sd, abs_value(c0 * cd + s0 * sd));
             o.m.take_roots();
+            // R's tail about the same θo'; the weights go into the norms, so the densities add
+            // the two: M_R = (1 − w) M(v_R) + w M(v_t).
+            o.r_tail.condition(o.tail, 0, o.m.sin_o[0], o.m.cos_o[0]);
+            o.tail.take_roots();
+            o.m.norm[0] *= T(1) - o.r_w;
+            o.tail.norm[0] *= o.r_w;
         }
         if constexpr (kW) {
             T total = T(0);
@@ -1397,11 +1481,40 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
     }
 
     // Each lobe's angular density M_p N_p at (θi, φ): the products f and pdf weigh. The
-    // unscattered lobes as Chiang's, side by side (deon_logistic_densities), then S.
-    static constexpr int kAzimuthal = std::is_same<T, float>::value ? kLobes + 1 : kLobes;
+    // unscattered lobes as Chiang's, side by side (as deon_logistic_densities), then S. R's
+    // tail takes the exp lane that the residual's N (uniform: 1/2π) leaves free there: the
+    // three N exponents, the tail's and the four M exponents are one vector of eight exps in
+    // float.
     HAIRSCATTER_HD void densities(const Outgoing& o, T sin_i, T cos_i, T phi, T (&mn)[std::size_t(kS + 1)]) const {
+        using std::sqrt;
+        constexpr int kM = kLobes + 1;  // where the M_p exponents start in e (e[kLobes]: R's tail)
+        T e[std::size_t(kM + kLobes + 1)], m_factor[std::size_t(kLobes + 1)];
+        const T sqrt_cos_i = sqrt(cos_i);
+        // R's tail only where it has weight (e^(−0) = 1 times 0 else), and by the series alone
+        // where a ≤ 6 for every θi (its fitted tails are mostly that wide).
+        T tail_exponent = T(-0.0), tail_factor = T(0);
+        if (o.r_w > T(0)) {
+            if (o.tail.a_scale[0] <= T(detail::kI0SmallSplit)) o.tail.terms_small(0, sin_i, cos_i, tail_exponent, tail_factor);
+            else o.tail.terms(0, sin_i, cos_i, sqrt_cos_i, tail_exponent, tail_factor);
+        }
+        // (every lane as one vector: lane kLobes's N, the residual's, is uniform, and the lane
+        // holds the tail's exponent; a select rather than the lane written over after, whose
+        // store the vector's load would wait on)
+        for (int k = 0; k <= kLobes; ++k)
+            e[k] = select(k < kLobes, TrimmedLogistic<T>::exponent_of_difference(phi - o.phi_p[k], o.n.minus_inv_scale(k)),
+                          tail_exponent);
+        for (int k = 0; k <= kLobes; ++k) o.m.terms(k, sin_i, cos_i, sqrt_cos_i, e[kM + k], m_factor[k]);
+        elem::exp_each_nonpositive(e);  // (every exponent ≤ 0)
+        // R's tail added to R's M, and the residual's N (lane kLobes) 1/2π, its scale, through
+        // the same arithmetic as the others' (e 1, the denominator 1): one vector, selects
+        // rather than lanes written over (a store into a vector's lane stalls its load), into
+        // an array of its own (mn might alias o, which keeps the loop from vectorising).
+        const T tail = tail_factor * e[kLobes];
         T lanes[std::size_t(kLobes + 1)];
-        deon_logistic_densities<kLobes + 1, kLobes, kAzimuthal>(o.m, o.phi_p, o.n, sin_i, cos_i, phi, lanes);
+        for (int k = 0; k <= kLobes; ++k) {
+            const T en = select(k < kLobes, e[k], T(1)), onto = select(k < kLobes, T(1), T(0));
+            lanes[k] = (m_factor[k] * e[kM + k] + select(k == 0, tail, T(0))) * (en * o.n.numerator(k)) / sqr(T(1) + en * onto);
+        }
         for (int p = 0; p <= kLobes; ++p) mn[p] = lanes[p];
         mn[kS] = scattered_density(o, sin_i, cos_i, phi);
     }
@@ -1441,7 +1554,10 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             sin_i = mat_->medulla().sample_longitudinal(o.theta_bin, o.sin_o, u.y, u.z, choice.rescaled);
             phi = mat_->medulla().sample_azimuth(o.theta_bin, u.w);
         } else {
-            sin_i = (p == 0 ? o.r_lobe : mat_->longitudinal(p)).sample_sin_theta(o.m.sin_o[p], o.m.cos_o[p], u.y, u.z);
+            // R: its tail with probability w (the lobe choice's leftover), else its core.
+            const bool tail = p == 0 && choice.rescaled < o.r_w;
+            sin_i = (p == 0 ? (tail ? o.r_tail : o.r_lobe) : mat_->longitudinal(p))
+                        .sample_sin_theta(o.m.sin_o[p], o.m.cos_o[p], u.y, u.z);
             phi = p < kLobes ? o.phi_p[p] + o.lobe_n[p].sample(u.w) : kTwoPi<T> * u.w - kPi<T>;
         }
         phi = wrap_pi(phi);
