@@ -185,7 +185,9 @@ TEST(FurFiber, RoughCortexTrapsLightPastTRT) {
                 // core within the fit's range about the quartiles' lobe
                 EXPECT_GE(node[Tab::kTailWeightR], 0.0);
                 EXPECT_LE(node[Tab::kTailWeightR], 1.0);
-                if (node[Tab::kTailWeightR] > 0) EXPECT_GE(node[Tab::kTailR], node[Tab::kVR] * (1 - 1e-12));
+                if (node[Tab::kTailWeightR] > 0) {
+                    EXPECT_GE(node[Tab::kTailR], node[Tab::kVR] * (1 - 1e-12));
+                }
                 EXPECT_GE(node[Tab::kVR], node[Tab::kQuartileVR] / 4 * (1 - 1e-12));
                 EXPECT_LE(node[Tab::kVR], node[Tab::kQuartileVR] * 4 * (1 + 1e-12));
                 for (int c = 0; c < 3; ++c) {  // lossless, no medulla: the later orders leave, unscattered

@@ -656,7 +656,8 @@ inline std::array<double, 3> fit_deon_tail(const std::vector<std::pair<double, d
                                            double span = 4) {
     static_assert(kBins <= 64 && kCores <= 16, "the masses' arrays");
     std::array<double, 3> best{v, 0.0, v};
-    double total = 0, hist[kBins] = {};
+    constexpr std::size_t nb = std::size_t(kBins), nc = std::size_t(kCores);  // array bounds
+    double total = 0, hist[nb] = {};
     for (const auto& e : xw) {
         hist[std::min(kBins - 1, std::max(0, int((e.first + 1) * 0.5 * kBins)))] += e.second;
         total += e.second;
@@ -664,14 +665,14 @@ inline std::array<double, 3> fit_deon_tail(const std::vector<std::pair<double, d
     if (!(total > 0)) return best;
     for (double& b : hist) b /= total;
     const double sc = std::sin(theta_c), cc = std::cos(theta_c);
-    const auto masses = [&](double vm, double (&m)[kBins]) {
+    const auto masses = [&](double vm, double (&m)[nb]) {
         double prev = 0;
         for (int b = 0; b < kBins; ++b) {
             const double next = b + 1 < kBins ? deon_lobe_cdf(-1 + 2.0 * (b + 1) / kBins, vm, sc, cc) : 1.0;
             m[b] = next - prev, prev = next;
         }
     };
-    double core_v[kCores], core[kCores][kBins], tail[kBins];
+    double core_v[nc], core[nc][nb], tail[nb];
     double best_l1 = HUGE_VAL;
     for (int c = 0; c < kCores; ++c) {
         core_v[c] = v * std::pow(span, 2.0 * c / (kCores - 1) - 1);
