@@ -107,6 +107,13 @@ render::SceneDescription block_scene(int hairs, const std::string& light, bool g
         // made thinner to keep it, rather than let them interpenetrate.
         constexpr double kPacking = 0.35;
         if (slab.packing() > kPacking) slab.radius = float(double(slab.radius) * kPacking / slab.packing());
+        // The renderer's own checks (its strand limit): a depth of thousands, as the block's
+        // strand count read as a depth, would otherwise build the slab until memory runs out.
+        try {
+            render::validate(slab, lighting);
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument("a slab " + std::to_string(hairs) + " fibers deep (--hairs or --hair-counts: the depth): " + e.what());
+        }
         d = render::make_slab_scene(slab, lighting);
     } else {
         throw std::invalid_argument("study: unknown scene '" + kind +
@@ -148,6 +155,14 @@ render::ShadingOptions shading_options(const std::string& colour, const std::str
         o.inclined_stacks = false;
         formulation = formulation.substr(0, formulation.size() - planar.size());
     }
+    // A "-diffuse" suffix trades light between the stacks' half-circles where it has spread
+    // (--dual-transport diffuse, DualStackTransport::kDiffuse).
+    const std::string diffuse = "-diffuse";
+    if (formulation.size() > diffuse.size() &&
+        formulation.compare(formulation.size() - diffuse.size(), diffuse.size(), diffuse) == 0) {
+        o.transport = hairscatter::DualStackTransport::kDiffuse;
+        formulation = formulation.substr(0, formulation.size() - diffuse.size());
+    }
     // A "-point" suffix reads the stacks' sources at the shading point (DualSource::kPoint).
     const std::string point = "-point";
     const bool at_point = formulation.size() > point.size() &&
@@ -165,7 +180,7 @@ render::ShadingOptions shading_options(const std::string& colour, const std::str
     else if (formulation == "improved") o.dual = hairscatter::DualScatteringSettings<float>::improved();
     else if (!o.two_stream)
         throw std::invalid_argument("study: unknown formulation '" + formulation +
-                                    "' (two-stream | two-stream-grid | two-stream-field, each optionally with -point, -planar, -gN, -vN | "
+                                    "' (two-stream | two-stream-grid | two-stream-field, each optionally with -point, -planar, -diffuse, -gN, -vN | "
                                     "improved | zinke)");
     return o;
 }
