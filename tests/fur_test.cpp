@@ -174,6 +174,11 @@ TEST(FurFiber, RoughCortexTrapsLightPastTRT) {
             previous_drop = drop;
         }
         const auto& t = rough.rough_cortex();
+        const double v = hs::longitudinal_variance(rough_params.cortex.beta_m);
+        for (int i = 0; i < Tab::kTheta; ++i)
+            std::printf("[ fur ] θo node %2d: TRT v %.3f (4v %.3f) δ %+.1f°, residual v %.3f δ %+.1f°\n", i,
+                        t.share[i][0][Tab::kVTRT], 4 * v, std::asin(t.share[i][0][Tab::kSinDeltaTRT]) * 180 / kPi,
+                        t.share[i][0][Tab::kVRes], std::asin(t.share[i][0][Tab::kSinDeltaRes]) * 180 / kPi);
         for (const auto& row : t.share)
             for (const auto& node : row) {
                 EXPECT_NEAR(node[Tab::kTT] + node[Tab::kTRT] + node[Tab::kLater], 1.0, 1e-9);
@@ -190,6 +195,12 @@ TEST(FurFiber, RoughCortexTrapsLightPastTRT) {
                 }
                 EXPECT_GE(node[Tab::kVR], node[Tab::kQuartileVR] / 4 * (1 - 1e-12));
                 EXPECT_LE(node[Tab::kVR], node[Tab::kQuartileVR] * 4 * (1 + 1e-12));
+                // TRT's and the residual's lobes from the walk (fit_deon_lobe_l1): a variance
+                // and a turn of less than a right angle
+                EXPECT_GT(node[Tab::kVTRT], 0.0);
+                EXPECT_GT(node[Tab::kVRes], 0.0);
+                EXPECT_LT(std::fabs(node[Tab::kSinDeltaTRT]), 1.0);
+                EXPECT_LT(std::fabs(node[Tab::kSinDeltaRes]), 1.0);
                 for (int c = 0; c < 3; ++c) {  // lossless, no medulla: the later orders leave, unscattered
                     EXPECT_NEAR(node[Tab::kLaterOut + c], node[Tab::kLater], 1e-12);
                     EXPECT_EQ(node[Tab::kLaterScatter + c], 0.0);
@@ -851,7 +862,8 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     std::printf("[ physical ] rough cortex: f worst %.2f %%, mean %.2f %% lossless, %.2f %% blond; scattered worst %.2f %%,"
                 " mean %.2f %%\n", 100 * worst_all, 100 * mean_all[0], 100 * mean_all[1], 100 * worst[0], 100 * mean[0]);
     std::printf("[ physical ] smooth cortex: scattered worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst[1], 100 * mean[1]);
-    // Measured: 11.35 %, mean 6.83 % lossless and 6.60 % blond; scattered 10.6 %, 5.5 % (12.07 %,
+    // Measured: 10.24 %, mean 6.33 % lossless and 6.54 % blond; scattered 10.6 %, 5.5 % (11.35 %,
+    // 6.83 %, 6.60 % before TRT's and the later orders' longitudinal lobes from the walk; 12.07 %,
     // 6.88 %, 7.76 % before R's heavy tail from the walk; 11.9 %,
     // 6.9 %, 7.8 %; 15.4 %, 7.1 % before the later orders' chords through the medulla from the
     // walk; 12.1 %, 7.0 %,
@@ -867,9 +879,9 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     // lobe width at every h; 58.6 %, 12.8 % and 21.6 % with the smooth F at the rough cortex's
     // entry and a smooth boundary in the medulla tables; 19.0 % and 25.2 % mean with the smooth
     // cortex's orders); 6.3 %, 4.8 % (the reference's noise: 1–3 %).
-    EXPECT_LT(worst_all, 0.12);
-    EXPECT_LT(mean_all[0], 0.071);
-    EXPECT_LT(mean_all[1], 0.07);
+    EXPECT_LT(worst_all, 0.11);
+    EXPECT_LT(mean_all[0], 0.066);
+    EXPECT_LT(mean_all[1], 0.068);
     EXPECT_LT(worst[0], 0.115);
     EXPECT_LT(mean[0], 0.06);
     EXPECT_LT(worst[1], 0.07);

@@ -336,24 +336,38 @@ HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE MedullaChord<T> medulla_chord(const FurP
 // that meet the medulla divided by the smooth chord's at the node's h (1 where the smooth
 // chord misses it), and the fibre scales the cortex's part of every chord by k before its
 // absorption (σa^c alone: lossless light is unchanged).
+// And TRT's and the later orders' longitudinal lobes. Chiang et al. 2016 give both one
+// d'Eon lobe of 4v (eq. 7 and §4.1), TRT's about θo + 4α and the residual's about θo, a
+// smooth cylinder's. On the rough cortex TRT's one internal reflection leaves it narrower
+// (fewer facet events spread it than the 4v assumes), and trapped light meets the tilted
+// scales at every event, each reflection turning it by about 2α the same way along the
+// fibre, so the later orders drift from −θo and spread wider. The table keeps, per θo node,
+// the d'Eon lobe closest in L1 to the walk's TRT exits and to its later exits over sin θi
+// (fit_deon_lobe_l1; pooled over the row's nodes, a beam uniform in h, the later exits
+// weighted by their unscattered light), as v_TRT, v_res and the turns sin δ from the
+// material's conditioning angles to −θc; the fibre conditions and samples those lobes.
 template <typename T> struct RoughCortexTables {
     static constexpr int kTheta = 13, kH = 9;  // θo nodes over ±kThetaMax, |γ| nodes over [0, π/2]
     static constexpr double kThetaMax = 1.5;   // (beyond, the nearest node: cos θo → 0 there)
     // Per node: the shares of the entered light that leave after one chord (TT) and two (TRT),
     // F_r / F, the widths (R's v_R, s_TT, s_TRT and R's tail's v_t: R's M_p is the mixture
     // (1 − w) M(v_R) + w M(v_t), fit_deon_tail), R's δ_R and ψ_R, TT's ψ_TT, the entry's k,
-    // ψ_TRT, the tail's weight w, the later orders' light (over the entered light) that leaves
+    // v_TRT and v_res after v_t (TRT's and the residual's lobes; lanes of the widths' vector),
+    // ψ_TRT, the tail's weight w, sin δ_TRT and sin δ_res (their turns), the later orders'
+    // light (over the entered light) that leaves
     // unscattered, L_c (RGB), and that first scatters in the medulla, S_c (RGB): the fibre's
     // values, which at() interpolates (padded to whole vectors: GCC's -O2 vectorises only a
     // loop without a remainder); then, for the tests, the later orders' share, their tail's
     // ratio r and the one lobe of the reflections' quartiles' v (fit_deon_tail's start).
     enum Value : int {
-        kTT, kTRT, kFr, kVR, kScaleTT, kScaleTRT, kTailR, kDeltaR, kPsiR, kPsiTT, kEntryPath, kPsiTRT,
-        kTailWeightR, kLaterOut, kLaterScatter = kLaterOut + 3, kEvalEnd = kLaterScatter + 3,
+        kTT, kTRT, kFr, kVR, kScaleTT, kScaleTRT, kTailR, kVTRT, kVRes, kDeltaR, kPsiR, kPsiTT, kEntryPath,
+        kPsiTRT, kTailWeightR, kSinDeltaTRT, kSinDeltaRes, kLaterOut, kLaterScatter = kLaterOut + 3,
+        kEvalEnd = kLaterScatter + 3,
         kEvalValues = (kEvalEnd + 7) / 8 * 8,  // (zeros past kEvalEnd)
         kLater = kEvalValues, kTailRatio, kQuartileVR, kValues
     };
-    static_assert(kTailR == kVR + 3, "the widths v_R, s_TT, s_TRT and v_t are read as one vector");
+    static_assert(kTailR == kVR + 3 && kVRes == kVR + 5 && kEvalValues >= kVR + 8,
+                  "the widths v_R, s_TT, s_TRT, v_t, v_TRT and v_res are read as one vector of eight");
     T share[kTheta][kH][kValues];
 
     // The fibre's values at (θo, γ), h = sin γ, bilinear between the nodes.
@@ -698,6 +712,42 @@ inline std::array<double, 3> fit_deon_tail(const std::vector<std::pair<double, d
     return best;
 }
 
+// One d'Eon lobe (v, θc) closest in L1 to the histogram of xw over sin θi (kBins bins on
+// [−1, 1]): from the quartiles' lobe, a 7 × 7 grid over log v (± ln 4) and θc (± 0.4),
+// narrowed about the best three times.
+template <int kBins = 32>
+inline DeonLobeFit fit_deon_lobe_l1(std::vector<std::pair<double, double>>& xw) {
+    constexpr std::size_t nb = std::size_t(kBins);
+    double total = 0, hist[nb] = {};
+    for (const auto& e : xw) {
+        hist[std::min(kBins - 1, std::max(0, int((e.first + 1) * 0.5 * kBins)))] += e.second;
+        total += e.second;
+    }
+    const std::array<double, 3> q = weighted_quartiles(xw);
+    DeonLobeFit best = deon_lobe_from_quartiles(q[0], q[1], q[2]);
+    if (!(total > 0)) return best;
+    const auto l1 = [&](double v, double theta_c) {
+        const double sc = std::sin(theta_c), cc = std::cos(theta_c);
+        double prev = 0, sum = 0;
+        for (int b = 0; b < kBins; ++b) {
+            const double next = b + 1 < kBins ? deon_lobe_cdf(-1 + 2.0 * (b + 1) / kBins, v, sc, cc) : 1.0;
+            sum += std::fabs(hist[b] / total - (next - prev)), prev = next;
+        }
+        return sum;
+    };
+    double best_l1 = l1(best.v, best.theta_c), span_v = std::log(4.0), span_c = 0.4;
+    for (int level = 0; level < 4; ++level, span_v /= 3, span_c /= 3) {
+        const DeonLobeFit at = best;
+        for (int i = -3; i <= 3; ++i)
+            for (int j = -3; j <= 3; ++j) {
+                const double v = at.v * std::exp(span_v * i / 3), c = clamp(at.theta_c + span_c * j / 3, -1.5, 1.5);
+                const double d = l1(v, c);
+                if (d < best_l1) best_l1 = d, best = {v, c};
+            }
+    }
+    return best;
+}
+
 // The rough cortex's walk (RoughCortexTables) for index η, cuticle tilt α and the facets' GGX
 // α (0: the one β_m implies, facet_alpha_from_beta): 2,000 walks per node (each share
 // within ~1 % at one standard deviation; R's shape, from quartiles, from the reflections of
@@ -711,11 +761,14 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
     const RoughFacets facets = RoughFacets::of(eta, alpha, beta_m, facet_alpha);
     std::vector<std::pair<double, double>> reflections, turns;  // R's sin θi, its turn toward wo; weights
     std::vector<std::pair<double, double>> tt_turns, trt_turns;  // TT's and TRT's exits: the turn from Φ(1, h), Φ(2, h)
+    std::vector<std::pair<double, double>> trt_exits, later_exits;  // their sin θi over the row's nodes
     RoughCortexTables<T> tab{};
     FurRng rng(0x0C0A7E5Eull);
     constexpr int kTheta = RoughCortexTables<T>::kTheta, kH = RoughCortexTables<T>::kH;
     for (int i = 0; i < kTheta; ++i) {
         const double theta = (2.0 * i / (kTheta - 1) - 1) * RoughCortexTables<T>::kThetaMax;
+        trt_exits.clear();
+        later_exits.clear();
         for (int j = 0; j < kH; ++j) {
             const double h = std::min(std::sin(kHalfPi<double> * j / (kH - 1)), 0.999);
             // Toward the light (wo) in the entry point's frame: the normal at offset h is
@@ -806,6 +859,9 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
                 for (; order < kMaxEvents; ++order) {
                     const RoughFacets::Exit x = facets.walk(d, false, eta, rng);
                     if (x.outside) {  // leaves at this order
+                        const double beam = std::sqrt(1 - h * h);  // (the nodes are uniform in γ: dh = cos γ dγ)
+                        if (order == 2) trt_exits.emplace_back(x.dir.x, beam);
+                        if (order >= 3) later_exits.emplace_back(x.dir.x, beam * (path_t[0] + path_t[1] + path_t[2]) / 3);
                         const double exit = std::atan2(x.dir.z, x.dir.y);
                         if (order == 1) tt_turns.emplace_back(wrap_pi(gamma - 2 * gamma_t + 2 * gamma_1 - exit), 1.0);
                         // TRT's: two chords, 2π − 2γ'_1 − 2γ'_2 + exit + γ against the smooth
@@ -867,6 +923,21 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
                 const double smooth = s_t < kappa ? (std::cos(gamma_t) - std::sqrt(kappa * kappa - s_t * s_t)) / cos_t : 0.0;
                 node[Tab::kEntryPath] = T(smooth > 1e-9 && hits > 0 ? to_medulla / hits / smooth : 1.0);
             }
+        }
+        // TRT's and the later orders' longitudinal lobes from their exits over the row (beam
+        // uniform in h): the d'Eon lobe closest in L1, its conditioning angle as a turn from
+        // the material's, θo' = θo + 4α (TRT) and θo (residual): sin δ, δ = θo' + θc.
+        using Tab = RoughCortexTables<T>;
+        const DeonLobeFit trt = trt_exits.empty() ? DeonLobeFit{4 * longitudinal_variance(beta_m), -theta - 4 * alpha}
+                                                  : fit_deon_lobe_l1(trt_exits);
+        const DeonLobeFit res = later_exits.empty() ? DeonLobeFit{4 * longitudinal_variance(beta_m), -theta}
+                                                    : fit_deon_lobe_l1(later_exits);
+        for (int j = 0; j < kH; ++j) {
+            T* node = tab.share[i][j];
+            node[Tab::kVTRT] = T(trt.v);
+            node[Tab::kVRes] = T(res.v);
+            node[Tab::kSinDeltaTRT] = T(std::sin(theta + 4 * alpha + trt.theta_c));
+            node[Tab::kSinDeltaRes] = T(std::sin(theta + res.theta_c));
         }
     }
     return tab;
@@ -1335,6 +1406,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         int theta_bin;
         T sin_o;
         DeonLongitudinal<T> r_lobe;            // R's M_p (the rough cortex's width at h)
+        DeonLongitudinal<T> trt_lobe, res_lobe;  // TRT's and the residual's M_p
         TrimmedLogistic<T> lobe_n[std::size_t(kLobes)];  // N_p's trimmed logistic per lobe
         LaneLogistics<T, kLobes + 1> n;        // their constants as lanes (lane kLobes: the residual's, uniform)
         DeonLongitudinal<T> r_tail;            // R's tail and its weight w (the rough cortex's; w 0 without)
@@ -1418,6 +1490,8 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         else mat_->template condition<LobeSet::kAll>(o.m, sin_o, cos_o);
         for (int p = 0; p <= kLobes; ++p) o.phi_p[p] = p < kLobes ? exit_azimuth_wrapped(p, gamma_o_, gamma_t) : T(0);
         o.r_lobe = mat_->longitudinal(0);
+        o.trt_lobe = mat_->longitudinal(2);
+        o.res_lobe = mat_->longitudinal(3);
         o.r_w = T(0);
         o.tail.sin_o[0] = o.tail.cos_o[0] = o.tail.a_scale[0] = o.tail.sqrt_a_scale[0] = o.tail.half_inv_v[0] = o.tail.norm[0] = T(0);
         if (prm.rough_cortex) {
@@ -1437,10 +1511,10 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             // exp, an expm1): R's e^(−2/v_R), TT's and TRT's e^(−π/s) − 1, and R's tail's
             // e^(−2/v_t) (fit_deon_tail: R's M_p the mixture (1 − w) M(v_R) + w M(v_t)).
             const T v_floor = longitudinal_variance(kMinRoughness<T>), s_floor = logistic_scale(kMinRoughness<T>);
-            constexpr std::size_t kN = 4;
+            constexpr std::size_t kN = 8;
             // (the widths one run of the table, so one vector load and max: built lane by lane,
-            // the vector's load waited on the lanes' stores)
-            const T floors[kN] = {v_floor, s_floor, s_floor, v_floor};
+            // the vector's load waited on the lanes' stores; lanes 6 and 7 unused)
+            const T floors[kN] = {v_floor, s_floor, s_floor, v_floor, v_floor, v_floor, v_floor, v_floor};
             T width[kN], inv[kN], x[kN], m[kN];
             for (std::size_t k = 0; k < kN; ++k) width[k] = e[Tab::kVR + k] > floors[k] ? e[Tab::kVR + k] : floors[k];
             o.r_w = e[Tab::kTailWeightR];
@@ -1449,13 +1523,19 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             if constexpr (std::is_same<T, float>::value) {
                 elem::exp_each_nonpositive(x);
                 elem::expm1_each_given_exp(m, x);
-            } else {  // (one libm call per value: the logistics need only their expm1)
-                x[0] = elem::exp(x[0]);
-                x[3] = elem::exp(x[3]);
-                elem::expm1_each(m);
+            } else {  // (one libm call per value: the logistics need only their expm1; lanes 6 and 7 unused)
+                for (std::size_t k = 0; k < 6; ++k)
+                    if (k != 1 && k != 2) x[k] = elem::exp(x[k]);
+                for (std::size_t k = 0; k < 4; ++k) m[k] = elem::expm1(m[k]);
+                // (TRT's and the residual's e^(−2/v) − 1 from the exp, an expm1 call less each: their
+                // v is at most 4 v(β 1) ≈ 110, e^(−2/v) < 0.99, so under 1e-14 relative)
+                m[4] = x[4] - T(1);
+                m[5] = x[5] - T(1);
             }
             o.r_lobe = DeonLongitudinal<T>(width[0], inv[0], x[0], m[0]);
             o.r_tail = DeonLongitudinal<T>(width[3], inv[3], x[3], m[3]);
+            o.trt_lobe = DeonLongitudinal<T>(width[4], inv[4], x[4], m[4]);
+            o.res_lobe = DeonLongitudinal<T>(width[5], inv[5], x[5], m[5]);
             for (int k = 1; k < 3; ++k) {
                 o.lobe_n[k] = TrimmedLogistic<T>(width[k], inv[k], m[k]);
                 o.n.set(k, o.lobe_n[k]);
@@ -1464,6 +1544,13 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             elem::sincos(e[Tab::kDeltaR], sd, cd);
             const T s0 = o.m.sin_o[0], c0 = o.m.cos_o[0];
             o.r_lobe.condition(o.m, 0, s0 * cd - c0 * sd, abs_value(c0 * cd + s0 * sd));
+            // TRT's and the residual's lobes from the walk's exits, turned by δ likewise.
+            for (int p = 2; p <= kLobes; ++p) {
+                using std::sqrt;
+                const T sp = e[Tab::kSinDeltaTRT + p - 2], cp = sqrt(T(1) - sp * sp);
+                const T s = o.m.sin_o[p], c = o.m.cos_o[p];
+                (p == 2 ? o.trt_lobe : o.res_lobe).condition(o.m, p, s * cp - c * sp, abs_value(c * cp + s * sp));
+            }
             o.m.take_roots();
             // R's tail about the same θo'; the weights go into the norms, so the densities add
             // the two: M_R = (1 − w) M(v_R) + w M(v_t).
@@ -1557,7 +1644,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         } else {
             // R: its tail with probability w (the lobe choice's leftover), else its core.
             const bool tail = p == 0 && choice.rescaled < o.r_w;
-            sin_i = (p == 0 ? (tail ? o.r_tail : o.r_lobe) : mat_->longitudinal(p))
+            sin_i = (p == 0 ? (tail ? o.r_tail : o.r_lobe) : p == 2 ? o.trt_lobe : p == 3 ? o.res_lobe : mat_->longitudinal(p))
                         .sample_sin_theta(o.m.sin_o[p], o.m.cos_o[p], u.y, u.z);
             phi = p < kLobes ? o.phi_p[p] + o.lobe_n[p].sample(u.w) : kTwoPi<T> * u.w - kPi<T>;
         }
