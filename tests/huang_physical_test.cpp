@@ -77,9 +77,10 @@ TEST(HuangPhysical, InterfaceTotalsMatchTheMicrosurface) {
 }
 
 // R alone: the light reflected without entering carries the energy the physical fiber's
-// does, within 6 % up to θo = 30° and 10 % at 75° (measured 0.1–5.3 % and 1.5–8.6 %: the
-// two-event totals run a few per cent high near grazing at β 0.3); the unshadowed surface
-// of the model before was 3–36 % too bright.
+// does, within 5 % up to θo = 30° and 8 % at 75° (measured 0.1–3.2 % and 0.5–5.2 %: the
+// two-event totals run a few per cent high near grazing at β 0.3; 0.1–5.5 % and 1.4–8.7 %
+// with the beam weighted by v·m, which put more of it on the rims at grazing incidence);
+// the unshadowed surface of the model before was 3–36 % too bright.
 TEST(HuangPhysical, ReflectionEnergyMatchesTheFiber) {
     for (const pf::CachedCase& c : cache()) {
         hs::LobeControls<double> only_r;
@@ -87,20 +88,22 @@ TEST(HuangPhysical, ReflectionEnergyMatchesTheFiber) {
         const hs::HuangMaterial<double> mat(pf::huang_params(c.c, false), hs::HuangQuadrature(), only_r);
         const double model = hs::HuangFiber<double>(mat).albedo(c.c.wo()).x;
         const double ref = c.lobe_energy[pf::kR][0];
-        EXPECT_NEAR(model, ref, (c.c.theta_deg < 60 ? 0.06 : 0.10) * ref) << c.c.name();
+        EXPECT_NEAR(model, ref, (c.c.theta_deg < 60 ? 0.05 : 0.08) * ref) << c.c.name();
     }
 }
 
 // f against the physical fiber over the sphere (relative L1 of bin averages, 24 cases,
 // lossless and blond, default quadrature): the figures of docs/huang_physical.md, printed.
-// The goal is 5 %; the model is not there (measured worst 17.6 %, mean 10.0 %: the lattices'
-// shape at the default, TRT's shape at b/a 0.5 and R near grazing; docs/models.md has the
-// per-lobe breakdown). The bounds guard what is reached: worst 18 %, mean 10.5 % (the
+// The goal is 5 %; the model is not there (measured worst 15.5 %, mean 8.21 %: the lattices'
+// shape at the default and TRT's shape at b/a 0.5; docs/models.md has the per-lobe
+// breakdown). The bounds guard what is reached: worst 16 %, mean 8.5 % (the
 // model before this reference: 38 % and 19 %; before the unbiased internal reflection:
 // 21.1 % and 13.2 %; with TT's paths uniform in γ rather than in h: 20.4 % and 12.8 %;
 // without the exit kernel of the paths' entry cells: 19.4 % and 12.0 %; with the
 // residual's θ profile d'Eon's M of variance 4β rather than the interior chain's: 19.2 %
-// and 11.0 %). Each case binds its wo once (at(wo), the same values as eval).
+// and 11.0 %; with the offsets weighted by the beam at the mesonormal, max(0, v·m),
+// rather than uniform in h: 15.8 % and 9.03 %). Each case binds its wo once (at(wo), the
+// same values as eval).
 TEST(HuangPhysical, AgainstThePhysicalFiber) {
     const std::vector<pf::CachedCase>& cases = cache();
     std::vector<double> lossless(cases.size()), blond(cases.size());
@@ -130,7 +133,7 @@ TEST(HuangPhysical, AgainstThePhysicalFiber) {
     }
     std::printf("[ physical ] worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst, 100 * mean);
     EXPECT_LT(worst, 0.16);
-    EXPECT_LT(mean, 0.095);
+    EXPECT_LT(mean, 0.085);
 }
 
 // The shadowing terms over extreme inputs (NaN, infinities, cosines outside [0, 1], every

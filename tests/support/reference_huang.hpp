@@ -3,7 +3,9 @@
 // speed/accuracy study: Monte Carlo over the cross-section and every microfacet normal,
 // written independently of the library —
 //   the offset γ by stratified uniform samples (not Gauss–Legendre), weighted by the
-//   intercepted beam max(0, v·m)|A⁻¹c| and normalised by the same samples' sum;
+//   intercepted beam max(0, v·n)|A⁻¹c| (n the section's own normal: the silhouette stops
+//   the beam, the tilt turns only the microfacets) and normalised by the same samples' sum;
+//   where the tilted mesonormal turns away from v (v·m ≤ 0) the path is the residual's;
 //   microfacet normals drawn from D(h)(h·m) (not the visible-normal sampler) and weighted
 //   by G1(v) max(0, v·h) / ((v·m)(h·m)), so that their mean is the visible-normal
 //   average;
@@ -269,9 +271,14 @@ struct Reference {
             const glm::dvec2 q(c.x, b * c.y);
             const glm::dvec3 m = mesonormal(q.x, q.y);
             const double vm = glm::dot(v, m);
-            const double x = std::max(0.0, vm) * std::sqrt(sq(c.x) + sq(c.y / b));
+            const double vn = glm::dot(v, glm::dvec3(0.0, m.y, m.z)) / std::cos(p.alpha);
+            const double x = std::max(0.0, vn) * std::sqrt(sq(c.x) + sq(c.y / b));
             norm += x;
             if (!(x > 0)) continue;
+            if (!(vm > 0)) {
+                residual += glm::dvec3(x);
+                continue;
+            }
             glm::dvec3 path(0.0), res(0.0);
             // R: F D G1(v) / (4 v·m) at the half vector (= F D_v/(4 v·h)).
             const glm::dvec3 hr = glm::normalize(v + wi);

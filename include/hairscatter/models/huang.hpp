@@ -102,18 +102,20 @@ struct HuangQuadrature {
 //
 // The offset integral: a far-field ray hits the section at h ∈ (-1, 1) uniformly
 // (fiber/ellipse.hpp); in γ = asin h (the rim goes like sqrt(1 - h²) and is smooth in γ)
-// each offset is weighted by how much of the beam the tilted surface there intercepts,
-// ∝ max(0, v·m) |A⁻¹c| per unit γ (the cosine to the mesonormal m instead of the section's
-// normal, as Huang et al. 2022's far-field integral over the offset).
+// each offset is weighted by how much of the beam the section there intercepts, ∝ |A⁻¹c|
+// max(0, v·n) = |A⁻¹v| cos γ per unit γ, n the section's own normal: the silhouette stops
+// the beam, the cuticle tilt turns only the microfacets about the mesonormal m (the beam
+// uniform in h of d'Eon et al. 2011's far-field integral; weighting by v·m instead, as
+// this model did, put up to a third of the light at θo 75° on the rims). Where m turns
+// away from v (v·m ≤ 0) the offset's light goes to the residual.
 //
 // Rules that integrate each path order jointly:
 //   R    n Gauss–Legendre nodes in γ (the R lobe is closed-form in the normal);
 //   TT   a rank-1 lattice of N_TT points over (h, u1, u2): u the entry's visible normal in
 //        the unit square of lobes/microfacet.hpp (u1 the cap's azimuth, u2 its height), h
-//        uniform as the beam is, so that the paths carry near-equal shares of it (per unit
-//        h the intercepted beam is max(0, v·m)|A⁻¹c| / cos γ, 1 for a round untilted fiber;
-//        uniform in γ and weighted by cos γ, most of the paths sat where little light
-//        enters, and TT was far lumpier: docs/models.md);
+//        uniform as the beam is, so that the paths carry equal shares of it (uniform in γ
+//        and weighted by cos γ, most of the paths sat where little light enters, and TT
+//        was far lumpier: docs/models.md);
 //   TRT  a rank-1 lattice of N_TRT = m N_TT points over (h, u1, u2, u1', u2'), (u1', u2')
 //        the visible normal that reflects inside, whose generator is m times TT's in its
 //        first three coordinates: TRT point k continues TT path k mod N_TT, so each TT path
@@ -129,7 +131,7 @@ struct HuangQuadrature {
 //
 // The energies stay exact: the R rule fixes the light reflected at the surface,
 // Σ_k ŵ_k E_out, and so the light transmitted, Σ_k ŵ_k (1 - E_out); the TT paths' weights
-// ∝ max(0, v·m)|A⁻¹c| (1 - F(v·h)) are scaled to carry exactly that, and each path's exit
+// ∝ (1 - F(v·h)) (the beam per unit h is uniform) are scaled to carry exactly that, and each path's exit
 // splits its light into E_in(c₂) reflected, shared by its m internal normals ∝ F, and the
 // rest refracted out. E(c) = ∫ F(v·h) D_v(h) dh,
 // the share of the light arriving at cos c to the mesonormal that the interface reflects,
@@ -947,7 +949,7 @@ template <typename T> HuangQuadrature huang_cycles_class_quadrature(T roughness,
 //           generalised half vector and Jacobian of Walter et al. 2007 eqs. 16–17), with
 //           D_v of path i's own roughness α_i ≥ β: the exit kernel of its entry cell
 //           (entry_kernel), the gain keeping the exit's energy (HuangMaterial::exit_gain);
-//   y_i   = max(0, v·m)|A⁻¹c| / cos γ (1 - F) at path i's offset and entry normal, A_1, A_2 the
+//   y_i   = (1 - F) at path i's entry normal (0 where v·m ≤ 0), A_1, A_2 the
 //           chords' transmittances;
 //   s_TT  = Σ_k ŵ_k (1 - E_out) / Σ_i y_i: the paths carry exactly the light the surface
 //           transmits;
@@ -1173,7 +1175,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         T sin_o, cos_o;
         typename EllipticalSection<T>::View view;
         typename Material::AzimuthMix azimuth;  // the residual's azimuth cells at wo
-        T inv_total;   // 1 / Σ_k W_k |A⁻¹c_k| max(0, v·m_k)
+        T inv_total;   // 1 / Σ_k W_k cos γ_k (hit's beam)
         bool visible;  // false: no node sees its mesonormal (|θo| within α of a pole)
     };
 
@@ -1322,7 +1324,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     }
 
     // The far-field hit at offset (h, cos γ): its circle point, mesonormal, v·m and the beam
-    // it intercepts per unit γ, |A⁻¹c| max(0, v·m) (|A⁻¹c| alone where no offset is visible).
+    // it intercepts per unit γ up to a constant, cos γ (|A⁻¹c| where no offset is visible).
     struct Hit {
         V2 c;
         V3 m;
@@ -1333,8 +1335,10 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         g.c = EllipticalSection<T>::hit(o.view, h, cos_gamma);
         g.m = mesonormal(g.c);
         g.cos_v = glm::dot(o.v, g.m);
-        g.beam = mat_->section().normal_scale(g.c);
-        if (o.visible) g.beam *= g.cos_v > T(0) ? g.cos_v : T(0);
+        // The silhouette stops the beam, the tilt turns only the microfacets: per unit γ
+        // the section intercepts |A⁻¹c| (v·n) = |A⁻¹v| cos γ, n its own normal (uniform in
+        // h, d'Eon et al. 2011), and the constant |A⁻¹v| cancels in inv_total.
+        g.beam = o.visible ? cos_gamma : mat_->section().normal_scale(g.c);
         return g;
     }
 
@@ -1392,10 +1396,9 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     // enter_lanes computes with the entry.
     // The entries of a block of kEntryLanes consecutive lattice points, structure-of-arrays
     // over the points: per point the circle point c it enters at, the direction t the light
-    // refracts into through the point's visible normal, its weight y = beam (1 - F) G1 gain,
-    // the beam per unit h (the points are uniform in h; hit's is per unit γ = asin h), 0
-    // where nothing enters, and its exit kernel's row. The same formulas as hit (the
-    // mesonormal and the beam), TangentFrame with Ggx's visible-normal sampler,
+    // refracts into through the point's visible normal, its weight y = (1 - F) G1 gain (the
+    // beam per unit h is uniform: hit), 0 where nothing enters, and its exit kernel's row.
+    // The same formulas as hit (the mesonormal), TangentFrame with Ggx's visible-normal sampler,
     // refract_through, fresnel_any, Ggx::g1 and Ggx::visible, each step one loop across the
     // points with its conditionals as selects (math/functions.hpp) and its square roots
     // batched between the steps (elem::sqrt_each), so that GCC and Clang vectorise the loops
@@ -1562,13 +1565,12 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         const T a = mat_->ggx().alpha(), a2 = a * a;
         const T eta = mat_->params().eta, inv_eta = T(1) / eta, eta2 = eta * eta, inv_eta2 = inv_eta * inv_eta;
         const V3 v = o.v;
-        T cg[K], cos_u1[K], sin_u1[K], u2[K], vx[K], vy[K], vz[K];
-        T m_x[K], m_y[K], m_z[K], cos_v[K], beam[K], s_x[K], s_y[K], s_z[K], w_x[K], w_y[K], w_z[K];
+        T cos_u1[K], sin_u1[K], u2[K], vx[K], vy[K], vz[K];
+        T m_x[K], m_y[K], m_z[K], cos_v[K], s_x[K], s_y[K], s_z[K], w_x[K], w_y[K], w_z[K];
         T h_x[K], h_y[K], h_z[K], cos_i[K], sin2_t[K], r0[K], r1[K], r2[K];
         for (int j = 0; j < K; ++j) {
             const int i = first + j < last ? first + j : last;
             const typename Material::EntryPoint& q = mat_->tt_point(i);
-            cg[j] = q.cos_gamma;
             cos_u1[j] = q.normal.cos_u1;
             sin_u1[j] = q.normal.sin_u1;
             u2[j] = q.normal.u2;
@@ -1581,7 +1583,6 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         mesonormal_lanes(e.c_x, e.c_y, m_x, m_y, m_z, r0);
         for (int j = 0; j < K; ++j) {
             cos_v[j] = v.x * m_x[j] + v.y * m_y[j] + v.z * m_z[j];
-            beam[j] = r0[j] * lane_floor0(cos_v[j]);
         }
         frame_lanes(m_x, m_y, m_z, vx, vy, vz, s_x, s_y, s_z, w_x, w_y, w_z);
         visible_normal_lanes(m_x, m_y, m_z, s_x, s_y, s_z, w_x, w_y, w_z, cos_u1, sin_u1, u2, h_x, h_y, h_z);
@@ -1627,8 +1628,9 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         elem::sqrt_each(r1);
         for (int j = 0; j < K; ++j) {
             const T g1 = select(r2[j] > T(0), T(2) * r2[j] * (T(1) / (r2[j] + r1[j])), T(0));
-            const T y = beam[j] / cg[j] * (T(1) - f[j]) * g1;
-            e.y[j] = select((beam[j] > T(0)) & (cos_v[j] > T(0)), y, T(0));
+            // The beam per unit h is uniform (hit), a constant that s_TT's normaliser removes.
+            const T y = (T(1) - f[j]) * g1;
+            e.y[j] = select(cos_v[j] > T(0), y, T(0));
         }
         // The tables' lookups (gain, row) across the block too.
         mat_->entry_gain(cos_v, r0);
