@@ -105,7 +105,8 @@ std::vector<glm::dvec3> reference_values(const Case& c, const glm::dvec3& wo, co
 // 8.5 / 6.3 / 9.1 % over five draws with the beam weighted by v·m, 11.4 / 5.4 / 6.5 / 4.9 /
 // 6.5 % with it uniform in h, which converges to the reference at 512 × 4, 1.4 %; the
 // three pooled: default 6.8 / 11.8 / 3.3 % round / b/a 0.5 / grazing, 128 × 4 4.6 / 7.7 /
-// 2.6 %; the figures below are one draw's, before). The reference's own noise, the L1
+// 2.6 %; the figures below are one draw's, before; pooled, the bounds are 15 and 9 %, where one
+// draw's were 17 and 10 %). The reference's own noise, the L1
 // between two independent runs, is 0.4–1.5 %. This measures the lattices'
 // error only (the reference follows the model's definition; the physical fiber is
 // huang_physical_test's). Measured: default 6.6 % round, 16.3 % at b/a = 0.5 (lossless:
@@ -120,8 +121,8 @@ std::vector<glm::dvec3> reference_values(const Case& c, const glm::dvec3& wo, co
 // default in docs/tradeoff.md's study).
 TEST(HuangReference, EvalMatchesBruteForce) {
     constexpr std::uint64_t kDraws = 3;
-    const std::vector<std::pair<hs::HuangQuadrature, double>> settings = {{hs::HuangQuadrature(), 0.17},
-                                                                          {Spec::quadrature(0, 128, 4), 0.10}};
+    const std::vector<std::pair<hs::HuangQuadrature, double>> settings = {{hs::HuangQuadrature(), 0.15},
+                                                                          {Spec::quadrature(0, 128, 4), 0.09}};
     for (const Case& c : reference_cases()) {
         const glm::dvec3 wo = direction(c.theta_o_deg, 0.3);
         const hs::HuangMaterial<double> default_mat(c.params);
