@@ -75,7 +75,7 @@ render::SceneDescription block_scene(int hairs, const std::string& light, bool g
     } else if (light == "area") {
         lighting.environment = 0;
     } else if (light != "both") {
-        throw std::invalid_argument("study: unknown lighting '" + light + "' (env | area | both)");
+        throw std::invalid_argument("unknown lighting '" + light + "' (env | area | both)");
     }
     render::SceneDescription d;
     if (kind == "scalp") {
@@ -116,7 +116,7 @@ render::SceneDescription block_scene(int hairs, const std::string& light, bool g
         }
         d = render::make_slab_scene(slab, lighting);
     } else {
-        throw std::invalid_argument("study: unknown scene '" + kind +
+        throw std::invalid_argument("unknown scene '" + kind +
                                     "' (block | scalp | fur | fur-shell | fur-short | fur-long | fur-flat | fur-coarse | slab | slab-front)");
     }
     // Without ground: the ground plane goes; a body or a head stays (it is part of the hair's
@@ -147,39 +147,34 @@ render::ShadingOptions shading_options(const std::string& colour, const std::str
         o.glow_points = std::stoi(formulation.substr(g + 2));
         formulation = formulation.substr(0, g);
     }
+    // Drops `suffix` from the formulation's end if it is there, and says whether it was.
+    const auto strip = [&formulation](const std::string& suffix) {
+        const bool has = formulation.size() > suffix.size() &&
+                         formulation.compare(formulation.size() - suffix.size(), suffix.size(), suffix) == 0;
+        if (has) formulation.resize(formulation.size() - suffix.size());
+        return has;
+    };
     // A "-planar" suffix returns every backward event along the stacks (--dual-stacks planar,
     // the 1D stack of Zinke et al. 2008); without it the stacks are inclined (the default).
-    const std::string planar = "-planar";
-    if (formulation.size() > planar.size() &&
-        formulation.compare(formulation.size() - planar.size(), planar.size(), planar) == 0) {
-        o.inclined_stacks = false;
-        formulation = formulation.substr(0, formulation.size() - planar.size());
-    }
+    if (strip("-planar")) o.inclined_stacks = false;
     // A "-diffuse" suffix trades light between the stacks' half-circles where it has spread
     // (--dual-transport diffuse, DualStackTransport::kDiffuse).
-    const std::string diffuse = "-diffuse";
-    if (formulation.size() > diffuse.size() &&
-        formulation.compare(formulation.size() - diffuse.size(), diffuse.size(), diffuse) == 0) {
-        o.transport = hairscatter::DualStackTransport::kDiffuse;
-        formulation = formulation.substr(0, formulation.size() - diffuse.size());
-    }
+    if (strip("-diffuse")) o.transport = hairscatter::DualStackTransport::kDiffuse;
     // A "-point" suffix reads the stacks' sources at the shading point (DualSource::kPoint).
-    const std::string point = "-point";
-    const bool at_point = formulation.size() > point.size() &&
-                          formulation.compare(formulation.size() - point.size(), point.size(), point) == 0;
-    const std::string base = at_point ? formulation.substr(0, formulation.size() - point.size()) : formulation;
+    const bool at_point = strip("-point");
+    const std::string& base = formulation;
     o.two_stream = base == "two-stream" || base == "two-stream-grid" || base == "two-stream-field";
     o.counts = base == "two-stream-grid"    ? render::DualCounts::kGrid
                : base == "two-stream-field" ? render::DualCounts::kField
                                             : render::DualCounts::kExact;
     o.source = at_point ? render::DualSource::kPoint : render::DualSource::kBeyondExit;
     if (o.traced_vertices > 0 && !o.two_stream)
-        throw std::invalid_argument("study: '-vN' applies to two-stream formulations only");
-    if (at_point && !o.two_stream) throw std::invalid_argument("study: '-point' applies to two-stream formulations only");
+        throw std::invalid_argument("'-vN' applies to two-stream formulations only");
+    if (at_point && !o.two_stream) throw std::invalid_argument("'-point' applies to two-stream formulations only");
     if (formulation == "zinke") o.dual = hairscatter::DualScatteringSettings<float>::zinke2008();
     else if (formulation == "improved") o.dual = hairscatter::DualScatteringSettings<float>::improved();
     else if (!o.two_stream)
-        throw std::invalid_argument("study: unknown formulation '" + formulation +
+        throw std::invalid_argument("unknown formulation '" + formulation +
                                     "' (two-stream | two-stream-grid | two-stream-field, each optionally with -point, -planar, -diffuse, -gN, -vN | "
                                     "improved | zinke)");
     return o;
@@ -439,7 +434,7 @@ int furnace(const Common& c, const std::vector<std::string>& scenes, const std::
     csv << "scene,hairs,integrator,spp,seconds,mean,rel_error\n";
     for (const std::string& spec : scenes) {
         const std::size_t colon = spec.find(':');
-        if (colon == std::string::npos) throw std::invalid_argument("study: furnace scene '" + spec + "' is not kind:hairs");
+        if (colon == std::string::npos) throw std::invalid_argument("furnace scene '" + spec + "' is not kind:hairs");
         const std::string kind = spec.substr(0, colon);
         const int hairs = std::stoi(spec.substr(colon + 1));
         render::SceneDescription d = block_scene(hairs, "env", false, kind);
