@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# Dual scattering against the path tracer on 32 quick rows, for trying a change to the
+# Dual scattering against the path tracer on 34 quick rows, for trying a change to the
 # two-stream estimator in about a minute rather than the study's hour (scripts/study.sh
 # stays the record). The rows: the study's 17 lit blocks, scalps and fur shells (both
-# lights, no ground unless named "g"), and 15 that the study's defaults were not chosen on:
-# slabs lit from the front under the area light alone (fslab), slabs lit from behind
-# (bslab), a white scalp, curly scalps and the bust. Each row's mean hair radiance (mean of
-# RGB) by the dual integrator, 80 x 60 at 64 spp, against the path tracer's at 512 spp on
-# the same image; printed with the error, then the mean and worst |error| per group.
+# lights, no ground unless named "g"), and 17 that the study's defaults were not chosen on:
+# slabs lit from the front under the area light alone (fslab; those ending in v with their
+# fibers vertical, along the light's offset from the camera: --slab-vertical), slabs lit
+# from behind (bslab), a white scalp, curly scalps and the bust. Each row's mean hair
+# radiance (mean of RGB) by the dual integrator, 80 x 60 at 64 spp, against the path
+# tracer's at 512 spp on the same image; printed with the error, then the mean and worst
+# |error| per group.
 #
 #   scripts/dual_probe.sh [--build DIR] [--refs FILE] [--make-refs] [--only REGEX] [render flags...]
 #
@@ -28,7 +30,7 @@ while [[ $# -gt 0 ]]; do
         --refs) REFS="$2"; shift ;;
         --make-refs) make_refs=1 ;;
         --only) only="$2"; shift ;;
-        -h|--help) sed -n '2,17p' "${BASH_SOURCE[0]}"; exit 0 ;;
+        -h|--help) sed -n '2,18p' "${BASH_SOURCE[0]}"; exit 0 ;;
         *) flags+=("$1") ;;
     esac
     shift
@@ -60,6 +62,8 @@ rows=(
 "other|fslab_b5|--scene slab --slab-depth 5 --colour blond --environment 0"
 "other|fslab_b10|--scene slab --slab-depth 10 --colour blond --environment 0"
 "other|fslab_br10|--scene slab --slab-depth 10 --colour brown --environment 0"
+"other|fslab_b10v|--scene slab --slab-vertical --slab-depth 10 --colour blond --environment 0"
+"other|fslab_w10v|--scene slab --slab-vertical --slab-depth 10 --colour white --environment 0"
 "other|bslab_b5|--scene slab --back-lit --slab-depth 5 --colour blond"
 "other|bslab_b10|--scene slab --back-lit --slab-depth 10 --colour blond"
 "other|bslab_br5|--scene slab --back-lit --slab-depth 5 --colour brown"

@@ -155,7 +155,8 @@ Hair make_fur(const FurOptions& o) {
 }
 
 int SlabOptions::strand_count() const {
-    return int(std::lround(double(depth) * double(height) / (2.0 * double(radius))));
+    const double across = vertical ? double(width) : double(height);  // the side the axes are spread over
+    return int(std::lround(double(depth) * across / (2.0 * double(radius))));
 }
 
 double SlabOptions::packing() const {
@@ -163,6 +164,17 @@ double SlabOptions::packing() const {
 }
 
 Hair make_slab(const SlabOptions& o) {
+    if (o.vertical) {
+        // The horizontal slab of the swapped sides, turned a quarter about z into the same
+        // box: its fibers' x (along them) becomes y, their height becomes x.
+        SlabOptions h = o;
+        h.vertical = false;
+        std::swap(h.width, h.height);
+        Hair hair = make_slab(h);
+        for (std::vector<glm::vec3>& strand : hair.strands)
+            for (glm::vec3& q : strand) q = glm::vec3(q.y - 0.5f * o.width, q.x + 0.5f * o.height, q.z);
+        return hair;
+    }
     if (!(o.width > 0) || !(o.height > 0) || !(o.thickness > 0) || !(o.depth > 0) || !(o.radius > 0) || o.segments < 1)
         throw std::invalid_argument("make_slab: width, height, thickness, depth, radius and segments must be positive");
     const int count = o.strand_count();

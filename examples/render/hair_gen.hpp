@@ -120,7 +120,9 @@ Hair make_head(const HeadOptions& options);
 // from every other: random sequential addition), as real fibers lie; the section they cover,
 // depth · π · radius / (2 thickness), must then stay below kSlabMaxPacking. With `overlap`
 // the axes are independent (per ray a binomial, nearly Poisson, count) and fibers may
-// interpenetrate, which no real hair does. back_lit is the scene's.
+// interpenetrate, which no real hair does. With `vertical` the strands run along +y through
+// the same box (count = depth · width / (2 radius)): the scene's front light, above the
+// camera, then lies along the fibers instead of across them. back_lit is the scene's.
 struct SlabOptions {
     float width = 5.0f;
     float height = 5.0f;
@@ -130,6 +132,7 @@ struct SlabOptions {
     int segments = 10;  // straight, but short segments keep Embree's boxes tight
     bool back_lit = false;  // the scene's area light behind the slab instead of in front
     bool overlap = false;   // independent axes: fibers may interpenetrate
+    bool vertical = false;  // fibers along +y (the box unchanged) instead of along +x
     std::uint64_t seed = 17;
 
     int strand_count() const;

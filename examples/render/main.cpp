@@ -78,6 +78,9 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_flag("--slab-overlap", slab.overlap,
                  "slab: independent fiber axes, fibers may interpenetrate (default: placed without overlap)");
+    app.add_flag("--slab-vertical", slab.vertical,
+                 "slab: fibers along y, so that the front light (above the camera) lies along them "
+                 "rather than across them (default: along x)");
     app.add_flag("--back-lit", slab.back_lit,
                  "slab: the area light behind the slab, facing it and the camera (seen only through the gaps)");
     app.add_flag("--no-ground", no_ground, "remove the ground plane (block, scalp, fur, file)");

@@ -210,6 +210,30 @@ TEST(Slab, StraightStrandsAlongXFillTheBox) {
     EXPECT_NE(make_slab(other).strands, h.strands);
 }
 
+// --slab-vertical: the same box, the fibers along y (sides unequal, so that a swap shows).
+TEST(Slab, VerticalStrandsAlongYFillTheSameBox) {
+    SlabOptions o;
+    o.width = 3;
+    o.height = 6;
+    o.vertical = true;
+    const Hair h = make_slab(o);
+    ASSERT_EQ(h.strands.size(), std::size_t(std::lround(o.depth * o.width / (2 * o.radius))));
+    EXPECT_EQ(int(h.strands.size()), o.strand_count());
+    for (const auto& s : h.strands) {
+        ASSERT_EQ(s.size(), std::size_t(o.segments) + 1);
+        EXPECT_FLOAT_EQ(s.front().y, 0.0f);
+        EXPECT_FLOAT_EQ(s.back().y, o.height);
+        for (const glm::vec3& p : s) {
+            ASSERT_EQ(p.x, s.front().x);
+            ASSERT_EQ(p.z, s.front().z);
+        }
+        EXPECT_GE(s.front().x, -0.5f * o.width);
+        EXPECT_LE(s.front().x, 0.5f * o.width);
+        EXPECT_GE(s.front().z, -0.5f * o.thickness);
+        EXPECT_LE(s.front().z, 0.5f * o.thickness);
+    }
+}
+
 TEST(Slab, RaysAlongTheNormalCrossDepthFibersOnAverage) {
     for (float depth : {5.0f, 10.0f}) {
         SlabOptions o;
