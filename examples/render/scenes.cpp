@@ -126,7 +126,8 @@ void validate(const SlabOptions& o, const LightingOptions& l) {
     require(std::isfinite(o.radius) && o.radius >= kMinFiberRadius && o.radius < 0.5f * o.thickness,
             "--fiber-radius: " + num(o.radius) + " is not a radius in [10^-6, slab thickness / 2 = " +
                 num(0.5 * o.thickness) + ")");
-    const double strands = double(o.depth) * double(o.height) / (2.0 * double(o.radius));
+    const double across = o.vertical ? double(o.width) : double(o.height);  // as SlabOptions::strand_count
+    const double strands = double(o.depth) * across / (2.0 * double(o.radius));
     require(strands >= 0.5 && strands <= 1e7, "--slab-depth: " + num(o.depth) + " with --fiber-radius " +
                                                    num(o.radius) + " makes " + num(std::round(strands)) +
                                                    " strands, outside [1, 10^7]");
