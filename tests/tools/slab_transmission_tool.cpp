@@ -9,9 +9,15 @@
 // formula of dual/tables.hpp with the tables' a_f and a_b at θ = 0) at the mean count N of
 // the beam's straight rays, the same averaged over a Poisson distribution of counts, and the
 // forward lobe's azimuthal variance about straight ahead (what spreads the beam in the plane
-// of the section).
+// of the section). Last, the longitudinal spread of the reflected light: the power-weighted
+// variance of the angle its exit direction makes with the fibers' normal plane (the beam
+// arrives at θ = 0, so this is how far multiple scattering spreads it in θ), beside the
+// variance the two-stream estimator gives its back kernel for the same stack (dual_streams'
+// spread_b at N fibers along the arrival and none behind, dual/two_stream.hpp) and the
+// reflected light's mean number of events, split into forward (|φ| > π/2) and backward ones.
 //
 //     slab_transmission_tool [--melanin M] [--paths P] [--seed S]
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -88,23 +94,29 @@ int main(int argc, char** argv) {
     std::printf("melanin %g: a_f %.3f %.3f %.3f, a_b %.3f %.3f %.3f (θ = 0); azimuthal variance per event (red): "
                 "forward %.3f rad² (σ %.2f), backward %.3f rad²\n",
                 opt.melanin, e.a_f.x, e.a_f.y, e.a_f.z, e.a_b.x, e.a_b.y, e.a_b.z, var_f, std::sqrt(var_f), var_b);
-    std::printf("| N | slab T (R, G, B) | 1D T_N | 1D, Poisson counts | slab R | 1D R_N | events of transmitted light |\n");
-    std::printf("|---|---|---|---|---|---|---|\n");
+    std::printf("| N | slab T (R, G, B) | 1D T_N | 1D, Poisson counts | slab R | 1D R_N | events of transmitted light "
+                "| reflected light's θ variance: slab, back kernel (rad²) | its events, forward + backward |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|\n");
     for (const double tau : {1.0, 2.0, 5.0, 10.0, 20.0}) {
         const slab::FiberSlab s(400.0, 8.0 * tau + 2.0, tau, 7);
         std::mt19937_64 rng(opt.seed);
         std::uniform_real_distribution<double> U;
         dvec3 T(0), R(0);
         double count = 0, events = 0, events_w = 0;
+        double r_w = 0, r_theta2 = 0, r_fwd = 0, r_back = 0;  // the reflected light's θ spread and events
         for (int k = 0; k < opt.paths; ++k) {
             dvec3 o(0, U(rng) * s.width(), -0.5), d(0, 0, 1), beta(1);
             count += s.count(o, d);
-            int skip = -1, ev = 0;
+            int skip = -1, ev = 0, fwd = 0, back = 0;
             for (int depth = 0; depth < 100000; ++depth) {
                 const slab::Hit h = s.intersect(o, d, skip);
                 if (h.fiber < 0) {
                     if (d.z > 0) T += beta, events += ev * slab::mean(beta), events_w += slab::mean(beta);
-                    else R += beta;
+                    else {
+                        R += beta;
+                        const double w = slab::mean(beta), th = std::asin(std::clamp(d.x, -1.0, 1.0));
+                        r_w += w, r_theta2 += w * th * th, r_fwd += w * fwd, r_back += w * back;
+                    }
                     break;
                 }
                 ++ev;
@@ -113,7 +125,10 @@ int main(int argc, char** argv) {
                 const auto smp = fiber.sample(fr.to_local(-d), slab::draw4(U, rng));
                 if (!(smp.pdf > 0)) break;
                 beta *= smp.weight;
-                d = glm::normalize(fr.to_world(smp.wi));
+                const dvec3 d_next = glm::normalize(fr.to_world(smp.wi));
+                // Forward: the travel keeps its side in the plane of the section.
+                (d_next.y * d.y + d_next.z * d.z > 0 ? fwd : back) += 1;
+                d = d_next;
                 o = h.p;
                 skip = h.fiber;
                 if (depth > 3) {  // Russian roulette
@@ -133,9 +148,12 @@ int main(int argc, char** argv) {
         double pk = std::exp(-n);
         for (int k = 0; k < 400; ++k, pk *= n / k)
             for (int c = 0; c < 3; ++c) TP[c] += pk * hs::layered_stack(e.a_f[c], e.a_b[c], double(k)).T_;
-        std::printf("| %.2f | %.3g, %.3g, %.3g | %.3g, %.3g, %.3g | %.3g, %.3g, %.3g | %.3f, %.3f, %.3f | %.3f, %.3f, %.3f | %.1f |\n",
+        const double spread_b = hs::dual_streams(e, n, 0.0).spread_b;
+        std::printf("| %.2f | %.3g, %.3g, %.3g | %.3g, %.3g, %.3g | %.3g, %.3g, %.3g | %.3f, %.3f, %.3f | %.3f, %.3f, %.3f | %.1f "
+                    "| %.3f, %.3f | %.1f + %.1f |\n",
                     n, T.x, T.y, T.z, T1.x, T1.y, T1.z, TP.x, TP.y, TP.z, R.x, R.y, R.z, R1.x, R1.y, R1.z,
-                    events_w > 0 ? events / events_w : 0.0);
+                    events_w > 0 ? events / events_w : 0.0, r_w > 0 ? r_theta2 / r_w : 0.0, spread_b,
+                    r_w > 0 ? r_fwd / r_w : 0.0, r_w > 0 ? r_back / r_w : 0.0);
     }
     return 0;
 }
