@@ -353,24 +353,21 @@ template <typename T> struct RoughCortexTables {
     // F_r / F, the widths (R's v_R, s_TT, s_TRT and R's tail's v_t: R's M_p is the mixture
     // (1 − w) M(v_R) + w M(v_t), fit_deon_tail), R's δ_R and ψ_R, TT's ψ_TT, the entry's k,
     // v_TRT and v_res after v_t (TRT's and the residual's lobes; lanes of the widths' vector),
-    // then TT's core and tail, v_TT and v_t (TT's M_p the mixture (1 − w) M(v_TT) + w M(v_t)
-    // about TT's own centre, fit_deon_tail on the node's TT exits), ψ_TRT, R's tail's weight w
-    // and TT's, sin δ_TRT and sin δ_res (their turns), the later orders'
+    // ψ_TRT, the tail's weight w, sin δ_TRT and sin δ_res (their turns), the later orders'
     // light (over the entered light) that leaves
     // unscattered, L_c (RGB), and that first scatters in the medulla, S_c (RGB): the fibre's
     // values, which at() interpolates (padded to whole vectors: GCC's -O2 vectorises only a
     // loop without a remainder); then, for the tests, the later orders' share, their tail's
     // ratio r and the one lobe of the reflections' quartiles' v (fit_deon_tail's start).
     enum Value : int {
-        kTT, kTRT, kFr, kVR, kScaleTT, kScaleTRT, kTailR, kVTRT, kVRes, kVTT, kTailTT, kDeltaR, kPsiR, kPsiTT,
-        kEntryPath, kPsiTRT, kTailWeightR, kTailWeightTT, kSinDeltaTRT, kSinDeltaRes, kLaterOut,
-        kLaterScatter = kLaterOut + 3,
+        kTT, kTRT, kFr, kVR, kScaleTT, kScaleTRT, kTailR, kVTRT, kVRes, kDeltaR, kPsiR, kPsiTT, kEntryPath,
+        kPsiTRT, kTailWeightR, kSinDeltaTRT, kSinDeltaRes, kLaterOut, kLaterScatter = kLaterOut + 3,
         kEvalEnd = kLaterScatter + 3,
         kEvalValues = (kEvalEnd + 7) / 8 * 8,  // (zeros past kEvalEnd)
         kLater = kEvalValues, kTailRatio, kQuartileVR, kValues
     };
-    static_assert(kTailR == kVR + 3 && kVRes == kVR + 5 && kTailTT == kVR + 7 && kEvalValues >= kVR + 8,
-                  "the widths v_R, s_TT, s_TRT, v_t, v_TRT, v_res, v_TT and TT's v_t are read as one vector of eight");
+    static_assert(kTailR == kVR + 3 && kVRes == kVR + 5 && kEvalValues >= kVR + 8,
+                  "the widths v_R, s_TT, s_TRT, v_t, v_TRT and v_res are read as one vector of eight");
     T share[kTheta][kH][kValues];
 
     // The fibre's values at (θo, γ), h = sin γ, bilinear between the nodes.
@@ -764,8 +761,7 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
     const RoughFacets facets = RoughFacets::of(eta, alpha, beta_m, facet_alpha);
     std::vector<std::pair<double, double>> reflections, turns;  // R's sin θi, its turn toward wo; weights
     std::vector<std::pair<double, double>> tt_turns, trt_turns;  // TT's and TRT's exits: the turn from Φ(1, h), Φ(2, h)
-    std::vector<std::pair<double, double>> tt_exits;  // TT's sin θi at the node
-    std::vector<std::pair<double, double>> trt_exits, later_exits;  // TRT's and later ones' over the row's nodes
+    std::vector<std::pair<double, double>> trt_exits, later_exits;  // their sin θi over the row's nodes
     RoughCortexTables<T> tab{};
     FurRng rng(0x0C0A7E5Eull);
     constexpr int kTheta = RoughCortexTables<T>::kTheta, kH = RoughCortexTables<T>::kH;
@@ -783,7 +779,6 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             glm::dvec3 late_t(0), late_s(0);  // the later orders' light: unscattered at exit, first scattered in the medulla
             reflections.clear();
             turns.clear();
-            tt_exits.clear();
             tt_turns.clear();
             trt_turns.clear();
             // A reflection's azimuth in the section, turned from the mirror's (+γ) toward wo's (−γ).
@@ -865,7 +860,6 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
                     const RoughFacets::Exit x = facets.walk(d, false, eta, rng);
                     if (x.outside) {  // leaves at this order
                         const double beam = std::sqrt(1 - h * h);  // (the nodes are uniform in γ: dh = cos γ dγ)
-                        if (order == 1) tt_exits.emplace_back(x.dir.x, (path_t[0] + path_t[1] + path_t[2]) / 3);
                         if (order == 2) trt_exits.emplace_back(x.dir.x, beam);
                         if (order >= 3) later_exits.emplace_back(x.dir.x, beam * (path_t[0] + path_t[1] + path_t[2]) / 3);
                         const double exit = std::atan2(x.dir.z, x.dir.y);
@@ -904,20 +898,6 @@ RoughCortexTables<T> build_rough_cortex(double eta, double alpha, double beta_m,
             node[Tab::kDeltaR] = T(theta - 2 * alpha + lobe.theta_c);  // δ_R: θo' = θo − 2α turned to −θc
             node[Tab::kPsiR] = T(reflected > 0 ? weighted_quantile(turns, 0.5) : 0.0);  // ψ_R: the median turn
             node[Tab::kPsiTT] = T(tt_turns.empty() ? 0.0 : weighted_quantile(tt_turns, 0.5));  // ψ_TT: the median turn
-            {
-                // TT's core and heavy tail from the node's TT exits (weighted by their light
-                // that passes the medulla unscattered), about the material's TT centre, θo' =
-                // θo + α (Chiang's tilt; the walk's TT quartiles sit there): the facets' slopes
-                // at entry and exit spread TT's sin θi into a sharp core and heavy tails
-                // (docs/fur_breakdown.md), which one lobe of Chiang's v/4 cannot follow
-                // (fit_deon_tail: the core one of nine over v/16–v, its v/4 the middle).
-                const double v_tt = 0.25 * longitudinal_variance(beta_m);
-                const std::array<double, 3> tt = tt_exits.empty() ? std::array<double, 3>{v_tt, 0.0, v_tt}
-                                                                  : fit_deon_tail(tt_exits, v_tt, -theta - alpha);
-                node[Tab::kVTT] = T(tt[2]);
-                node[Tab::kTailTT] = T(tt[0]);
-                node[Tab::kTailWeightTT] = T(tt[1]);
-            }
             // TT's and TRT's spreads about their median turns: the scale of the logistic with
             // the same mean absolute deviation about the median (a logistic's is 2 s ln 2), the
             // spread in L1 as the median is the centre in L1. (Matched by the quartiles instead,
@@ -1429,10 +1409,9 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         DeonLongitudinal<T> trt_lobe, res_lobe;  // TRT's and the residual's M_p
         TrimmedLogistic<T> lobe_n[std::size_t(kLobes)];  // N_p's trimmed logistic per lobe
         LaneLogistics<T, kLobes + 1> n;        // their constants as lanes (lane kLobes: the residual's, uniform)
-        DeonLongitudinal<T> tt_lobe;           // TT's M_p core (the rough cortex's v_TT; Chiang's v/4 without)
-        DeonLongitudinal<T> r_tail, tt_tail;   // R's and TT's tails and their weights w (the rough cortex's; w 0 without)
-        T r_w, tt_w;
-        DeonLanes<T, 2> tail;                  // the tails conditioned on R's and TT's θo', their norms times w
+        DeonLongitudinal<T> r_tail;            // R's tail and its weight w (the rough cortex's; w 0 without)
+        T r_w;
+        DeonLanes<T, 1> tail;                  // R's tail conditioned on R's θo', its norm times w
     };
 
     HAIRSCATTER_HD V3 albedo_from(const Outgoing& o) const {
@@ -1511,12 +1490,10 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         else mat_->template condition<LobeSet::kAll>(o.m, sin_o, cos_o);
         for (int p = 0; p <= kLobes; ++p) o.phi_p[p] = p < kLobes ? exit_azimuth_wrapped(p, gamma_o_, gamma_t) : T(0);
         o.r_lobe = mat_->longitudinal(0);
-        o.tt_lobe = mat_->longitudinal(1);
         o.trt_lobe = mat_->longitudinal(2);
         o.res_lobe = mat_->longitudinal(3);
-        o.r_w = o.tt_w = T(0);
-        for (int k = 0; k < 2; ++k)
-            o.tail.sin_o[k] = o.tail.cos_o[k] = o.tail.a_scale[k] = o.tail.sqrt_a_scale[k] = o.tail.half_inv_v[k] = o.tail.norm[k] = T(0);
+        o.r_w = T(0);
+        o.tail.sin_o[0] = o.tail.cos_o[0] = o.tail.a_scale[0] = o.tail.sqrt_a_scale[0] = o.tail.half_inv_v[0] = o.tail.norm[0] = T(0);
         if (prm.rough_cortex) {
             // R's azimuth turned by ψ_R toward wo's (Φ = −2γ toward 0; ψ_R is 0 at h = 0), TT's
             // by ψ_TT from Φ(1, h) (both 0 at h = 0).
@@ -1531,28 +1508,25 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             // (floored at the narrowest lobe the parameters allow), its conditioning angle
             // turned by −δ_R from the tilt's (the controls' R tilt still acts on top).
             // Its constants and the two logistics' as one vector each in float (a division, an
-            // exp, an expm1): R's e^(−2/v_R), TT's and TRT's e^(−π/s) − 1, R's tail's e^(−2/v_t)
-            // (fit_deon_tail: R's M_p the mixture (1 − w) M(v_R) + w M(v_t)), TRT's and the
-            // residual's, and TT's core's and tail's (TT's M_p likewise a mixture).
+            // exp, an expm1): R's e^(−2/v_R), TT's and TRT's e^(−π/s) − 1, and R's tail's
+            // e^(−2/v_t) (fit_deon_tail: R's M_p the mixture (1 − w) M(v_R) + w M(v_t)).
             const T v_floor = longitudinal_variance(kMinRoughness<T>), s_floor = logistic_scale(kMinRoughness<T>);
             constexpr std::size_t kN = 8;
             // (the widths one run of the table, so one vector load and max: built lane by lane,
-            // the vector's load waited on the lanes' stores)
+            // the vector's load waited on the lanes' stores; lanes 6 and 7 unused)
             const T floors[kN] = {v_floor, s_floor, s_floor, v_floor, v_floor, v_floor, v_floor, v_floor};
             T width[kN], inv[kN], x[kN], m[kN];
             for (std::size_t k = 0; k < kN; ++k) width[k] = e[Tab::kVR + k] > floors[k] ? e[Tab::kVR + k] : floors[k];
             o.r_w = e[Tab::kTailWeightR];
-            o.tt_w = e[Tab::kTailWeightTT];
             for (std::size_t k = 0; k < kN; ++k) inv[k] = T(1) / width[k];
             for (std::size_t k = 0; k < kN; ++k) x[k] = m[k] = inv[k] * (k == 1 || k == 2 ? -kPi<T> : T(-2));
             if constexpr (std::is_same<T, float>::value) {
                 elem::exp_each_nonpositive(x);
                 elem::expm1_each_given_exp(m, x);
-            } else {  // (one libm call per value: the logistics need only their expm1)
-                for (std::size_t k = 0; k < kN; ++k)
+            } else {  // (one libm call per value: the logistics need only their expm1; lanes 6 and 7 unused)
+                for (std::size_t k = 0; k < 6; ++k)
                     if (k != 1 && k != 2) x[k] = elem::exp(x[k]);
-                for (std::size_t k = 0; k < kN; ++k)
-                    if (k != 4 && k != 5) m[k] = elem::expm1(m[k]);
+                for (std::size_t k = 0; k < 4; ++k) m[k] = elem::expm1(m[k]);
                 // (TRT's and the residual's e^(−2/v) − 1 from the exp, an expm1 call less each: their
                 // v is at most 4 v(β 1) ≈ 110, e^(−2/v) < 0.99, so under 1e-14 relative)
                 m[4] = x[4] - T(1);
@@ -1562,8 +1536,6 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             o.r_tail = DeonLongitudinal<T>(width[3], inv[3], x[3], m[3]);
             o.trt_lobe = DeonLongitudinal<T>(width[4], inv[4], x[4], m[4]);
             o.res_lobe = DeonLongitudinal<T>(width[5], inv[5], x[5], m[5]);
-            o.tt_lobe = DeonLongitudinal<T>(width[6], inv[6], x[6], m[6]);
-            o.tt_tail = DeonLongitudinal<T>(width[7], inv[7], x[7], m[7]);
             for (int k = 1; k < 3; ++k) {
                 o.lobe_n[k] = TrimmedLogistic<T>(width[k], inv[k], m[k]);
                 o.n.set(k, o.lobe_n[k]);
@@ -1572,7 +1544,6 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             elem::sincos(e[Tab::kDeltaR], sd, cd);
             const T s0 = o.m.sin_o[0], c0 = o.m.cos_o[0];
             o.r_lobe.condition(o.m, 0, s0 * cd - c0 * sd, abs_value(c0 * cd + s0 * sd));
-            o.tt_lobe.condition(o.m, 1, o.m.sin_o[1], o.m.cos_o[1]);  // (TT's centre the material's)
             // TRT's and the residual's lobes from the walk's exits, turned by δ likewise.
             for (int p = 2; p <= kLobes; ++p) {
                 using std::sqrt;
@@ -1581,15 +1552,12 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
                 (p == 2 ? o.trt_lobe : o.res_lobe).condition(o.m, p, s * cp - c * sp, abs_value(c * cp + s * sp));
             }
             o.m.take_roots();
-            // R's tail about the same θo', and TT's about TT's; the weights go into the norms, so
-            // the densities add the two: M_R = (1 − w) M(v_R) + w M(v_t), and TT's likewise.
+            // R's tail about the same θo'; the weights go into the norms, so the densities add
+            // the two: M_R = (1 − w) M(v_R) + w M(v_t).
             o.r_tail.condition(o.tail, 0, o.m.sin_o[0], o.m.cos_o[0]);
-            o.tt_tail.condition(o.tail, 1, o.m.sin_o[1], o.m.cos_o[1]);
             o.tail.take_roots();
             o.m.norm[0] *= T(1) - o.r_w;
-            o.m.norm[1] *= T(1) - o.tt_w;
             o.tail.norm[0] *= o.r_w;
-            o.tail.norm[1] *= o.tt_w;
         }
         if constexpr (kW) {
             T total = T(0);
@@ -1617,14 +1585,6 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             if (o.tail.a_scale[0] <= T(detail::kI0SmallSplit)) o.tail.terms_small(0, sin_i, cos_i, tail_exponent, tail_factor);
             else o.tail.terms(0, sin_i, cos_i, sqrt_cos_i, tail_exponent, tail_factor);
         }
-        // TT's tail likewise, its exp a scalar one: the ninth of the query, past the vector.
-        T tt_tail = T(0);
-        if (o.tt_w > T(0)) {
-            T tt_exponent, tt_factor;
-            if (o.tail.a_scale[1] <= T(detail::kI0SmallSplit)) o.tail.terms_small(1, sin_i, cos_i, tt_exponent, tt_factor);
-            else o.tail.terms(1, sin_i, cos_i, sqrt_cos_i, tt_exponent, tt_factor);
-            tt_tail = tt_factor * elem::exp(tt_exponent);
-        }
         // (every lane as one vector: lane kLobes's N, the residual's, is uniform, and the lane
         // holds the tail's exponent; a select rather than the lane written over after, whose
         // store the vector's load would wait on)
@@ -1641,8 +1601,7 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
         T lanes[std::size_t(kLobes + 1)];
         for (int k = 0; k <= kLobes; ++k) {
             const T en = select(k < kLobes, e[k], T(1)), onto = select(k < kLobes, T(1), T(0));
-            const T added = select(k == 0, tail, select(k == 1, tt_tail, T(0)));
-            lanes[k] = (m_factor[k] * e[kM + k] + added) * (en * o.n.numerator(k)) / sqr(T(1) + en * onto);
+            lanes[k] = (m_factor[k] * e[kM + k] + select(k == 0, tail, T(0))) * (en * o.n.numerator(k)) / sqr(T(1) + en * onto);
         }
         for (int p = 0; p <= kLobes; ++p) mn[p] = lanes[p];
         mn[kS] = scattered_density(o, sin_i, cos_i, phi);
@@ -1683,9 +1642,9 @@ template <typename T> class FurFiber : public FiberModel<FurFiber<T>, T> {
             sin_i = mat_->medulla().sample_longitudinal(o.theta_bin, o.sin_o, u.y, u.z, choice.rescaled);
             phi = mat_->medulla().sample_azimuth(o.theta_bin, u.w);
         } else {
-            // R and TT: the tail with probability w (the lobe choice's leftover), else the core.
-            const bool tail = choice.rescaled < (p == 0 ? o.r_w : p == 1 ? o.tt_w : T(0));
-            sin_i = (p == 0 ? (tail ? o.r_tail : o.r_lobe) : p == 1 ? (tail ? o.tt_tail : o.tt_lobe) : p == 2 ? o.trt_lobe : o.res_lobe)
+            // R: its tail with probability w (the lobe choice's leftover), else its core.
+            const bool tail = p == 0 && choice.rescaled < o.r_w;
+            sin_i = (p == 0 ? (tail ? o.r_tail : o.r_lobe) : p == 2 ? o.trt_lobe : p == 3 ? o.res_lobe : mat_->longitudinal(p))
                         .sample_sin_theta(o.m.sin_o[p], o.m.cos_o[p], u.y, u.z);
             phi = p < kLobes ? o.phi_p[p] + o.lobe_n[p].sample(u.w) : kTwoPi<T> * u.w - kPi<T>;
         }
