@@ -26,11 +26,13 @@ const std::vector<pf::CachedCase>& cache() {
 
 }  // namespace
 
-// The interface's total reflectance (the two-event rule, docs/theory.md §3.6) against the
-// microsurface's random walk, which scatters until the light leaves: within 6 % (plus the
-// walk's noise) at roughness 0.1 and 0.3 from both sides, where one event without shadowing
-// (the model before) is off by up to 30 %. Measured: worst 4.6 % outside (β 0.3 near grazing)
-// and 2.4 % inside.
+// The interface's total reflectance (the closed-form single scattering plus the model's own
+// walk of the multiple scattering, docs/theory.md §3.6) against this file's microsurface
+// random walk, which scatters until the light leaves: within 3 % (plus the walk's noise) at
+// roughness 0.1 and 0.3 from both sides, where one event without shadowing (the model
+// before) is off by up to 42 %. Measured: worst 1.3 % at β 0.1 and 2.3 % at β 0.3 (outside,
+// c 0.4: the model's 8192 walks per cosine); the two-event rule before it, 4.6 % outside
+// (β 0.3 near grazing) and 2.4 % inside.
 TEST(HuangPhysical, InterfaceTotalsMatchTheMicrosurface) {
     for (double beta : {0.1, 0.3}) {
         hs::HuangParams<double> p;
@@ -51,7 +53,7 @@ TEST(HuangPhysical, InterfaceTotalsMatchTheMicrosurface) {
                 const double one_event = outside ? mat.reflectance_outside(c) : mat.reflectance_inside(c);
                 worst_total = std::max(worst_total, std::fabs(model - walk) / walk);
                 worst_single = std::max(worst_single, std::fabs(one_event - walk) / walk);
-                EXPECT_NEAR(model, walk, 0.06 * walk + 3 * sigma) << "β " << beta << (outside ? " outside" : " inside") << " c " << c;
+                EXPECT_NEAR(model, walk, 0.03 * walk + 3 * sigma) << "β " << beta << (outside ? " outside" : " inside") << " c " << c;
             }
         }
         std::printf("[ physical ] β %.1f: interface total vs walk worst %.3f (one event unshadowed: %.3f)\n", beta,
@@ -77,10 +79,11 @@ TEST(HuangPhysical, InterfaceTotalsMatchTheMicrosurface) {
 }
 
 // R alone: the light reflected without entering carries the energy the physical fiber's
-// does, within 5 % up to θo = 30° and 8 % at 75° (measured 0.1–3.2 % and 0.5–5.2 %: the
-// two-event totals run a few per cent high near grazing at β 0.3; 0.1–5.5 % and 1.4–8.7 %
-// with the beam weighted by v·m, which put more of it on the rims at grazing incidence);
-// the unshadowed surface of the model before was 3–36 % too bright.
+// does, within 2 % (measured 0.0–1.0 %, with the interfaces' totals from the microsurface's
+// walk; 0.1–3.2 % up to θo = 30° and 0.5–5.2 % at 75° with the two-event rule, whose totals
+// ran a few per cent high near grazing at β 0.3; 0.1–5.5 % and 1.4–8.7 % with the beam
+// weighted by v·m, which put more of it on the rims at grazing incidence); the unshadowed
+// surface of the model before was 3–36 % too bright.
 TEST(HuangPhysical, ReflectionEnergyMatchesTheFiber) {
     for (const pf::CachedCase& c : cache()) {
         hs::LobeControls<double> only_r;
@@ -88,21 +91,22 @@ TEST(HuangPhysical, ReflectionEnergyMatchesTheFiber) {
         const hs::HuangMaterial<double> mat(pf::huang_params(c.c, false), hs::HuangQuadrature(), only_r);
         const double model = hs::HuangFiber<double>(mat).albedo(c.c.wo()).x;
         const double ref = c.lobe_energy[pf::kR][0];
-        EXPECT_NEAR(model, ref, (c.c.theta_deg < 60 ? 0.05 : 0.08) * ref) << c.c.name();
+        EXPECT_NEAR(model, ref, 0.02 * ref) << c.c.name();
     }
 }
 
 // f against the physical fiber over the sphere (relative L1 of bin averages, 24 cases,
 // lossless and blond, default quadrature): the figures of docs/huang_physical.md, printed.
-// The goal is 5 %; the model is not there (measured worst 15.5 %, mean 8.21 %: the lattices'
+// The goal is 5 %; the model is not there (measured worst 15.3 %, mean 7.73 %: the lattices'
 // shape at the default and TRT's shape at b/a 0.5; docs/models.md has the per-lobe
-// breakdown). The bounds guard what is reached: worst 16 %, mean 8.5 % (the
+// breakdown). The bounds guard what is reached: worst 15.5 %, mean 8 % (the
 // model before this reference: 38 % and 19 %; before the unbiased internal reflection:
 // 21.1 % and 13.2 %; with TT's paths uniform in γ rather than in h: 20.4 % and 12.8 %;
 // without the exit kernel of the paths' entry cells: 19.4 % and 12.0 %; with the
 // residual's θ profile d'Eon's M of variance 4β rather than the interior chain's: 19.2 %
 // and 11.0 %; with the offsets weighted by the beam at the mesonormal, max(0, v·m),
-// rather than uniform in h: 15.8 % and 9.03 %). Each case binds its wo once (at(wo), the
+// rather than uniform in h: 15.8 % and 9.03 %; with the interfaces' totals by the two-event
+// rule rather than the microsurface's walk: 15.5 % and 8.21 %). Each case binds its wo once (at(wo), the
 // same values as eval).
 TEST(HuangPhysical, AgainstThePhysicalFiber) {
     const std::vector<pf::CachedCase>& cases = cache();
@@ -132,8 +136,8 @@ TEST(HuangPhysical, AgainstThePhysicalFiber) {
         mean += (lossless[k] + blond[k]) / (2.0 * double(cases.size()));
     }
     std::printf("[ physical ] worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst, 100 * mean);
-    EXPECT_LT(worst, 0.16);
-    EXPECT_LT(mean, 0.085);
+    EXPECT_LT(worst, 0.155);
+    EXPECT_LT(mean, 0.08);
 }
 
 // The shadowing terms over extreme inputs (NaN, infinities, cosines outside [0, 1], every

@@ -104,8 +104,8 @@ std::vector<glm::dvec3> reference_values(const Case& c, const glm::dvec3& wo, co
 // draw's lattice error swings by a factor two: b/a 0.5 at 128 × 4 measured 9.7 / 5.2 /
 // 8.5 / 6.3 / 9.1 % over five draws with the beam weighted by v·m, 11.4 / 5.4 / 6.5 / 4.9 /
 // 6.5 % with it uniform in h, which converges to the reference at 512 × 4, 1.4 %; the
-// three pooled: default 6.8 / 11.8 / 3.3 % round / b/a 0.5 / grazing, 128 × 4 4.6 / 7.7 /
-// 2.6 %; the figures below are one draw's, before; pooled, the bounds are 15 and 9 %, where one
+// three pooled: default 6.4 / 11.4 / 2.9 % round / b/a 0.5 / grazing, 128 × 4 4.0 / 6.7 /
+// 2.3 % (6.8 / 11.8 / 3.3 % and 4.6 / 7.7 / 2.6 % with the two-event totals); the figures below are one draw's, before; pooled, the bounds are 15 and 9 %, where one
 // draw's were 17 and 10 %). The reference's own noise, the L1
 // between two independent runs, is 0.4–1.5 %. This measures the lattices'
 // error only (the reference follows the model's definition; the physical fiber is
@@ -153,7 +153,7 @@ TEST(HuangReference, EvalMatchesBruteForce) {
 // The error against cost over the knobs, all three cases (printed: the figures of
 // docs/models.md; the float eval time is this test's own clock, for the shape of the
 // curve — docs/tradeoff.md has the benchmark's). The lattices converge: the finest setting
-// (512 TT, 2048 TRT points) measured 1.1–2.7 %, within 2× the reference's noise, and it
+// (512 TT, 2048 TRT points) measured 2.1–3.3 % (1.1–2.7 % before the totals came from the walk), and it
 // must beat the coarsest (4 nodes, 4/8 points) and the default.
 TEST(HuangReference, ErrorAgainstCost) {
     struct Setting {

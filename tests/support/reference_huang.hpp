@@ -11,9 +11,10 @@
 //   average;
 //   each interface's single scattering shadowed as the model defines it (reflection by the
 //   height-correlated G2, transmission by the scattered direction's G1) and scaled to the
-//   interface's total with shadowed light scattered once more (the two-event rule of
-//   docs/theory.md §3.6), those totals by this file's own rule over normals drawn from
-//   D(h)(h·m) (not the model's visible-normal tables);
+//   interface's total, the microsurface's as the model's (docs/theory.md §3.6): the single
+//   scattering by this file's own rule over normals drawn from D(h)(h·m) (not the
+//   model's visible-normal tables) plus the share that physical_fiber.hpp's random walk
+//   (not the library's) reflects after two or more events, 32768 walks at 33 cosines;
 //   chords by the quadratic of the ellipse x² + y²/b² = 1 in real space (not through the
 //   unit circle), normals by its gradient;
 //   R, TT and TRT's last interface by next-event evaluation at wi, M with Boost's I0.
@@ -29,6 +30,8 @@
 
 #include <boost/math/special_functions/bessel.hpp>
 #include <glm/glm.hpp>
+
+#include "physical_fiber.hpp"
 
 namespace ref_huang {
 
@@ -138,6 +141,24 @@ struct InterfaceTables {
                     }
                 });
             }
+            // The totals: the single scattering plus what the microsurface's random walk
+            // reflects after two or more events, linear between kWalkCos cosines.
+            constexpr int kWalkCos = 33, kWalks = 32768;
+            std::vector<double> multiple(kWalkCos);
+            for (int j = 0; j < kWalkCos; ++j) {
+                const double c = std::max(1e-3, double(j) / (kWalkCos - 1));
+                const glm::dvec3 wi(std::sqrt(1 - c * c), 0.0, c);
+                phys_fiber::Rng rng(1234567);
+                int up = 0;
+                for (int k = 0; k < kWalks; ++k) {
+                    const phys_fiber::Scatter sc = phys_fiber::interact(wi, a, n, phys_fiber::Interface::kRandomWalk, rng);
+                    if (!sc.transmitted && sc.events > 1) ++up;
+                }
+                multiple[std::size_t(j)] = double(up) / kWalks;
+            }
+            for (int i = 1; i < kCos; ++i)
+                t->r_total[std::size_t(i)] =
+                    std::min(1.0, t->r_single[std::size_t(i)] + interpolate(multiple, double(i) / (kCos - 1)));
             // c = 0: the limit of the next cosine.
             t->r_total[0] = t->r_total[1];
             t->r_single[0] = t->r_single[1];

@@ -94,23 +94,64 @@ class Microsurface {
                 below = !above;
                 return true;
             }
-            h = above ? next : -next;
-            // Below, the microsurface is the mirror image (heights and directions negated).
-            bool through = false;
-            const glm::dvec3 o = above ? event(-w, n, rng, through) : -event(w, 1 / n, rng, through);
-            w = o;
-            if (through) above = !above;
+            scatter_at(next, n, rng, w, h, above);
         }
         return false;
     }
 
+    // The expected share of light from above (wi, wi.z > 0) that leaves above after two or
+    // more events, along one walk: where the light could leave, the walk adds the chance
+    // that it does (C1(h)^Λ, Algorithm 2's escape) and goes on with the rest to the next
+    // height, so that only the facets and the Fresnel choices are drawn.
+    double multiple_up(const glm::dvec3& wi, double n, Rng& rng) const {
+        glm::dvec3 w = -wi;
+        double h = 1 + inv_c1(0.999), weight = 1, up = 0;
+        bool above = true;
+        for (int k = 0; k < kMaxEvents && weight > 1e-9; ++k) {
+            const glm::dvec3 d = above ? w : -w;
+            const double hh = above ? h : -h;
+            const double escape = d.z > 0 ? std::pow(c1_of(hh), lambda(d)) : 0.0;
+            if (above && k >= 2) up += weight * escape;
+            weight *= 1 - escape;
+            double next = 0;
+            if (!next_height(d, hh, rng.uniform() * (1 - escape), next)) break;
+            scatter_at(next, n, rng, w, h, above);
+        }
+        return up;
+    }
+
   private:
+    // A walk's event at the height `next` it met (as next_height gives it, on the side the
+    // light travels): the light along w (above or below) scatters there.
+    void scatter_at(double next, double n, Rng& rng, glm::dvec3& w, double& h, bool& above) const {
+        h = above ? next : -next;
+        // Below, the microsurface is the mirror image (heights and directions negated).
+        bool through = false;
+        const glm::dvec3 o = above ? event(-w, n, rng, through) : -event(w, 1 / n, rng, through);
+        w = o;
+        if (through) above = !above;
+    }
     static constexpr int kMaxEvents = 256;
     static double c1_of(double h) { return std::min(1.0, std::max(0.0, 0.5 * (h + 1))); }
     static double inv_c1(double u) { return std::min(1.0, std::max(-1.0, 2 * u - 1)); }
     Ggx<double> ggx_;
     double a2_;
 };
+
+// The share of light from above at cos c (n = η_below / η_above) that the microsurface
+// reflects after two or more events: its total reflectance less the single scattering that
+// no microfacet shadows, which the height-correlated Smith G2 gives in closed form (the
+// walk's first event escapes with exactly that probability). `walks` walks from `seed`;
+// the same seed at every c makes the estimate smooth in c. (Heitz et al. 2016's random
+// walk, as the chain's interfaces.)
+inline double multiple_reflectance(const Microsurface& surface, double c, double n, int walks, std::uint64_t seed) {
+    Rng rng(seed);
+    const double cc = std::max(c, 1e-3);
+    const glm::dvec3 wi(std::sqrt(1 - cc * cc), 0, cc);
+    double sum = 0;
+    for (int k = 0; k < walks; ++k) sum += surface.multiple_up(wi, n, rng);
+    return walks > 0 ? sum / walks : 0.0;
+}
 
 // One interface at the mesonormal m (unit, facing v) for light arriving from v (unit, the
 // direction back toward where it came from), n = η beyond m's side / η on it: v in m's frame,
