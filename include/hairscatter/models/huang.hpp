@@ -330,23 +330,15 @@ template <typename T> class HuangMaterial {
     }
 
     // What one rough interface does with light from v at cos c to the mesonormal, n =
-    // η_t/η_i: the single-scattering reflection and transmission that no microfacet shadows
-    // (reflection with the height-correlated G2, transmission with the scattered direction's
-    // G1; Heitz 2014), and the total reflectance of the microsurface with the light that a
-    // microfacet shadows scattered once more (the two-event approximation of Heitz et al.
-    // 2016's random walk, docs/theory.md §3.6): a shadowed reflection meets the surface again
-    // from its own side and reflects with the mean reflectance E(−o·m) seen from there; a
-    // shadowed transmission meets it from the far side and comes back through with
-    // 1 − E'(t·m), E' the far side's. e_near(c') and e_far(c') give E for c' in [−1, 1].
-    // The material's tables take the single energies from here and the total from the
-    // microsurface's walk instead (build_interface_tables), which the two-event total
-    // missed by up to 8 % near grazing at roughness 0.3.
+    // η_t/η_i, in single scattering: the reflection and transmission that no microfacet
+    // shadows (reflection with the height-correlated G2, transmission with the scattered
+    // direction's G1; Heitz 2014). The total reflectance, the light that a microfacet shadows
+    // included, comes from the microsurface's random walk instead (build_interface_tables;
+    // Heitz et al. 2016, docs/theory.md §3.6).
     struct InterfaceEnergies {
         double reflect_single = 0, transmit_single = 0, reflect_total = 0;
     };
-    template <typename ENear, typename EFar>
-    static InterfaceEnergies interface_energies(double roughness, double c, double n, const GaussLegendre<double>& gl,
-                                                const ENear& e_near, const EFar& e_far) {
+    static InterfaceEnergies interface_energies(double roughness, double c, double n, const GaussLegendre<double>& gl) {
         InterfaceEnergies r;
         const Ggx<double> ggx(roughness);
         const double g1_v = ggx.g1(c);
@@ -354,15 +346,11 @@ template <typename T> class HuangMaterial {
             const double vh = glm::dot(v, h);
             const double f = fresnel_any(vh, n);
             const glm::dvec3 o = 2 * vh * h - v;
-            const double keep_r = ggx.unshadowed_reflection(g1_v, o.z);
-            r.reflect_single += w * f * keep_r;
-            r.reflect_total += w * f * (keep_r + (1 - keep_r) * e_near(-o.z));
+            r.reflect_single += w * f * ggx.unshadowed_reflection(g1_v, o.z);
             if (f < 1) {
                 const Refracted<double> t = refract_through(v, h, 1 / n);
                 if (!t.ok) return;
-                const double keep_t = ggx.g1(-t.o.z);
-                r.transmit_single += w * (1 - f) * keep_t;
-                r.reflect_total += w * (1 - f) * (1 - keep_t) * (1 - e_far(t.o.z));
+                r.transmit_single += w * (1 - f) * ggx.g1(-t.o.z);
             }
         });
         return r;
@@ -842,12 +830,11 @@ template <typename T> class HuangMaterial {
             const int j = std::min(kWalkCosines - 1, int(x));
             return m[j] + (x - j) * (m[j + 1] - m[j]);
         };
-        const auto none = [](double) { return 0.0; };  // the singles need no E behind the horizon
         double last_gain_t = 1, last_gain_in = 1;
         for (int i = kTableSize - 1; i >= 0; --i) {
             const double c = double(i) / (kTableSize - 1);
-            InterfaceEnergies o = interface_energies(rough, c, eta, table_rule, none, none);
-            InterfaceEnergies n = interface_energies(rough, c, 1 / eta, table_rule, none, none);
+            InterfaceEnergies o = interface_energies(rough, c, eta, table_rule);
+            InterfaceEnergies n = interface_energies(rough, c, 1 / eta, table_rule);
             // At most 1: where the single scattering is nearly all (total internal reflection
             // at a small roughness) the line between two cosines could pass it.
             o.reflect_total = std::min(1.0, o.reflect_single + multiple(multiple_out, c));
