@@ -42,11 +42,10 @@ template <typename T> class CyclesHuang {
         : p_(p), ggx_(p.roughness), section_(p.aspect_ratio, p.orientation), m4_(T(4) * p.roughness) {
         using M = hairscatter::HuangMaterial<double>;
         const hairscatter::GaussLegendre<double> gl(24);
-        const auto zero = [](double) { return 0.0; };
         for (int i = 0; i < kTable; ++i) {
             const double c = std::max(1e-3, double(i) / (kTable - 1));
-            const auto out = M::interface_energies(double(p.roughness), c, double(p.eta), gl, zero, zero);
-            const auto in = M::interface_energies(double(p.roughness), c, 1 / double(p.eta), gl, zero, zero);
+            const auto out = M::interface_energies(double(p.roughness), c, double(p.eta), gl);
+            const auto in = M::interface_energies(double(p.roughness), c, 1 / double(p.eta), gl);
             inv_e_out_[i] = T(1 / std::max(1e-3, out.reflect_single + out.transmit_single));
             inv_e_in_[i] = T(1 / std::max(1e-3, in.reflect_single + in.transmit_single));
         }
