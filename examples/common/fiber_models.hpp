@@ -139,9 +139,11 @@ template <class Fiber> auto bind_fiber(const Fiber& fiber, const typename Fiber:
 }
 
 // The artists' extras (docs/controls.md): lobe controls (every model; Huang's and
-// Marschner's refuse what they cannot honour: per-lobe tilts, a residual), and, for
-// Chiang, one fiber per strand (a strand's material is strand_params[strand % size]);
-// empty: every strand is the base fiber.
+// Marschner's refuse what they cannot honour: per-lobe tilts, a residual), and one fiber
+// per strand (strand_params[strand % size]; empty: every strand is the base fiber): for
+// Chiang a material per strand, for Huang the base material with the strand's σa
+// (HuangFiber(material, sigma_a): its tables do not depend on σa; a strand whose η, βm or
+// α differs is refused, as each would need its own 0.3–0.5 s build).
 template <typename T> struct FiberExtras {
     hairscatter::LobeControls<T> controls{};
     bool has_controls = false;
@@ -172,13 +174,22 @@ template <typename T> class FiberModels {
         if (model != FiberModel::kChiang && lobes != LobeBits::kAll)
             throw std::invalid_argument(std::string("--lobes: only --model chiang keeps a subset of lobes (--model ") +
                                         to_string(model) + " has all of its lobes)");
-        if (model != FiberModel::kChiang && !extras.strand_params.empty())
+        if (model != FiberModel::kChiang && model != FiberModel::kHuang && !extras.strand_params.empty())
             throw std::invalid_argument(std::string("per-strand variation (--strand-seed, --*-range) needs --model "
-                                                    "chiang (not ") + to_string(model) + ")");
+                                                    "chiang or huang (not ") + to_string(model) + ")");
+        if (model == FiberModel::kHuang)
+            for (const hs::FiberParams<T>& p : extras.strand_params) {
+                if (p.eta != params.eta || p.beta_m != params.beta_m || p.alpha != params.alpha)
+                    throw std::invalid_argument("per-strand roughness (--roughness-range) needs --model chiang: "
+                                                "--model huang varies the colour per strand only");
+                strand_sigma_.push_back(p.sigma_a);
+            }
         with_chiang_lobes(lobes, [](auto) { return 0; });  // rejects an empty set
         chiang_ = std::make_unique<hs::ChiangMaterial<T>>(params, extras.controls);
-        strands_.reserve(extras.strand_params.size());
-        for (const hs::FiberParams<T>& p : extras.strand_params) strands_.emplace_back(p, extras.controls);
+        if (model == FiberModel::kChiang) {
+            strands_.reserve(extras.strand_params.size());
+            for (const hs::FiberParams<T>& p : extras.strand_params) strands_.emplace_back(p, extras.controls);
+        }
         switch (model) {
             case FiberModel::kChiang: break;
             case FiberModel::kFarField:
@@ -249,7 +260,11 @@ template <typename T> class FiberModels {
             }
             case FiberModel::kHuang: {
                 const hs::HuangMaterial<T>* m = huang_.get();
-                return f([m](T, std::uint32_t = 0) { return hs::HuangFiber<T>(*m); });
+                const std::vector<glm::vec<3, T>>* strands = &strand_sigma_;
+                return f([m, strands](T, std::uint32_t strand = 0) {
+                    return strands->empty() ? hs::HuangFiber<T>(*m)
+                                            : hs::HuangFiber<T>(*m, (*strands)[strand % strands->size()]);
+                });
             }
             case FiberModel::kFur: {
                 const hs::FurMaterial<T>* m = fur_.get();
@@ -270,6 +285,7 @@ template <typename T> class FiberModels {
     unsigned lobes_;
     std::unique_ptr<hairscatter::ChiangMaterial<T>> chiang_;
     std::vector<hairscatter::ChiangMaterial<T>> strands_;
+    std::vector<glm::vec<3, T>> strand_sigma_;  // Huang's per-strand σa (empty: the material's)
     std::unique_ptr<hairscatter::DeonFarFieldMaterial<T>> farfield_;
     std::unique_ptr<hairscatter::TabulatedMaterial<T>> tabulated_;
     std::unique_ptr<hairscatter::MarschnerMaterial<T>> marschner_;

@@ -168,6 +168,26 @@ TEST(ExamplesCommon, ControlsFromOptions) {
     EXPECT_EQ(hs::validate(ex::strand_fiber_params(base, s, 5)), "");
     EXPECT_THROW(ex::FiberModels<float>(ex::FiberModel::kTabulated, ex::LobeBits::kAll, ex::params_as<float>(base), extras),
                  std::invalid_argument);
+    // Huang varies the colour per strand (the base material with the strand's σa, which is
+    // the material built with it) and refuses a per-strand roughness.
+    EXPECT_THROW(ex::FiberModels<float>(ex::FiberModel::kHuang, ex::LobeBits::kAll, ex::params_as<float>(base), extras),
+                 std::invalid_argument);
+    ex::FiberOptions colour_only = o;
+    colour_only.controls.roughness_range = {1.0, 1.0};
+    const ex::StrandSetup sc = ex::strand_setup(colour_only);
+    ASSERT_TRUE(sc.enabled && sc.vary_colour);
+    ex::FiberExtras<float> colours;
+    for (std::uint32_t k = 0; k < 3; ++k)
+        colours.strand_params.push_back(ex::params_as<float>(ex::strand_fiber_params(base, sc, k)));
+    const ex::FiberModels<float> huang(ex::FiberModel::kHuang, ex::LobeBits::kAll, ex::params_as<float>(base), colours);
+    const glm::vec3 wo = glm::normalize(glm::vec3(0.3f, 0.8f, 0.2f)), wi = glm::normalize(glm::vec3(-0.2f, -0.7f, 0.4f));
+    for (std::uint32_t k : {1u, 5u}) {
+        const hs::HuangMaterial<float> own(ex::huang_params(colours.strand_params[k % 3], ex::SectionShape{}));
+        const glm::vec3 f = huang.visit([&](auto make) { return make(0.0f, k).eval(wo, wi); });
+        EXPECT_EQ(f, hs::HuangFiber<float>(own).eval(wo, wi)) << "strand " << k;
+    }
+    EXPECT_NE(huang.visit([&](auto make) { return make(0.0f, 1u).eval(wo, wi); }),
+              huang.visit([&](auto make) { return make(0.0f, 2u).eval(wo, wi); }));
 
     // The lobe controls reach every model; Huang's refuses a per-lobe tilt, naming itself.
     ex::FiberExtras<float> controls;

@@ -335,8 +335,10 @@ template <typename T> class HuangMaterial {
     // direction's G1; Heitz 2014). The total reflectance, the light that a microfacet shadows
     // included, comes from the microsurface's random walk instead (build_interface_tables;
     // Heitz et al. 2016, docs/theory.md §3.6).
+    // reflect_mean: E(c), mean_reflectance's sum, from the same visits (the material's
+    // tables take it from here rather than a second pass of the rule).
     struct InterfaceEnergies {
-        double reflect_single = 0, transmit_single = 0, reflect_total = 0;
+        double reflect_single = 0, transmit_single = 0, reflect_total = 0, reflect_mean = 0;
     };
     static InterfaceEnergies interface_energies(double roughness, double c, double n, const GaussLegendre<double>& gl) {
         InterfaceEnergies r;
@@ -345,6 +347,7 @@ template <typename T> class HuangMaterial {
         visible_normal_rule(roughness, c, n, gl, [&](const glm::dvec3& v, const glm::dvec3& h, double w) {
             const double vh = glm::dot(v, h);
             const double f = fresnel_any(vh, n);
+            r.reflect_mean += w * f;
             const glm::dvec3 o = 2 * vh * h - v;
             r.reflect_single += w * f * ggx.unshadowed_reflection(g1_v, o.z);
             if (f < 1) {
@@ -813,11 +816,6 @@ template <typename T> class HuangMaterial {
     void build_interface_tables() {
         const double rough = double(params_.roughness), eta = double(params_.eta);
         const GaussLegendre<double> table_rule(kTableRule);
-        for (int i = 0; i < kTableSize; ++i) {
-            const double c = double(i) / (kTableSize - 1);
-            outside_[i] = T(mean_reflectance(rough, c, eta, table_rule));
-            inside_[i] = T(mean_reflectance(rough, c, 1 / eta, table_rule));
-        }
         double multiple_out[kWalkCosines + 1], multiple_in[kWalkCosines + 1];
         const huang_residual::Microsurface surface(rough);
         for (int j = 0; j <= kWalkCosines; ++j) {
@@ -835,6 +833,8 @@ template <typename T> class HuangMaterial {
             const double c = double(i) / (kTableSize - 1);
             InterfaceEnergies o = interface_energies(rough, c, eta, table_rule);
             InterfaceEnergies n = interface_energies(rough, c, 1 / eta, table_rule);
+            outside_[i] = T(o.reflect_mean);
+            inside_[i] = T(n.reflect_mean);
             // At most 1: where the single scattering is nearly all (total internal reflection
             // at a small roughness) the line between two cosines could pass it.
             o.reflect_total = std::min(1.0, o.reflect_single + multiple(multiple_out, c));
@@ -1002,10 +1002,22 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     static_assert(kBoundEnds >= 0, "HuangFiber: kBoundEnds, the path ends at(wo) keeps, is >= 0");
     using LobeSplit = hairscatter::LobeSplit<T, kLobes>;
 
-    HAIRSCATTER_HD explicit HuangFiber(const Material& material) : mat_(&material) {}
+    HAIRSCATTER_HD explicit HuangFiber(const Material& material)
+        : mat_(&material), sigma_a_(material.params().sigma_a) {}
+    // The material's geometry with this hit's absorption (melanin or a dye that varies per
+    // strand or along it; its own sigma_a is not read). No table of the material depends on
+    // the absorption, so this is the material built with sigma_a, bit for bit, at the cost of
+    // three numbers instead of a build. A NaN, infinite or negative channel absorbs nothing
+    // (device-callable, so no throw; HuangMaterial's constructor validates on the host).
+    HAIRSCATTER_HD HuangFiber(const Material& material, const V3& sigma_a) : mat_(&material) {
+        for (int c = 0; c < 3; ++c) sigma_a_[c] = is_finite(sigma_a[c]) && sigma_a[c] > T(0) ? sigma_a[c] : T(0);
+    }
     HuangFiber(const Material&&) = delete;
+    HuangFiber(const Material&&, const V3&) = delete;
 
     HAIRSCATTER_HD const Material& material() const { return *mat_; }
+    // The absorption the fiber's paths use: the material's, or the one given per hit.
+    HAIRSCATTER_HD const V3& sigma_a() const { return sigma_a_; }
 
     // Σ of every path end's energy: the directional albedo, exact up to the reflectance
     // tables' interpolation (each lobe integrates to its end's energy).
@@ -1725,7 +1737,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
             // normal A_2 and the residual's mean chord A_3 as another batch. The ends are then
             // handed on path by path, in the one-path order.
             const int count = n - first < K ? n - first : K;
-            const V3& sigma_a = mat_->params().sigma_a;
+            const V3& sigma_a = sigma_a_;
             const T sigma[3] = {sigma_a.x, sigma_a.y, sigma_a.z};
             T a1[3 * K], res[3 * K], gain2[K], sum[K];
             for (int ch = 0; ch < 3; ++ch)
@@ -2107,6 +2119,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
     }
 
     const Material* mat_;
+    V3 sigma_a_{T(0)};
 };
 
 static_assert(is_fiber_model_v<HuangFiber<float>> && is_fiber_model_v<HuangFiber<double>>);

@@ -110,11 +110,23 @@ class Microsurface {
         for (int k = 0; k < kMaxEvents && weight > 1e-9; ++k) {
             const glm::dvec3 d = above ? w : -w;
             const double hh = above ? h : -h;
-            const double escape = d.z > 0 ? std::pow(c1_of(hh), lambda(d)) : 0.0;
+            // next_height's steps with Λ and C1^Λ computed once for both uses (the same
+            // numbers as next_height(d, hh, u (1 − escape)), whose escape test then never
+            // passes: u (1 − e) ≤ 1 − e).
+            const double c1 = c1_of(hh);
+            const double lam = d.z > 0 || std::fabs(d.z) >= 1e-4 ? lambda(d) : 0.0;  // (level: unused)
+            const double escape = d.z > 0 ? std::pow(c1, lam) : 0.0;
             if (above && k >= 2) up += weight * escape;
             weight *= 1 - escape;
-            double next = 0;
-            if (!next_height(d, hh, rng.uniform() * (1 - escape), next)) break;
+            const double u = rng.uniform() * (1 - escape);
+            if (d.z > 0.9999) break;
+            double next = hh;
+            if (d.z < -0.9999) {
+                next = inv_c1(u * c1);
+            } else if (std::fabs(d.z) >= 1e-4) {
+                const double p = std::pow(1 - u, 1 / lam);
+                next = p > 1e-300 ? inv_c1(c1 / p) : 1.0;
+            }
             scatter_at(next, n, rng, w, h, above);
         }
         return up;
