@@ -783,6 +783,48 @@ template <typename T> void expect_per_hit_absorption_is_the_built_material() {
     }
 }
 
+// HuangMaterial(like, params, quadrature, controls) reuses like's tables where η,
+// roughness, tilt and aspect ratio agree: the material must be the plain constructor's bit
+// for bit (other absorption, orientation, quadrature and gains), build its own tables where
+// the geometry differs (a like of another roughness), and validate as the plain one does.
+template <typename T> void expect_materials_like_another_are_the_built_ones() {
+    using V3 = glm::vec<3, T>;
+    using V4 = glm::vec<4, T>;
+    const hs::HuangParams<T> base = specs::huang_params<T>(0.3, 2, glm::dvec3(0.4, 0.7, 1.4), 0.6, 0.7);
+    hs::HuangParams<T> other = specs::huang_params<T>(0.3, 2, glm::dvec3(0.05, 2.0, 0.0), 0.6, -1.9);
+    hs::HuangParams<T> rougher = other;
+    rougher.roughness = T(0.45);
+    const hs::HuangQuadrature q = specs::HuangSpec<T>::quadrature(5, 12, 3);
+    hs::LobeControls<T> gains;
+    gains.gain[1] = T(0.5);
+    const hs::HuangMaterial<T> like(base);
+    EXPECT_TRUE(hs::HuangMaterial<T>::same_tables(base, other));
+    EXPECT_FALSE(hs::HuangMaterial<T>::same_tables(base, rougher));
+    for (const hs::HuangParams<T>& p : {other, rougher}) {
+        const hs::HuangMaterial<T> reused(like, p, q, gains), plain(p, q, gains);
+        const hs::HuangFiber<T> a(reused), b(plain);
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<double> u(-1, 1), u01(0, 1);
+        for (int n = 0; n < 40; ++n) {
+            const V3 wo = glm::normalize(V3(T(u(rng)), T(u(rng)), T(u(rng))));
+            const V3 wi = glm::normalize(V3(T(u(rng)), T(u(rng)), T(u(rng))));
+            const V4 r(T(u01(rng)), T(u01(rng)), T(u01(rng)), T(u01(rng)));
+            EXPECT_EQ(a.eval(wo, wi), b.eval(wo, wi)) << "roughness " << double(p.roughness) << " n " << n;
+            EXPECT_EQ(a.pdf(wo, wi), b.pdf(wo, wi));
+            EXPECT_EQ(a.sample(wo, r).wi, b.sample(wo, r).wi);
+            EXPECT_EQ(a.albedo(wo), b.albedo(wo));
+        }
+    }
+    hs::HuangParams<T> bad = other;
+    bad.sigma_a.y = T(-1);
+    EXPECT_THROW(hs::HuangMaterial<T>(like, bad), std::invalid_argument);
+}
+
+TEST(HuangMaterial, LikeAnotherIsTheBuiltMaterial) {
+    expect_materials_like_another_are_the_built_ones<float>();
+    expect_materials_like_another_are_the_built_ones<double>();
+}
+
 TEST(HuangFiber, PerHitAbsorptionIsTheMaterialBuiltWithIt) {
     expect_per_hit_absorption_is_the_built_material<float>();
     expect_per_hit_absorption_is_the_built_material<double>();

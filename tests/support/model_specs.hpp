@@ -533,8 +533,19 @@ template <typename T> struct HuangSpec : SpecBase<hs::HuangFiber<T>, hs::HuangMa
     static Instance<Fiber> random(std::mt19937_64& rng, int k) {
         return make(random_params(rng, k), random_quadrature(k), "random " + std::to_string(k));
     }
+    // The extremes' materials share their tables four by four (absorption and quadrature
+    // change no table): each is built from the first of its geometry (HuangMaterial(like,
+    // …), the plain constructor's material bit for bit, tested in huang_test).
     static std::vector<Instance<Fiber>> extremes() {
         std::vector<Instance<Fiber>> r;
+        std::vector<std::shared_ptr<const Material>> built;
+        const auto make_shared = [&](const hs::HuangParams<T>& p, const hs::HuangQuadrature& q, const std::string& l) {
+            std::shared_ptr<const Material> m;
+            for (const auto& b : built)
+                if (Material::same_tables(b->params(), p)) m = std::make_shared<const Material>(*b, p, q);
+            if (!m) built.push_back(m = std::make_shared<const Material>(p, q));
+            r.push_back(make_instance<Fiber>(m, l + " " + knobs(q)));
+        };
         for (double rough : {0.02, 0.3, 1.0})
             for (double al : {-22.5, 0.0, 22.5})
                 for (double sa : {0.0, 50.0})
@@ -542,8 +553,8 @@ template <typename T> struct HuangSpec : SpecBase<hs::HuangFiber<T>, hs::HuangMa
                         hs::HuangParams<T> p = huang_params<T>(rough, 0, glm::dvec3(sa), aspect, kPi * 0.9999);
                         p.alpha = T(deg(al)) * T(0.9999);
                         const std::string l = label(rough, al, sa, aspect, kPi);
-                        r.push_back(make(p, quadrature(1, 1, 1), l));
-                        r.push_back(make(p, quadrature(7, 9, 3), l));
+                        make_shared(p, quadrature(1, 1, 1), l);
+                        make_shared(p, quadrature(7, 9, 3), l);
                     }
         return r;
     }

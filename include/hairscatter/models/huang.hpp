@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <algorithm>
+#include <iterator>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -191,6 +192,25 @@ template <typename T> class HuangMaterial {
 
     explicit HuangMaterial(const HuangParams<T>& params, const HuangQuadrature& quadrature = HuangQuadrature(),
                            const LobeControls<T>& controls = LobeControls<T>())
+        : HuangMaterial(params, quadrature, controls, nullptr) {}
+    // The material for params with the tables of `like` wherever they would come out the
+    // same. The interface, residual and azimuth tables depend on η, roughness, the cuticle
+    // tilt and the aspect ratio alone, so a material that differs from `like` in absorption,
+    // orientation, quadrature or lobe controls costs the lattice's setup (microseconds)
+    // instead of a build (0.3–0.5 s): presets of one fiber, or its colours. Any other
+    // difference builds the tables as the plain constructor does. Validated the same way;
+    // the result is the plain constructor's material bit for bit.
+    HuangMaterial(const HuangMaterial& like, const HuangParams<T>& params,
+                  const HuangQuadrature& quadrature = HuangQuadrature(), const LobeControls<T>& controls = LobeControls<T>())
+        : HuangMaterial(params, quadrature, controls, &like) {}
+    // Whether materials of a and b share their tables (the constructor above reuses them).
+    static bool same_tables(const HuangParams<T>& a, const HuangParams<T>& b) {
+        return a.eta == b.eta && a.roughness == b.roughness && a.alpha == b.alpha && a.aspect_ratio == b.aspect_ratio;
+    }
+
+  private:
+    HuangMaterial(const HuangParams<T>& params, const HuangQuadrature& quadrature, const LobeControls<T>& controls,
+                  const HuangMaterial* like)
         : params_(params), controls_(controls) {
         const std::string m = validate(params);
         if (!m.empty()) HAIRSCATTER_THROW(std::invalid_argument("hairscatter: invalid Huang parameters: " + m));
@@ -254,10 +274,16 @@ template <typename T> class HuangMaterial {
             if (a2 > 1) break;
             row_limit_[row_limits_++] = T(6.28318530717958647692 * (a2 - beta2));
         }
-        build_interface_tables();
-        build_residual_profile();
-        build_residual_azimuth();
+        if (like != nullptr && same_tables(like->params_, params)) {
+            copy_tables(*like);
+        } else {
+            build_interface_tables();
+            build_residual_profile();
+            build_residual_azimuth();
+        }
     }
+
+  public:
     // The lobe controls with the default quadrature.
     HuangMaterial(const HuangParams<T>& params, const LobeControls<T>& controls)
         : HuangMaterial(params, HuangQuadrature(), controls) {}
@@ -879,6 +905,24 @@ template <typename T> class HuangMaterial {
     HAIRSCATTER_HD static constexpr int wide_offset(int j) { return kTableSize + (j - 1) * kWideSize; }
     T exit_gains_[kTableSize + (kWidths - 1) * kWideSize] = {};
     T wide_alpha_[kWidths] = {};
+
+    // Every table that build_interface_tables, build_residual_profile and
+    // build_residual_azimuth fill, from a material with the same_tables parameters.
+    void copy_tables(const HuangMaterial& o) {
+        const auto copy = [](const auto& from, auto& to) { std::copy(std::begin(from), std::end(from), std::begin(to)); };
+        copy(o.outside_, outside_);
+        copy(o.inside_, inside_);
+        copy(o.total_out_, total_out_);
+        copy(o.total_in_, total_in_);
+        copy(o.gain_r_out_, gain_r_out_);
+        copy(o.gain_t_out_, gain_t_out_);
+        copy(o.exit_gains_, exit_gains_);
+        copy(o.wide_alpha_, wide_alpha_);
+        copy(o.residual_pdf_, residual_pdf_);
+        copy(o.residual_cdf_, residual_cdf_);
+        copy(o.azimuth_pdf_, azimuth_pdf_);
+        copy(o.azimuth_cdf_, azimuth_cdf_);
+    }
 };
 
 // A quadrature finer than the automatic one that scales with roughness as it does: the
