@@ -909,19 +909,13 @@ template <typename T> class HuangMaterial {
     // Every table that build_interface_tables, build_residual_profile and
     // build_residual_azimuth fill, from a material with the same_tables parameters.
     void copy_tables(const HuangMaterial& o) {
-        const auto copy = [](const auto& from, auto& to) { std::copy(std::begin(from), std::end(from), std::begin(to)); };
-        copy(o.outside_, outside_);
-        copy(o.inside_, inside_);
-        copy(o.total_out_, total_out_);
-        copy(o.total_in_, total_in_);
-        copy(o.gain_r_out_, gain_r_out_);
-        copy(o.gain_t_out_, gain_t_out_);
-        copy(o.exit_gains_, exit_gains_);
-        copy(o.wide_alpha_, wide_alpha_);
-        copy(o.residual_pdf_, residual_pdf_);
-        copy(o.residual_cdf_, residual_cdf_);
-        copy(o.azimuth_pdf_, azimuth_pdf_);
-        copy(o.azimuth_cdf_, azimuth_cdf_);
+        using M = HuangMaterial;
+        copy_arrays(o, &M::outside_, &M::inside_, &M::total_out_, &M::total_in_, &M::gain_r_out_, &M::gain_t_out_,
+                    &M::exit_gains_, &M::wide_alpha_, &M::residual_pdf_, &M::residual_cdf_, &M::azimuth_pdf_,
+                    &M::azimuth_cdf_);
+    }
+    template <typename... Arrays> void copy_arrays(const HuangMaterial& o, Arrays... member) {
+        ((void)std::copy(std::begin(o.*member), std::end(o.*member), std::begin(this->*member)), ...);
     }
 };
 
