@@ -143,7 +143,7 @@ template <class Fiber> auto bind_fiber(const Fiber& fiber, const typename Fiber:
 // per strand (strand_params[strand % size]; empty: every strand is the base fiber): for
 // Chiang a material per strand, for Huang the base material with the strand's σa
 // (HuangFiber(material, sigma_a): its tables do not depend on σa; a strand whose η, βm or
-// α differs is refused, as each would need its own 0.3–0.5 s build).
+// α differs is refused, as each would need its own build, about 0.3 s).
 template <typename T> struct FiberExtras {
     hairscatter::LobeControls<T> controls{};
     bool has_controls = false;

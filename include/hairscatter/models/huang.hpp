@@ -196,10 +196,10 @@ template <typename T> class HuangMaterial {
     // The material for params with the tables of `like` wherever they would come out the
     // same. The interface, residual and azimuth tables depend on η, roughness, the cuticle
     // tilt and the aspect ratio alone, so a material that differs from `like` in absorption,
-    // orientation, quadrature or lobe controls costs the lattice's setup (microseconds)
-    // instead of a build (0.3–0.5 s): presets of one fiber, or its colours. Any other
-    // difference builds the tables as the plain constructor does. Validated the same way;
-    // the result is the plain constructor's material bit for bit.
+    // orientation, quadrature or lobe controls costs the lattice's setup (16 µs) instead of a
+    // build (about 0.3 s; bench/results/huang_material_2026-12-08.txt): presets of one fiber,
+    // or its colours. Any other difference builds the tables as the plain constructor does.
+    // Validated the same way; the result is the plain constructor's material bit for bit.
     HuangMaterial(const HuangMaterial& like, const HuangParams<T>& params,
                   const HuangQuadrature& quadrature = HuangQuadrature(), const LobeControls<T>& controls = LobeControls<T>())
         : HuangMaterial(params, quadrature, controls, &like) {}
