@@ -305,11 +305,7 @@ template <typename T> class HuangMaterial {
     static constexpr std::uint64_t kWalkSeedOut = 0x51ed270b27d1ULL, kWalkSeedIn = 0x2545f4914f6cdd1dULL;
     static constexpr int kKinkScan = 16;
     static double mean_reflectance(double roughness, double c, double n, const GaussLegendre<double>& gl) {
-        double e = 0;
-        visible_normal_rule(roughness, c, n, gl, [&](const glm::dvec3& v, const glm::dvec3& h, double w) {
-            e += w * fresnel_any(glm::dot(v, h), n);
-        });
-        return e;
+        return interface_energies(roughness, c, n, gl).reflect_mean;  // the tables' own sum
     }
 
     // The product rule of mean_reflectance over D_v's unit square for v at cos c to m = z

@@ -55,17 +55,19 @@ class Microsurface {
         if (w.z > 0.9999) return false;
         const double c1 = c1_of(h);
         next = h;
-        if (w.z < -0.9999) {
-            next = inv_c1(u * c1);
-            return true;
-        }
-        if (std::fabs(w.z) < 1e-4) return true;
-        const double lam = lambda(w);
-        const double g1 = w.z > 0 ? std::pow(c1, lam) : 0.0;
-        if (u > 1 - g1) return false;
-        const double p = std::pow(1 - u, 1 / lam);
-        next = p > 1e-300 ? inv_c1(c1 / p) : 1.0;
+        const bool sloped = w.z >= -0.9999 && std::fabs(w.z) >= 1e-4;  // neither straight down nor level
+        const double lam = sloped ? lambda(w) : 0.0;
+        if (sloped && w.z > 0 && u > 1 - std::pow(c1, lam)) return false;
+        next = descend(w, h, c1, lam, u);
         return true;
+    }
+    // The height met by a ray along w (w.z ≤ 0.9999) from h that does not escape, u uniform
+    // (Algorithm 2's inversion): c1 = C1(h), lam = Λ(w) (read only where w is sloped).
+    static double descend(const glm::dvec3& w, double h, double c1, double lam, double u) {
+        if (w.z < -0.9999) return inv_c1(u * c1);
+        if (std::fabs(w.z) < 1e-4) return h;
+        const double p = std::pow(1 - u, 1 / lam);
+        return p > 1e-300 ? inv_c1(c1 / p) : 1.0;
     }
     // One microfacet event seen from v (unit, any side of the mean surface): a visible normal
     // (the spherical-cap sampler draws D_v for v below the horizon too), then reflection with
@@ -110,9 +112,8 @@ class Microsurface {
         for (int k = 0; k < kMaxEvents && weight > 1e-9; ++k) {
             const glm::dvec3 d = above ? w : -w;
             const double hh = above ? h : -h;
-            // next_height's steps with Λ and C1^Λ computed once for both uses (the same
-            // numbers as next_height(d, hh, u (1 − escape)), whose escape test then never
-            // passes: u (1 − e) ≤ 1 − e).
+            // Λ and C1^Λ once for the escape and the descent (next_height(d, hh, u (1 − escape))
+            // would recompute both, and its escape test never passes: u (1 − e) ≤ 1 − e).
             const double c1 = c1_of(hh);
             const double lam = d.z > 0 || std::fabs(d.z) >= 1e-4 ? lambda(d) : 0.0;  // (level: unused)
             const double escape = d.z > 0 ? std::pow(c1, lam) : 0.0;
@@ -120,14 +121,7 @@ class Microsurface {
             weight *= 1 - escape;
             const double u = rng.uniform() * (1 - escape);
             if (d.z > 0.9999) break;
-            double next = hh;
-            if (d.z < -0.9999) {
-                next = inv_c1(u * c1);
-            } else if (std::fabs(d.z) >= 1e-4) {
-                const double p = std::pow(1 - u, 1 / lam);
-                next = p > 1e-300 ? inv_c1(c1 / p) : 1.0;
-            }
-            scatter_at(next, n, rng, w, h, above);
+            scatter_at(descend(d, hh, c1, lam, u), n, rng, w, h, above);
         }
         return up;
     }
