@@ -27,6 +27,13 @@
 #else
 #define HAIRSCATTER_HAS_SSE2_SQRT 0
 #endif
+// And AVX's eight floats or four doubles to one VSQRTPS / VSQRTPD (where the target has AVX).
+#if HAIRSCATTER_HAS_SSE2_SQRT && defined(__AVX__)
+#include <immintrin.h>
+#define HAIRSCATTER_HAS_AVX_SQRT 1
+#else
+#define HAIRSCATTER_HAS_AVX_SQRT 0
+#endif
 // GCC's and Clang's vector extensions (exp_each's groups of four): host code only, and not
 // under nvcc, whose front end need not know __builtin_convertvector.
 #if !defined(__CUDACC__) && (defined(__GNUC__) || defined(__clang__))
@@ -754,6 +761,12 @@ template <typename T, std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE voi
 }
 template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sqrt_each(double (&x)[N]) {
 #if HAIRSCATTER_HAS_SSE2_SQRT
+#if HAIRSCATTER_HAS_AVX_SQRT
+    if constexpr (N % 4 == 0) {
+        for (int k = 0; k < int(N); k += 4) _mm256_storeu_pd(x + k, _mm256_sqrt_pd(_mm256_loadu_pd(x + k)));
+        return;
+    }
+#endif
     if constexpr (N % 2 == 0) {
         for (int k = 0; k < int(N); k += 2) _mm_storeu_pd(x + k, _mm_sqrt_pd(_mm_loadu_pd(x + k)));
         return;
@@ -763,6 +776,12 @@ template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sqrt_each(
 }
 template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sqrt_each(float (&x)[N]) {
 #if HAIRSCATTER_HAS_SSE_SQRT
+#if HAIRSCATTER_HAS_AVX_SQRT
+    if constexpr (N % 8 == 0) {
+        for (int k = 0; k < int(N); k += 8) _mm256_storeu_ps(x + k, _mm256_sqrt_ps(_mm256_loadu_ps(x + k)));
+        return;
+    }
+#endif
     if constexpr (N % 4 == 0) {
         for (int k = 0; k < int(N); k += 4) _mm_storeu_ps(x + k, _mm_sqrt_ps(_mm_loadu_ps(x + k)));
         return;

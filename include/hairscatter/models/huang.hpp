@@ -1232,7 +1232,8 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         V3 v, m;
         T cos_v;
         T gain;  // the lobe's scale: its total energy over its unshadowed single scattering
-        T g1_v;  // G1(v) (reflection's shadowing of the scattered direction depends on it)
+        T g1_v;  // R's G1(v) (its shadowing of the scattered direction depends on it); 0 at the
+                 // exits, whose lobes shadow by G1 of the scattered direction alone
         T alpha;  // the lobe's GGX roughness
     };
 
@@ -1588,18 +1589,6 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         return select(sin2_i >= n2, T(1), f);
     }
 
-    // Ggx::g1 of the material's roughness at N cosines.
-    template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void g1_lanes(const Lanes<N>& cos_w, Lanes<N>& g1) const {
-        const T a = mat_->ggx().alpha(), a2 = a * a;
-        Lanes<N> c, r;
-        for (int j = 0; j < int(N); ++j) {
-            c[j] = select(cos_w[j] > T(0), select(cos_w[j] < T(1), cos_w[j], T(1)), T(0));
-            r[j] = a2 * (T(1) - c[j]) * (T(1) + c[j]) + c[j] * c[j];
-        }
-        elem::sqrt_each(r);
-        for (int j = 0; j < int(N); ++j) g1[j] = select(c[j] > T(0), T(2) * c[j] * (T(1) / (c[j] + r[j])), T(0));
-    }
-
     // Points past the lattice's end (a last, partial block) repeat its last point; the walk
     // reads only the block's first `count`.
     HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void enter_lanes(const Outgoing& o, int first, EntryLanes& e) const {
@@ -1699,7 +1688,7 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
         // share; 0 where it points outward); the second chord and the TRT exit's mesonormal
         // and cosine.
         T rx[Material::kMaxTrtPerTT][kEntryLanes], ry[Material::kMaxTrtPerTT][kEntryLanes], rz[Material::kMaxTrtPerTT][kEntryLanes], fr[Material::kMaxTrtPerTT][kEntryLanes], ex2[Material::kMaxTrtPerTT][kEntryLanes], ey2[Material::kMaxTrtPerTT][kEntryLanes], len2[Material::kMaxTrtPerTT][kEntryLanes];
-        T mx3[Material::kMaxTrtPerTT][kEntryLanes], my3[Material::kMaxTrtPerTT][kEntryLanes], mz3[Material::kMaxTrtPerTT][kEntryLanes], cos3[Material::kMaxTrtPerTT][kEntryLanes], e3[Material::kMaxTrtPerTT][kEntryLanes], g1_3[Material::kMaxTrtPerTT][kEntryLanes];
+        T mx3[Material::kMaxTrtPerTT][kEntryLanes], my3[Material::kMaxTrtPerTT][kEntryLanes], mz3[Material::kMaxTrtPerTT][kEntryLanes], cos3[Material::kMaxTrtPerTT][kEntryLanes], e3[Material::kMaxTrtPerTT][kEntryLanes];
         for (int first = 0; first < n; first += K) {
             enter_lanes(o, first, e);
             for (int j = 0; j < K; ++j) {
@@ -1715,11 +1704,10 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                 mz[j] = -mz[j];
             }
             // The exit's cosine and its tables.
-            T cos2[K], e_in[K], e_mean[K], g1_2[K];
+            T cos2[K], e_in[K], e_mean[K];
             for (int j = 0; j < K; ++j) cos2[j] = vx[j] * mx[j] + vy[j] * my[j] + vz[j] * mz[j];
             mat_->reflectance_inside(cos2, e_mean);
             mat_->total_reflectance_inside(cos2, e_in);
-            g1_lanes(cos2, g1_2);
             // The internal reflections: v2 = −t in the frame of the inward mesonormal.
             frame_lanes(mx, my, mz, vx, vy, vz, sx, sy, sz, wx, wy, wz);
             for (int l = 0; l < m; ++l) {
@@ -1760,7 +1748,6 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                     cos3[l][j] = -(rx[l][j] * mx3[l][j] + ry[l][j] * my3[l][j] + rz[l][j] * mz3[l][j]);
                 }
                 mat_->total_reflectance_inside(cos3[l], e3[l]);
-                g1_lanes(cos3[l], g1_3[l]);
             }
             // The rest across the block too, each lane's residual in its own sum (selects
             // where the one-path form branched): A_1 of every path as one batch of exps, the
@@ -1834,12 +1821,12 @@ class HuangFiber : public FiberModel<HuangFiber<T, kBoundEnds_>, T> {
                 const T alpha = mat_->exit_row_roughness(e.row[j]);
                 const V3 at_exit = y * V3(a1[j], a1[K + j], a1[2 * K + j]);
                 visit(End{1, at_exit, at_exit * (T(1) - e_in[j]), V3(vx[j], vy[j], vz[j]), V3(mx[j], my[j], mz[j]), cos2[j],
-                          gain2[j], g1_2[j], alpha});
+                          gain2[j], T(0), alpha});
                 for (int l = 0; l < m; ++l) {
                     if (!(fr[l][j] > T(0)) || !(len2[l][j] > T(0)) || !(cos3[l][j] > T(0))) continue;
                     const V3 out(at_exit2[l][j], at_exit2[l][K + j], at_exit2[l][2 * K + j]);
                     visit(End{2, out, out * (T(1) - e3[l][j]), -V3(rx[l][j], ry[l][j], rz[l][j]),
-                              V3(mx3[l][j], my3[l][j], mz3[l][j]), cos3[l][j], gain3[l][j], g1_3[l][j], alpha});
+                              V3(mx3[l][j], my3[l][j], mz3[l][j]), cos3[l][j], gain3[l][j], T(0), alpha});
                 }
             }
         }
