@@ -752,9 +752,9 @@ template <std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void pow_each(f
 // √x of every element (x ≥ 0, or NaN). A loop of std::sqrt stays scalar, with a compare
 // and a branch per element, because each sqrt may set errno (unless -fno-math-errno); x86
 // has a vector square root that never does, so there four floats are one SQRTPS and two
-// doubles one SQRTPD (the library's only intrinsics, with this loop as the portable form
-// everywhere else; the square root is correctly rounded either way, so the results are the
-// same).
+// doubles one SQRTPD, or with AVX eight floats and four doubles one VSQRTPS / VSQRTPD (the
+// library's only intrinsics, with this loop as the portable form everywhere else; the
+// square root is correctly rounded either way, so the results are the same).
 template <typename T, std::size_t N> HAIRSCATTER_HD HAIRSCATTER_FORCE_INLINE void sqrt_each(T (&x)[N]) {
     using std::sqrt;
     for (int k = 0; k < int(N); ++k) x[k] = sqrt(x[k]);
