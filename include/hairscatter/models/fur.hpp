@@ -162,13 +162,15 @@ template <typename T> struct MedullaTables {
     // (detail::fill_exit_shapes; not in the file, rebuilt on load).
     T exit_density[2][kExitBins];
     T exit_cdf[2][kExitBins + 1];
+    // Per bin of |θo|, (w U + (1 − w) C)/2 over |x|: q's symmetric part, one read per query
+    // (detail::fill_exit_mix, after w is set or loaded).
+    T exit_mix[kThetaBins][kExitBins];
 
     // q(x) for the bin t and the sign of sin θo, per unit sin θi (x = sin θi here).
     HAIRSCATTER_HD T longitudinal_pdf(int t, T sin_o, T sin_i, T cos_i) const {
         (void)cos_i;
-        const T w = longitudinal[t][0], b = sin_o < T(0) ? -longitudinal[t][1] : longitudinal[t][1];
-        const int k = exit_bin(abs_value(sin_i));
-        return (T(1) + b * sin_i) * T(0.5) * (w * exit_density[0][k] + (T(1) - w) * exit_density[1][k]);
+        const T b = sin_o < T(0) ? -longitudinal[t][1] : longitudinal[t][1];
+        return (T(1) + b * sin_i) * exit_mix[t][exit_bin(abs_value(sin_i))];
     }
     // sin θi drawn from q: the component by u1 (U with probability w), |x| by inverting its
     // cdf at u2, then the sign + with probability (1 + b|x|)/2 by u3 — q(x) = (1 + bx) ·
@@ -468,6 +470,14 @@ template <typename T> void fill_exit_shapes(MedullaTables<T>& tab, double eta) {
             run += mass[k] / total;
             tab.exit_cdf[c][k + 1] = k + 1 < kB ? T(std::min(1.0, run)) : T(1);
         }
+    }
+}
+// MedullaTables' exit_mix from U, C and each bin's w.
+template <typename T> void fill_exit_mix(MedullaTables<T>& tab) {
+    for (int t = 0; t < MedullaTables<T>::kThetaBins; ++t) {
+        const T w = tab.longitudinal[t][0];
+        for (int k = 0; k < MedullaTables<T>::kExitBins; ++k)
+            tab.exit_mix[t][k] = T(0.5) * (w * tab.exit_density[0][k] + (T(1) - w) * tab.exit_density[1][k]);
     }
 }
 // E[x²] of U (c 0) or C (c 1), piecewise constant over |x|.
@@ -1223,6 +1233,7 @@ template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& 
         for (int c = 0; c < 3; ++c) r.escape[t][c] = T(d.escape[t][c]);
         for (int k = 0; k < 2; ++k) r.longitudinal[t][k] = T(d.longitudinal[t][k]);
     }
+    fill_exit_mix(r);
     return r;
 }
 
@@ -1351,6 +1362,7 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
             for (int k = 0; k < kPhi; ++k)
                 if (tables.cdf[t][k + 1] < tables.cdf[t][k]) HAIRSCATTER_THROW(fail("a decreasing cdf"));
         }
+        detail::fill_exit_mix(tables);  // (from U, C and the loaded w)
         return FurMaterial(params, controls, tables);
     }
 
