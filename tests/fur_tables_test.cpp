@@ -134,7 +134,7 @@ TEST(FurTables, RejectsBadFilesNamingThem) {
         reseal(b);
         return b;
     };
-    expect_refused(with_u32(4, 1), "version 1, this library reads version 5");
+    expect_refused(with_u32(4, 1), "version 1, this library reads version 6");
     expect_refused(with_u32(8, 7), "tables of 7 x 32 bins");
     expect_refused(with_u32(12, 16), "tables of 6 x 16 bins");
     expect_refused(std::vector<unsigned char>(good.begin(), good.end() - 9), "truncated");

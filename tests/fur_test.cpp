@@ -862,7 +862,9 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     std::printf("[ physical ] rough cortex: f worst %.2f %%, mean %.2f %% lossless, %.2f %% blond; scattered worst %.2f %%,"
                 " mean %.2f %%\n", 100 * worst_all, 100 * mean_all[0], 100 * mean_all[1], 100 * worst[0], 100 * mean[0]);
     std::printf("[ physical ] smooth cortex: scattered worst %.1f %%, mean %.1f %% (goal: 5 %%)\n", 100 * worst[1], 100 * mean[1]);
-    // Measured: 10.24 %, mean 6.33 % lossless and 6.54 % blond; scattered 10.6 %, 5.5 % (11.35 %,
+    // Measured: 10.21 %, mean 6.20 % lossless and 6.47 % blond; scattered 10.56 %, 5.28 %; smooth
+    // cortex's scattered 6.0 %, 4.1 % (10.24 %, 6.33 %, 6.54 %; 10.6 %, 5.5 %; 6.3 %, 4.8 % before
+    // q's two shapes passed the exit's transmission, MedullaTables' U and C; 11.35 %,
     // 6.83 %, 6.60 % before TRT's and the later orders' longitudinal lobes from the walk; 12.07 %,
     // 6.88 %, 7.76 % before R's heavy tail from the walk; 11.9 %,
     // 6.9 %, 7.8 %; 15.4 %, 7.1 % before the later orders' chords through the medulla from the
@@ -879,11 +881,11 @@ TEST(FurPhysical, AgainstThePhysicalFur) {
     // lobe width at every h; 58.6 %, 12.8 % and 21.6 % with the smooth F at the rough cortex's
     // entry and a smooth boundary in the medulla tables; 19.0 % and 25.2 % mean with the smooth
     // cortex's orders); 6.3 %, 4.8 % (the reference's noise: 1–3 %).
-    EXPECT_LT(worst_all, 0.11);
-    EXPECT_LT(mean_all[0], 0.066);
-    EXPECT_LT(mean_all[1], 0.068);
-    EXPECT_LT(worst[0], 0.115);
-    EXPECT_LT(mean[0], 0.06);
-    EXPECT_LT(worst[1], 0.07);
-    EXPECT_LT(mean[1], 0.052);
+    EXPECT_LT(worst_all, 0.105);
+    EXPECT_LT(mean_all[0], 0.064);
+    EXPECT_LT(mean_all[1], 0.067);
+    EXPECT_LT(worst[0], 0.11);
+    EXPECT_LT(mean[0], 0.056);
+    EXPECT_LT(worst[1], 0.065);
+    EXPECT_LT(mean[1], 0.045);
 }

@@ -132,40 +132,63 @@ template <typename T> const FurControls<T>& validated(const FurControls<T>& c) {
 // copyable.
 //
 // The longitudinal density per unit sin θi, with x = sin θi · sign(sin θo):
-//   q(x) = (1 + b x) · (w/2 + (1 − w)(2/π)√(1 − x²)),
-// a mix of the uniform density of light that leaves after one isotropic scattering (no
-// memory of its direction: uniform over the sphere, so uniform in sin θi) and the cos θi law
-// of light diffused by a dense medulla (the far-field exit of a diffusely lit cylinder),
-// skewed by b toward −sin θo (forward scattering, g > 0, keeps the light's inclination).
-// w ∈ [0, 1] and b ∈ [−1, 1] match the simulated exits' E[x²] and E[x].
+//   q(x) = (1 + b x) · (w U(|x|) + (1 − w) C(|x|)) / 2,
+// a mix of the exit of light that leaves after one isotropic scattering and of light
+// diffused by a dense medulla, skewed by b toward −sin θo (forward scattering, g > 0, keeps
+// the light's inclination). U: scattered once near the axis, the light leaves uniformly over
+// the sphere (uniform in sin θi) along the radius, so it meets the boundary at its own
+// inclination, and the boundary passes 1 − F(cos θi) of it (Fresnel at the exit, the same
+// both ways): U ∝ 1 − F(√(1 − x²)), which vanishes toward grazing exits (sin θi → ±1, where
+// the light inside is past the critical angle along the axis). C: the far field of a
+// cylinder diffusely lit from inside, the cos θi law of a Lambertian exit, ∝ √(1 − x²),
+// each surface point's exit weighted by its transmission at its own incidence, cos θi cos φn
+// for a point whose normal is φn round the section: C ∝ √(1 − x²) ∫ (1 − F(√(1 − x²) cos φn))
+// cos φn dφn. Both depend on η alone, tabulated over |x| (exit_density, piecewise constant,
+// with their cdfs; exact to sample). w ∈ [0, 1] and b ∈ [−1, 1] match the simulated exits'
+// E[x²] and E[x]. (Before, U uniform and C the semicircle: S's grazing sixteenth of sin θi
+// held 40–65 % more light than the physical fur's; with the transmission still ~50 % at κ 0.6,
+// σs^m 1, 30° — fur_breakdown_tool --marginals — but S's error against the reference's
+// scattered light fell in 34 of its 46 entries, rose by 0.1 point in 4: FurPhysical,
+// bench/results/fur_tt_tail_2026-12-08.txt.)
 template <typename T> struct MedullaTables {
     static constexpr int kThetaBins = 6;   // |θo| in [0, π/2), equal widths
     static constexpr int kPhiBins = 32;    // |φ| in [0, π], equal widths
+    static constexpr int kExitBins = 64;   // |sin θi| in [0, 1], equal widths (U and C)
     T density[kThetaBins][kPhiBins];       // q(|φ|), ∫_0^π q = 1 (N_s(φ) = q(|φ|) / 2)
     T cdf[kThetaBins][kPhiBins + 1];       // its integral at the bins' edges (0 … 1)
     T escape[kThetaBins][3];               // a_esc per channel, in [0, 1]
     T longitudinal[kThetaBins][2];         // w ∈ [0, 1] and b ∈ [−1, 1] of q(x)
+    // U and C over |x| (∫_0^1 = 1) and their integrals at the bins' edges: from η alone
+    // (detail::fill_exit_shapes; not in the file, rebuilt on load).
+    T exit_density[2][kExitBins];
+    T exit_cdf[2][kExitBins + 1];
+    // Per bin of |θo|, (w U + (1 − w) C)/2 over |x|: q's symmetric part, one read per query
+    // (detail::fill_exit_mix, after w is set or loaded).
+    T exit_mix[kThetaBins][kExitBins];
 
     // q(x) for the bin t and the sign of sin θo, per unit sin θi (x = sin θi here).
     HAIRSCATTER_HD T longitudinal_pdf(int t, T sin_o, T sin_i, T cos_i) const {
-        const T w = longitudinal[t][0], b = sin_o < T(0) ? -longitudinal[t][1] : longitudinal[t][1];
-        return (T(1) + b * sin_i) * (T(0.5) * w + (T(1) - w) * T(2) * kInvPi<T> * cos_i);
+        (void)cos_i;
+        const T b = sin_o < T(0) ? -longitudinal[t][1] : longitudinal[t][1];
+        return (T(1) + b * sin_i) * exit_mix[t][exit_bin(abs_value(sin_i))];
     }
-    // sin θi drawn from q: the component by u1 (uniform: |x| = u1/w; the cos θi law: the
-    // x coordinate of a uniform point on a quarter disk, from the rest of u1 and u2), then
-    // the sign + with probability (1 + b|x|)/2 by u3 — q(x) = (1 + bx) · symmetric(x) exactly.
+    // sin θi drawn from q: the component by u1 (U with probability w), |x| by inverting its
+    // cdf at u2, then the sign + with probability (1 + b|x|)/2 by u3 — q(x) = (1 + bx) ·
+    // symmetric(x) exactly.
     HAIRSCATTER_HD T sample_longitudinal(int t, T sin_o, T u1, T u2, T u3) const {
         const T w = longitudinal[t][0], b = sin_o < T(0) ? -longitudinal[t][1] : longitudinal[t][1];
-        T a;
-        if (u1 < w) {
-            a = u1 / w;
-        } else {
-            const T rest = T(1) - w;
-            const T v = rest > T(0) ? clamp((u1 - w) / rest, T(0), T(1)) : T(0);
-            T s, c;
-            elem::sincos(kHalfPi<T> * u2, s, c);
-            a = safe_sqrt(v) * c;
+        const int c = u1 < w ? 0 : 1;
+        const T v = clamp(u2, T(0), T(1));
+        int lo = 0, hi = kExitBins;  // exit_cdf[c][lo] ≤ v < exit_cdf[c][hi]
+        while (hi - lo > 1) {
+            const int mid = (lo + hi) / 2;
+            if (exit_cdf[c][mid] <= v) lo = mid;
+            else hi = mid;
         }
+        while (lo > 0 && !(exit_density[c][lo] > T(0))) --lo;  // (never land in an empty bin)
+        const T mass = exit_cdf[c][lo + 1] - exit_cdf[c][lo];
+        const T frac = mass > T(0) ? clamp((v - exit_cdf[c][lo]) / mass, T(0), T(1)) : T(0.5);
+        T a = (T(lo) + frac) / T(kExitBins);
         a = clamp(a, T(0), T(1));
         return u3 < T(0.5) * (T(1) + b * a) ? a : -a;
     }
@@ -205,6 +228,10 @@ template <typename T> struct MedullaTables {
     }
 
   private:
+    HAIRSCATTER_HD static int exit_bin(T abs_x) {
+        const int k = int(abs_x * T(kExitBins));
+        return k < 0 ? 0 : (k < kExitBins ? k : kExitBins - 1);
+    }
     HAIRSCATTER_HD static int phi_bin(T abs_phi) {
         const int k = int(abs_phi * kInvPi<T> * T(kPhiBins));
         return k < 0 ? 0 : (k < kPhiBins ? k : kPhiBins - 1);
@@ -408,6 +435,60 @@ inline double fur_fresnel(double cos_i, double n) {
     if (s2t >= 1) return 1;
     const double ct = std::sqrt(1 - s2t);
     return 0.5 * (sqr((cos_i - n * ct) / (cos_i + n * ct)) + sqr((n * cos_i - ct) / (n * cos_i + ct)));
+}
+
+// MedullaTables' U and C, the exits' longitudinal shapes, for index η (Fresnel at the exit:
+// MedullaTables): per bin of |x| = |sin θi| each one's mean over 16 points, C's transmission
+// over the section's normals by 32 midpoints in φn; each normalised to ∫_0^1 = 1, with its
+// cdf. The same bits on build and load.
+template <typename T> void fill_exit_shapes(MedullaTables<T>& tab, double eta) {
+    constexpr int kB = MedullaTables<T>::kExitBins, kSub = 16, kNormals = 32;
+    for (int c = 0; c < 2; ++c) {
+        double mass[std::size_t(kB)], total = 0;
+        for (int k = 0; k < kB; ++k) {
+            double m = 0;
+            for (int s = 0; s < kSub; ++s) {
+                const double x = (k + (s + 0.5) / kSub) / kB, cos_i = std::sqrt(1 - x * x);
+                if (c == 0) {
+                    m += 1 - fur_fresnel(cos_i, eta);
+                    continue;
+                }
+                double t = 0;
+                for (int j = 0; j < kNormals; ++j) {
+                    const double cn = std::cos(kHalfPi<double> * (j + 0.5) / kNormals);
+                    t += (1 - fur_fresnel(cos_i * cn, eta)) * cn;
+                }
+                m += cos_i * t;
+            }
+            mass[k] = m;
+            total += m;
+        }
+        double run = 0;
+        tab.exit_cdf[c][0] = T(0);
+        for (int k = 0; k < kB; ++k) {
+            tab.exit_density[c][k] = T(mass[k] / total * kB);
+            run += mass[k] / total;
+            tab.exit_cdf[c][k + 1] = k + 1 < kB ? T(std::min(1.0, run)) : T(1);
+        }
+    }
+}
+// MedullaTables' exit_mix from U, C and each bin's w.
+template <typename T> void fill_exit_mix(MedullaTables<T>& tab) {
+    for (int t = 0; t < MedullaTables<T>::kThetaBins; ++t) {
+        const T w = tab.longitudinal[t][0];
+        for (int k = 0; k < MedullaTables<T>::kExitBins; ++k)
+            tab.exit_mix[t][k] = T(0.5) * (w * tab.exit_density[0][k] + (T(1) - w) * tab.exit_density[1][k]);
+    }
+}
+// E[x²] of U (c 0) or C (c 1), piecewise constant over |x|.
+inline double exit_second_moment(const MedullaTables<double>& tab, int c) {
+    constexpr int kB = MedullaTables<double>::kExitBins;
+    double m = 0;
+    for (int k = 0; k < kB; ++k) {
+        const double a = double(k) / kB, b = double(k + 1) / kB;
+        m += (tab.exit_cdf[c][k + 1] - tab.exit_cdf[c][k]) * (a * a + a * b + b * b) / 3;
+    }
+    return m;
 }
 
 // The far root of the in-plane line p + s d (d unit) with the circle of radius r, or -1.
@@ -1098,12 +1179,14 @@ inline void simulate_medulla_bin(const FurParams<double>& p, double theta_o, int
         tab.cdf[bin][k + 1] =
             k + 1 < MedullaTables<double>::kPhiBins ? std::min(1.0, tab.cdf[bin][k] + mass[k] / total) : 1.0;
     }
-    // q(x)'s w and b from E[x²] and E[x] (x = sin θi; sin θo > 0 here): the uniform part has
-    // E[x²] = 1/3, the cos θi law 1/4; (1 + bx) adds b·E_sym[x²] to E[x].
-    const double e1 = fourier[0] > 0 ? moment[0] / fourier[0] : 0, e2 = fourier[0] > 0 ? moment[1] / fourier[0] : 0.25;
-    const double w_uniform = clamp(12 * e2 - 3, 0.0, 1.0);
-    tab.longitudinal[bin][0] = w_uniform;
-    tab.longitudinal[bin][1] = clamp(e1 / (w_uniform / 3 + (1 - w_uniform) / 4), -1.0, 1.0);
+    // q(x)'s w and b from E[x²] and E[x] (x = sin θi; sin θo > 0 here): U and C have their
+    // own E[x²] (fill_exit_shapes, filled first; 0.317 and 0.239 at η 1.55), and (1 + bx)
+    // adds b·E_sym[x²] to E[x].
+    const double m_u = exit_second_moment(tab, 0), m_c = exit_second_moment(tab, 1);
+    const double e1 = fourier[0] > 0 ? moment[0] / fourier[0] : 0, e2 = fourier[0] > 0 ? moment[1] / fourier[0] : m_c;
+    const double w_once = m_u > m_c ? clamp((e2 - m_c) / (m_u - m_c), 0.0, 1.0) : 0.0;
+    tab.longitudinal[bin][0] = w_once;
+    tab.longitudinal[bin][1] = clamp(e1 / (w_once * m_u + (1 - w_once) * m_c), -1.0, 1.0);
     for (int c = 0; c < 3; ++c) {
         const bool lossless = p.cortex.sigma_a[c] == 0 && p.sigma_a_medulla[c] == 0;  // exactly 1 by construction
         tab.escape[bin][c] = lossless || !(at_first[c] > 0) ? 1.0 : std::min(1.0, at_exit[c] / at_first[c]);
@@ -1121,6 +1204,7 @@ template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& 
     p.sigma_a_medulla = glm::dvec3(params.sigma_a_medulla);
     p.g = double(params.g);
     MedullaTables<double> d;
+    fill_exit_shapes(d, p.cortex.eta);  // (before the simulation: its moment fit reads them)
     const bool scatters = p.kappa > 0 && p.sigma_s > 0;
     const RoughFacets facets = scatters && params.rough_cortex ? RoughFacets::of(p.cortex.eta, double(params.cortex.alpha),
                                                                                  double(params.cortex.beta_m),
@@ -1142,12 +1226,14 @@ template <typename T> MedullaTables<T> build_medulla_tables(const FurParams<T>& 
         d.longitudinal[t][1] = 0;
     }
     MedullaTables<T> r;
+    fill_exit_shapes(r, p.cortex.eta);
     for (int t = 0; t < kTheta; ++t) {
         for (int k = 0; k < kPhi; ++k) r.density[t][k] = T(d.density[t][k]);
         for (int k = 0; k <= kPhi; ++k) r.cdf[t][k] = T(d.cdf[t][k]);
         for (int c = 0; c < 3; ++c) r.escape[t][c] = T(d.escape[t][c]);
         for (int k = 0; k < 2; ++k) r.longitudinal[t][k] = T(d.longitudinal[t][k]);
     }
+    fill_exit_mix(r);
     return r;
 }
 
@@ -1188,10 +1274,11 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
     // time: "HSFT", the version, the tables' sizes, the parameters they depend on (η and
     // σa^c of the cortex, κ, σs^m, σa^m, g, whether the cortex is rough, and its α, β_m, β_n
     // and facet α), the tables as doubles and an FNV-1a checksum of everything before it. A
-    // float material's tables come back bit for bit. (Version 5: in version 4 a facet α of 0
+    // float material's tables come back bit for bit. (Version 6: in version 5 q's w mixed a
+    // uniform and a semicircle in sin θi, not MedullaTables' U and C. In version 4 a facet α of 0
     // meant Gaussian facets; version 3 had no facet α; version 2 neither the rough flag nor α
     // and β, on which the rough cortex's tables depend.)
-    static constexpr std::uint32_t kFileVersion = 5;
+    static constexpr std::uint32_t kFileVersion = 6;
     void save(const std::string& path) const {
         std::vector<unsigned char> buf;
         detail::put_bytes(buf, "HSFT", 4);
@@ -1259,6 +1346,7 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
                                        std::to_string(in_file) + " in the file, " + std::to_string(want) + " given"));
         }
         MedullaTables<T> tables;
+        detail::fill_exit_shapes(tables, double(params.cortex.eta));  // (from η: not in the file)
         for_each_value(tables, [&](T& v, double lo, double hi, const char* what) {
             v = T(detail::get_bytes<double>(buf, at));  // checked in T (1e300 is a double, not a float)
             // Within rounding of the range (a sum that passed 1 by an ulp in a file an earlier
@@ -1274,6 +1362,7 @@ template <typename T> class FurMaterial : public DeonLobes<T> {
             for (int k = 0; k < kPhi; ++k)
                 if (tables.cdf[t][k + 1] < tables.cdf[t][k]) HAIRSCATTER_THROW(fail("a decreasing cdf"));
         }
+        detail::fill_exit_mix(tables);  // (from U, C and the loaded w)
         return FurMaterial(params, controls, tables);
     }
 
