@@ -114,3 +114,37 @@ TEST(LanesNative, TwoDepthLayerBatchMatchesTwoStacks) {
 #endif
     dual_checks::two_depth_stacks<float>();
 }
+
+// sqrt_each as the native build compiles it: with AVX, groups of eight floats or four
+// doubles go through one 256-bit VSQRT (elementary.hpp); the baseline build only reaches the
+// SSE form. Either is correctly rounded, so every lane must be std::sqrt's bit for bit,
+// zeros, subnormals, +Inf and NaN included (a negative input gives NaN).
+template <typename T, std::size_t N> static void check_sqrt_each(std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> expo(-40.0, 40.0);
+    const T special[] = {T(0), T(-0.0), std::numeric_limits<T>::denorm_min(), std::numeric_limits<T>::min(),
+                         std::numeric_limits<T>::max(), std::numeric_limits<T>::infinity(), T(-1),
+                         std::numeric_limits<T>::quiet_NaN()};
+    for (int round = 0; round < 200; ++round) {
+        T x[N], r[N];
+        for (std::size_t k = 0; k < N; ++k)
+            x[k] = round == 0 ? special[k % 8] : T(std::exp2(expo(rng)) * (1 + 1e-3 * double(k)));
+        for (std::size_t k = 0; k < N; ++k) r[k] = x[k];
+        hs::elem::sqrt_each(r);
+        for (std::size_t k = 0; k < N; ++k) {
+            const T want = std::sqrt(x[k]);
+            if (std::isnan(want)) ASSERT_TRUE(std::isnan(r[k])) << "x=" << x[k];
+            else ASSERT_EQ(std::memcmp(&want, &r[k], sizeof(T)), 0) << "x=" << x[k] << " lane " << k;
+        }
+    }
+}
+TEST(LanesNative, SqrtEachIsStdSqrtBitForBit) {
+    std::mt19937_64 rng(11);
+    check_sqrt_each<float, 8>(rng);
+    check_sqrt_each<float, 16>(rng);
+    check_sqrt_each<float, 4>(rng);
+    check_sqrt_each<float, 12>(rng);
+    check_sqrt_each<double, 4>(rng);
+    check_sqrt_each<double, 8>(rng);
+    check_sqrt_each<double, 2>(rng);
+    check_sqrt_each<double, 6>(rng);
+}
