@@ -178,17 +178,7 @@ template <typename T> struct MedullaTables {
     HAIRSCATTER_HD T sample_longitudinal(int t, T sin_o, T u1, T u2, T u3) const {
         const T w = longitudinal[t][0], b = sin_o < T(0) ? -longitudinal[t][1] : longitudinal[t][1];
         const int c = u1 < w ? 0 : 1;
-        const T v = clamp(u2, T(0), T(1));
-        int lo = 0, hi = kExitBins;  // exit_cdf[c][lo] ≤ v < exit_cdf[c][hi]
-        while (hi - lo > 1) {
-            const int mid = (lo + hi) / 2;
-            if (exit_cdf[c][mid] <= v) lo = mid;
-            else hi = mid;
-        }
-        while (lo > 0 && !(exit_density[c][lo] > T(0))) --lo;  // (never land in an empty bin)
-        const T mass = exit_cdf[c][lo + 1] - exit_cdf[c][lo];
-        const T frac = mass > T(0) ? clamp((v - exit_cdf[c][lo]) / mass, T(0), T(1)) : T(0.5);
-        T a = (T(lo) + frac) / T(kExitBins);
+        T a = invert_cdf(exit_cdf[c], exit_density[c], kExitBins, clamp(u2, T(0), T(1))) / T(kExitBins);
         a = clamp(a, T(0), T(1));
         return u3 < T(0.5) * (T(1) + b * a) ? a : -a;
     }
@@ -207,17 +197,22 @@ template <typename T> struct MedullaTables {
     HAIRSCATTER_HD T sample_azimuth(int t, T u) const {
         const T sign = u < T(0.5) ? T(-1) : T(1);
         const T v = clamp(abs_value(T(2) * u - T(1)), T(0), T(1));
-        int lo = 0, hi = kPhiBins;  // cdf[t][lo] ≤ v < cdf[t][hi]
+        const T width = kPi<T> / T(kPhiBins);
+        return sign * invert_cdf(cdf[t], density[t], kPhiBins, v) * width;
+    }
+    // A piecewise-constant density's inverse cdf at v ∈ [0, 1], in bins: the bin lo with
+    // cdf[lo] ≤ v < cdf[lo + 1] (bisection; never an empty bin) plus v's fraction of its mass.
+    HAIRSCATTER_HD static T invert_cdf(const T* cdf, const T* density, int bins, T v) {
+        int lo = 0, hi = bins;
         while (hi - lo > 1) {
             const int mid = (lo + hi) / 2;
-            if (cdf[t][mid] <= v) lo = mid;
+            if (cdf[mid] <= v) lo = mid;
             else hi = mid;
         }
-        while (lo > 0 && !(density[t][lo] > T(0))) --lo;  // (never land in an empty bin)
-        const T width = kPi<T> / T(kPhiBins);
-        const T mass = cdf[t][lo + 1] - cdf[t][lo];
-        const T frac = mass > T(0) ? clamp((v - cdf[t][lo]) / mass, T(0), T(1)) : T(0.5);
-        return sign * (T(lo) + frac) * width;
+        while (lo > 0 && !(density[lo] > T(0))) --lo;
+        const T mass = cdf[lo + 1] - cdf[lo];
+        const T frac = mass > T(0) ? clamp((v - cdf[lo]) / mass, T(0), T(1)) : T(0.5);
+        return T(lo) + frac;
     }
     // The mass of N_s in the arc |φ - centre| < π/2.
     HAIRSCATTER_HD T arc_mass(int t, T centre) const {
